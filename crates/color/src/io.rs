@@ -1,0 +1,188 @@
+//! Reading spectral tables: CSV or `.spd` text, one `wavelength,value` row a
+//! line (commas, semicolons, tabs or spaces between fields), `#` comments, an
+//! optional header row. Errors name the file and line.
+
+use std::path::Path;
+
+use crate::error::ColorError;
+use crate::spectrum::Tabulated;
+use crate::{LAMBDA_MAX, LAMBDA_MIN};
+
+/// Columns of a spectral table: the wavelengths and one vector per value column.
+#[derive(Debug, Clone)]
+pub struct Table {
+    pub wavelengths: Vec<f64>,
+    pub columns: Vec<Vec<f64>>,
+}
+
+/// Parses a table of `1 + value_columns` numeric columns from `text`.
+/// `source` names the file in errors. Wavelengths must be finite, positive
+/// and strictly increasing; values must be finite, and non-negative unless
+/// `allow_negative`.
+pub fn parse_table(
+    text: &str,
+    source: &str,
+    value_columns: usize,
+    allow_negative: bool,
+) -> Result<Table, ColorError> {
+    let err = |line: usize, message: String| ColorError::SpectrumFile {
+        path: source.to_string(),
+        line,
+        message,
+    };
+    let mut table = Table {
+        wavelengths: Vec::new(),
+        columns: vec![Vec::new(); value_columns],
+    };
+    let mut seen_content = false;
+    for (index, raw) in text.lines().enumerate() {
+        let line_no = index + 1;
+        let content = raw.split('#').next().unwrap_or("").trim();
+        if content.is_empty() {
+            continue;
+        }
+        let fields: Vec<&str> = content
+            .split(|c: char| c == ',' || c == ';' || c.is_whitespace())
+            .filter(|f| !f.is_empty())
+            .collect();
+        // A first row whose leading field is not a number is a header.
+        let first_row = !seen_content;
+        seen_content = true;
+        if first_row && fields[0].parse::<f64>().is_err() {
+            continue;
+        }
+        if fields.len() != value_columns + 1 {
+            return Err(err(
+                line_no,
+                format!(
+                    "expected {} fields (wavelength and {} value{}), found {}",
+                    value_columns + 1,
+                    value_columns,
+                    if value_columns == 1 { "" } else { "s" },
+                    fields.len()
+                ),
+            ));
+        }
+        let mut numbers = Vec::with_capacity(fields.len());
+        for field in &fields {
+            let v: f64 = field
+                .parse()
+                .map_err(|_| err(line_no, format!("'{field}' is not a number")))?;
+            if !v.is_finite() {
+                return Err(err(line_no, format!("'{field}' is not a finite number")));
+            }
+            numbers.push(v);
+        }
+        let lambda = numbers[0];
+        if lambda <= 0.0 {
+            return Err(err(line_no, format!("wavelength {lambda} nm is not positive")));
+        }
+        if let Some(&prev) = table.wavelengths.last() {
+            if lambda <= prev {
+                return Err(err(
+                    line_no,
+                    format!("wavelength {lambda} nm does not increase (previous row: {prev} nm)"),
+                ));
+            }
+        }
+        for (k, column) in table.columns.iter_mut().enumerate() {
+            let v = numbers[k + 1];
+            if v < 0.0 && !allow_negative {
+                return Err(err(line_no, format!("negative value {v} at {lambda} nm")));
+            }
+            column.push(v);
+        }
+        table.wavelengths.push(lambda);
+    }
+    if table.wavelengths.is_empty() {
+        return Err(ColorError::EmptySpectrumFile {
+            path: source.to_string(),
+        });
+    }
+    Ok(table)
+}
+
+/// Parses a two-column spectrum (`wavelength,value`) into a tabulated spectrum.
+/// The spectrum must overlap scotopia's 360–830 nm range (wavelengths in nm).
+pub fn parse_spectrum(text: &str, source: &str, allow_negative: bool) -> Result<Tabulated, ColorError> {
+    let table = parse_table(text, source, 1, allow_negative)?;
+    let (first, last) = (table.wavelengths[0], table.wavelengths[table.wavelengths.len() - 1]);
+    if last < LAMBDA_MIN as f64 || first > LAMBDA_MAX as f64 {
+        return Err(ColorError::SpectrumFile {
+            path: source.to_string(),
+            line: 1,
+            message: format!(
+                "wavelengths {first}–{last} do not overlap {LAMBDA_MIN}–{LAMBDA_MAX} nm \
+                 (wavelengths must be in nm)"
+            ),
+        });
+    }
+    let column = &table.columns[0];
+    Tabulated::new(
+        table.wavelengths.iter().map(|&w| w as f32).collect(),
+        column.iter().map(|&v| v as f32).collect(),
+    )
+    .map_err(|e| ColorError::SpectrumFile {
+        path: source.to_string(),
+        line: 1,
+        message: e.to_string(),
+    })
+}
+
+/// Reads a spectrum file (CSV or `.spd`). Values may not be negative.
+pub fn read_spectrum_file(path: impl AsRef<Path>) -> Result<Tabulated, ColorError> {
+    let path = path.as_ref();
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|source| ColorError::Io {
+        path: name.clone(),
+        source,
+    })?;
+    parse_spectrum(&text, &name, false)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn message(text: &str) -> String {
+        parse_spectrum(text, "lamp.csv", false).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn reads_csv_spd_header_and_comments() {
+        let s = parse_spectrum("# lamp\nwavelength,value\n400,1\n500 2 # peak\n600;0.5\n", "x", false)
+            .unwrap();
+        assert_eq!(s.eval(500.0), 2.0);
+        assert_eq!(s.eval(450.0), 1.5);
+    }
+
+    #[test]
+    fn bad_input_names_file_and_line() {
+        assert_eq!(
+            message(""),
+            "lamp.csv: no spectral data (expected lines of 'wavelength,value')"
+        );
+        assert_eq!(message("# only a comment\n"), message(""));
+        assert!(message("400,1\n500,abc\n").starts_with("lamp.csv:2: 'abc' is not a number"));
+        assert!(message("400,1\n400,2\n").starts_with("lamp.csv:2: wavelength 400 nm does not increase"));
+        assert!(message("400,1\n390,2\n").contains("does not increase"));
+        assert!(message("400,1\n\n500,NaN\n").starts_with("lamp.csv:3: 'NaN' is not a finite"));
+        assert!(message("400,1\n500,inf\n").contains("not a finite"));
+        assert!(message("400,1\n500,-0.1\n").starts_with("lamp.csv:2: negative value"));
+        assert!(message("400,1,2\n").starts_with("lamp.csv:1: expected 2 fields"));
+        assert!(message("wavelength,value\n400\n").starts_with("lamp.csv:2: expected 2 fields"));
+        assert!(message("0.4,1\n0.5,1\n").contains("must be in nm"));
+    }
+
+    #[test]
+    fn negative_values_allowed_when_asked() {
+        let t = parse_table("400,-1,2\n500,1,-2\n", "basis", 2, true).unwrap();
+        assert_eq!(t.columns[1], vec![2.0, -2.0]);
+    }
+
+    #[test]
+    fn missing_file_is_an_error_naming_it() {
+        let e = read_spectrum_file("/nonexistent/lamp.spd").unwrap_err().to_string();
+        assert!(e.starts_with("/nonexistent/lamp.spd: "), "{e}");
+    }
+}

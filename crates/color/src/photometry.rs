@@ -1,0 +1,207 @@
+//! Absolute photometry: spectral radiance (W·sr⁻¹·m⁻²·nm⁻¹) to CIE X, Y, Z
+//! in cd/m² and scotopic V′ in scotopic cd/m².
+
+use crate::cct::{cct_from_xy, Cct};
+use crate::cie;
+use crate::sampled::{SampledSpectrum, SampledWavelengths};
+use crate::spectrum::Spectrum;
+use crate::{LAMBDA_MAX, LAMBDA_MIN};
+
+/// Maximum luminous efficacy of photopic vision, lm/W (CIE 015:2018; the SI
+/// definition of the candela fixes 683 lm/W at 540 THz).
+pub const K_M: f64 = 683.0;
+/// Maximum luminous efficacy of scotopic vision, lm/W (CIE 1951 V′; the
+/// exact value consistent with 683 lm/W at 540 THz is 1700.06, rounded to 1700
+/// as CIE 015 and lighting practice use).
+pub const K_M_SCOTOPIC: f64 = 1700.0;
+
+/// Absolute tristimulus values X, Y, Z (Y in cd/m²) and scotopic luminance V′.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Xyzv {
+    pub x: f64,
+    pub y: f64,
+    pub z: f64,
+    pub v: f64,
+}
+
+impl Xyzv {
+    pub fn xyz(&self) -> [f64; 3] {
+        [self.x, self.y, self.z]
+    }
+
+    /// Chromaticity (x, y); `None` for black.
+    pub fn xy(&self) -> Option<[f64; 2]> {
+        xyz_to_xy(self.xyz())
+    }
+
+    /// S/P ratio V′/Y, the scotopic-to-photopic ratio quoted for lamps.
+    pub fn sp_ratio(&self) -> Option<f64> {
+        (self.y > 0.0).then(|| self.v / self.y)
+    }
+}
+
+/// Chromaticity x = X/(X+Y+Z), y = Y/(X+Y+Z); `None` when X+Y+Z is not positive.
+pub fn xyz_to_xy([x, y, z]: [f64; 3]) -> Option<[f64; 2]> {
+    let sum = x + y + z;
+    (sum > 0.0).then(|| [x / sum, y / sum])
+}
+
+/// ∫ S(λ)·{x̄, ȳ, z̄, V′}(λ) dλ over 360–830 nm (no efficacy factor), by the
+/// trapezoid rule on the 1 nm grid merged with the spectrum's own tabulated
+/// wavelengths, so narrow emission lines are integrated, not skipped.
+pub fn integrate_observers(s: &Spectrum) -> [f64; 4] {
+    let mut nodes: Vec<f32> = (LAMBDA_MIN as u32..=LAMBDA_MAX as u32).map(|l| l as f32).collect();
+    let extra = s.breakpoints();
+    if !extra.is_empty() {
+        nodes.extend(extra.iter().filter(|&&l| (LAMBDA_MIN..=LAMBDA_MAX).contains(&l)));
+        nodes.sort_by(f32::total_cmp);
+        nodes.dedup();
+    }
+    let integrand = |l: f32| {
+        let o = cie::observers(l);
+        let v = s.eval(l) as f64;
+        o.map(|c| c as f64 * v)
+    };
+    let mut sum = [0.0f64; 4];
+    let mut prev = (nodes[0], integrand(nodes[0]));
+    for &l in &nodes[1..] {
+        let f = integrand(l);
+        let h = (l - prev.0) as f64;
+        for k in 0..4 {
+            sum[k] += 0.5 * h * (prev.1[k] + f[k]);
+        }
+        prev = (l, f);
+    }
+    sum
+}
+
+/// Absolute X, Y, Z (cd/m²) and V′ (scotopic cd/m²) of a spectral radiance:
+/// X = K_m ∫ L x̄ dλ, …, V′ = K′_m ∫ L V′ dλ.
+pub fn spectrum_to_xyzv(s: &Spectrum) -> Xyzv {
+    let [x, y, z, v] = integrate_observers(s);
+    Xyzv {
+        x: K_M * x,
+        y: K_M * y,
+        z: K_M * z,
+        v: K_M_SCOTOPIC * v,
+    }
+}
+
+/// Monte Carlo estimate of absolute X, Y, Z, V′ from one wavelength cluster:
+/// (1/K) Σₖ K_m·{x̄,ȳ,z̄}(λₖ)·L(λₖ)/p(λₖ), and K′_m·V′ likewise. Wavelengths
+/// with zero density (terminated) contribute nothing.
+#[inline]
+pub fn estimate_xyzv<const K: usize>(
+    radiance: &SampledSpectrum<K>,
+    wavelengths: &SampledWavelengths<K>,
+) -> [f32; 4] {
+    let mut out = [0.0f32; 4];
+    for i in 0..K {
+        let pdf = wavelengths.pdf(i);
+        if pdf == 0.0 {
+            continue;
+        }
+        let o = cie::observers(wavelengths.lambda(i));
+        let w = radiance[i] / (pdf * K as f32);
+        out[0] += o[0] * w;
+        out[1] += o[1] * w;
+        out[2] += o[2] * w;
+        out[3] += o[3] * w;
+    }
+    [
+        out[0] * K_M as f32,
+        out[1] * K_M as f32,
+        out[2] * K_M as f32,
+        out[3] * K_M_SCOTOPIC as f32,
+    ]
+}
+
+/// Everything `scotopia spectrum` reports about one spectrum.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Colorimetry {
+    /// Absolute X, Y, Z, V′ (the spectrum read as radiance in W·sr⁻¹·m⁻²·nm⁻¹;
+    /// a reflectance under an equal-energy illuminant of 1 W·sr⁻¹·m⁻²·nm⁻¹).
+    pub xyzv: Xyzv,
+    pub xy: Option<[f64; 2]>,
+    /// CCT and Duv; `None` when the chromaticity is farther than 0.05 from the
+    /// Planckian locus or outside 1000–100000 K, where CCT has no meaning.
+    pub cct: Option<Cct>,
+    pub sp_ratio: Option<f64>,
+    /// 360, 361, …, 830 nm.
+    pub wavelengths: Vec<f32>,
+    pub values: Vec<f32>,
+}
+
+impl Colorimetry {
+    pub fn of(s: &Spectrum) -> Self {
+        let xyzv = spectrum_to_xyzv(s);
+        let xy = xyzv.xy();
+        let cct = xy.and_then(cct_from_xy).filter(|c| c.duv.abs() <= 0.05);
+        Self {
+            xyzv,
+            xy,
+            cct,
+            sp_ratio: xyzv.sp_ratio(),
+            wavelengths: (LAMBDA_MIN as u32..=LAMBDA_MAX as u32).map(|l| l as f32).collect(),
+            values: s.on_grid(LAMBDA_MIN, LAMBDA_MAX, 1.0),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::spectrum::Tabulated;
+
+    #[test]
+    fn equal_energy_is_white_with_the_standard_sums() {
+        let e = spectrum_to_xyzv(&Spectrum::Constant(1.0));
+        let [x, y] = e.xy().unwrap();
+        assert!((x - 1.0 / 3.0).abs() < 2e-4 && (y - 1.0 / 3.0).abs() < 2e-4, "{x} {y}");
+        // 683 lm/W × Σȳ (≈106.857 nm) cd/m².
+        assert!((e.y / (683.0 * 106.857) - 1.0).abs() < 1e-3, "{}", e.y);
+    }
+
+    #[test]
+    fn monochromatic_555_line_is_683_lm_per_watt() {
+        // A 1 nm wide triangle of unit area at 555 nm, between the 1 nm
+        // samples: Y = 683·ȳ(555) = 683 (ȳ is flat to 10⁻⁵ over the line).
+        let line = Tabulated::new(vec![554.5, 555.0, 555.5], vec![0.0, 2.0, 0.0]).unwrap();
+        let xyzv = spectrum_to_xyzv(&line.into());
+        assert!((xyzv.y - 683.0).abs() < 0.05, "{}", xyzv.y);
+        // V′(555) = 0.402 (CIE 1951): 1700 × 0.402.
+        assert!((xyzv.v - 1700.0 * 0.402).abs() < 0.5, "{}", xyzv.v);
+    }
+
+    #[test]
+    fn cluster_estimate_converges_to_the_integral() {
+        // Stratified clusters over a blackbody, jitters from a seeded
+        // SplitMix64: the mean of many estimates agrees with the integral
+        // within 4 standard errors.
+        let s = Spectrum::blackbody(3000.0).unwrap();
+        let exact = spectrum_to_xyzv(&s);
+        let n = 20_000;
+        let mut sum = [0.0f64; 4];
+        let mut sum2 = [0.0f64; 4];
+        let mut state = 0x5c07_0b1a_u64;
+        for _ in 0..n {
+            state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+            let mut z = state;
+            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+            let u = ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32;
+            let wl = SampledWavelengths::<4>::sample_uniform(u);
+            let e = estimate_xyzv(&s.sample(&wl), &wl);
+            for k in 0..4 {
+                sum[k] += e[k] as f64;
+                sum2[k] += (e[k] as f64).powi(2);
+            }
+        }
+        let exact = [exact.x, exact.y, exact.z, exact.v];
+        for k in 0..4 {
+            let mean = sum[k] / n as f64;
+            let se = ((sum2[k] / n as f64 - mean * mean) / n as f64).sqrt();
+            assert!((mean - exact[k]).abs() < 4.0 * se + 1e-5 * exact[k], "{k}: {mean} vs {}", exact[k]);
+        }
+    }
+}

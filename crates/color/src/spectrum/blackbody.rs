@@ -1,0 +1,53 @@
+//! Planck's law in absolute spectral radiance.
+
+/// Planck constant, J·s (SI 2019, exact).
+pub const PLANCK_H: f64 = 6.626_070_15e-34;
+/// Speed of light in vacuum, m/s (exact).
+pub const LIGHT_C: f64 = 299_792_458.0;
+/// Boltzmann constant, J/K (SI 2019, exact).
+pub const BOLTZMANN_K: f64 = 1.380_649e-23;
+
+/// Spectral radiance of a black body at `kelvin`, in W·sr⁻¹·m⁻²·nm⁻¹:
+/// L(λ, T) = 2hc² / λ⁵ / (exp(hc / λkT) − 1) (Planck 1901), per nm.
+#[inline]
+pub fn planck(lambda_nm: f64, kelvin: f64) -> f64 {
+    let lambda = lambda_nm * 1e-9;
+    let exponent = PLANCK_H * LIGHT_C / (lambda * BOLTZMANN_K * kelvin);
+    // exp_m1 keeps precision at long wavelengths / high temperatures.
+    let per_metre = 2.0 * PLANCK_H * LIGHT_C * LIGHT_C / lambda.powi(5) / exponent.exp_m1();
+    per_metre * 1e-9
+}
+
+/// A black-body emitter: Planck radiance at a temperature, times a scale.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Blackbody {
+    pub kelvin: f32,
+    pub scale: f32,
+}
+
+impl Blackbody {
+    #[inline]
+    pub fn eval(&self, lambda: f32) -> f32 {
+        (planck(lambda as f64, self.kelvin as f64) * self.scale as f64) as f32
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wien_peak_and_stefan_boltzmann() {
+        // Wien's displacement law: peak at b / T with b = 2.897771955e-3 m·K (CODATA 2018).
+        let t = 5000.0;
+        let peak = (2000..20000)
+            .map(|i| i as f64 * 0.1)
+            .max_by(|&a, &b| planck(a, t).total_cmp(&planck(b, t)))
+            .unwrap();
+        assert!((peak - 2.897_771_955e-3 / t * 1e9).abs() < 0.2, "{peak}");
+        // ∫ L dλ = σT⁴/π with σ = 5.670374419e-8 W·m⁻²·K⁻⁴ (CODATA 2018).
+        let integral: f64 = (1..200_000).map(|i| planck(i as f64 * 0.5, t) * 0.5).sum();
+        let expected = 5.670_374_419e-8 * t.powi(4) / std::f64::consts::PI;
+        assert!((integral / expected - 1.0).abs() < 1e-4, "{integral} vs {expected}");
+    }
+}

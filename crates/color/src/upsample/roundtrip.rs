@@ -1,0 +1,68 @@
+//! The accuracy of a method on reflectances: RGB → spectrum → XYZ under the
+//! space's white illuminant → compared with the RGB's own XYZ by CIEDE2000.
+
+use rayon::prelude::*;
+
+use super::weights::ReflectanceWeights;
+use super::{rgb_to_spectrum, SpectrumKind, UpsampleMethod};
+use crate::error::ColorError;
+use crate::space::{delta_e_2000, xyz_to_lab, RgbSpace};
+
+/// Round-trip statistics over a grid of the RGB cube.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RoundTrip {
+    /// Largest and mean CIEDE2000.
+    pub max_de: f64,
+    pub mean_de: f64,
+    /// The colour with the largest error.
+    pub worst_rgb: [f32; 3],
+    /// How many spectra leave [0, 1] somewhere in 360–830 nm.
+    pub out_of_range: usize,
+    pub count: usize,
+}
+
+/// The n×n×n grid {i/(n−1)}³ of the RGB cube.
+pub fn rgb_cube(n: usize) -> Vec<[f32; 3]> {
+    (0..n * n * n)
+        .map(|i| [i % n, (i / n) % n, i / (n * n)].map(|v| v as f32 / (n - 1) as f32))
+        .collect()
+}
+
+/// Measures `method` on the n×n×n grid of `space`'s RGB cube.
+pub fn round_trip(method: UpsampleMethod, space: RgbSpace, n: usize) -> Result<RoundTrip, ColorError> {
+    round_trip_colours(method, space, &rgb_cube(n))
+}
+
+/// Measures `method` on reflectance colours `grid` (linear RGB in `space`, in [0, 1]³).
+pub fn round_trip_colours(
+    method: UpsampleMethod,
+    space: RgbSpace,
+    grid: &[[f32; 3]],
+) -> Result<RoundTrip, ColorError> {
+    let weights = ReflectanceWeights::of(space);
+    let def = space.def();
+    let white = def.white_xyz();
+    let errors: Vec<(f64, bool)> = grid
+        .par_iter()
+        .map(|&rgb| {
+            let s = rgb_to_spectrum(rgb, space, method, SpectrumKind::Reflectance)?;
+            let xyz = weights.xyz(|l| s.eval(l));
+            let target = def.rgb_to_xyz(rgb.map(|v| v as f64));
+            let de = delta_e_2000(xyz_to_lab(target, white), xyz_to_lab(xyz, white));
+            let bounded = weights.lambda.iter().all(|&l| (0.0..=1.0).contains(&s.eval(l)));
+            Ok((de, !bounded))
+        })
+        .collect::<Result<_, ColorError>>()?;
+    let (worst, max_de) = errors
+        .iter()
+        .enumerate()
+        .map(|(i, e)| (i, e.0))
+        .fold((0, 0.0f64), |a, b| if b.1 > a.1 { b } else { a });
+    Ok(RoundTrip {
+        max_de,
+        mean_de: errors.iter().map(|e| e.0).sum::<f64>() / errors.len() as f64,
+        worst_rgb: grid[worst],
+        out_of_range: errors.iter().filter(|e| e.1).count(),
+        count: errors.len(),
+    })
+}

@@ -1,0 +1,8 @@
+//! Images in and out of scotopia: PNG writing (atomic), spectrum plots. The
+//! XYZV′ image type and OpenEXR I/O arrive with the renderer.
+
+pub mod plot;
+pub mod png_out;
+
+pub use plot::{display_colour, plot_spectrum};
+pub use png_out::{write_png_rgb8, ImageError};
