@@ -1,1 +1,46 @@
-fn main() {}
+//! The `scotopia` command line. Each verb parses its arguments, calls the
+//! library, and prints or writes the result.
+
+mod spectrum;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// scotopia: a spectral renderer that shows what a human eye would see.
+#[derive(Parser)]
+#[command(name = "scotopia", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Print the colorimetry of one spectrum: absolute X, Y, Z (cd/m²), V′
+    /// (scotopic cd/m²), chromaticity, CCT and the S/P ratio.
+    Spectrum(spectrum::Args),
+}
+
+/// Writes `text` to standard output; a closed pipe (`| head`) is not an error.
+pub(crate) fn print(text: &str) -> anyhow::Result<()> {
+    use std::io::Write;
+    match std::io::stdout().lock().write_all(text.as_bytes()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e.into()),
+        _ => Ok(()),
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Spectrum(args) => spectrum::run(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("scotopia: error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -66,7 +66,9 @@ fn nearest(rows: &[Row], uv: [f64; 2]) -> (usize, Vec<f64>) {
         .iter()
         .map(|(_, p)| (p[0] - uv[0]).hypot(p[1] - uv[1]))
         .collect();
-    let m = (0..d.len()).min_by(|&a, &b| d[a].total_cmp(&d[b])).unwrap_or(0);
+    let m = (0..d.len())
+        .min_by(|&a, &b| d[a].total_cmp(&d[b]))
+        .unwrap_or(0);
     (m, d)
 }
 

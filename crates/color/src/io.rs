@@ -75,7 +75,10 @@ pub fn parse_table(
         }
         let lambda = numbers[0];
         if lambda <= 0.0 {
-            return Err(err(line_no, format!("wavelength {lambda} nm is not positive")));
+            return Err(err(
+                line_no,
+                format!("wavelength {lambda} nm is not positive"),
+            ));
         }
         if let Some(&prev) = table.wavelengths.last() {
             if lambda <= prev {
@@ -104,9 +107,16 @@ pub fn parse_table(
 
 /// Parses a two-column spectrum (`wavelength,value`) into a tabulated spectrum.
 /// The spectrum must overlap scotopia's 360–830 nm range (wavelengths in nm).
-pub fn parse_spectrum(text: &str, source: &str, allow_negative: bool) -> Result<Tabulated, ColorError> {
+pub fn parse_spectrum(
+    text: &str,
+    source: &str,
+    allow_negative: bool,
+) -> Result<Tabulated, ColorError> {
     let table = parse_table(text, source, 1, allow_negative)?;
-    let (first, last) = (table.wavelengths[0], table.wavelengths[table.wavelengths.len() - 1]);
+    let (first, last) = (
+        table.wavelengths[0],
+        table.wavelengths[table.wavelengths.len() - 1],
+    );
     if last < LAMBDA_MIN as f64 || first > LAMBDA_MAX as f64 {
         return Err(ColorError::SpectrumFile {
             path: source.to_string(),
@@ -145,13 +155,19 @@ mod tests {
     use super::*;
 
     fn message(text: &str) -> String {
-        parse_spectrum(text, "lamp.csv", false).unwrap_err().to_string()
+        parse_spectrum(text, "lamp.csv", false)
+            .unwrap_err()
+            .to_string()
     }
 
     #[test]
     fn reads_csv_spd_header_and_comments() {
-        let s = parse_spectrum("# lamp\nwavelength,value\n400,1\n500 2 # peak\n600;0.5\n", "x", false)
-            .unwrap();
+        let s = parse_spectrum(
+            "# lamp\nwavelength,value\n400,1\n500 2 # peak\n600;0.5\n",
+            "x",
+            false,
+        )
+        .unwrap();
         assert_eq!(s.eval(500.0), 2.0);
         assert_eq!(s.eval(450.0), 1.5);
     }
@@ -164,7 +180,8 @@ mod tests {
         );
         assert_eq!(message("# only a comment\n"), message(""));
         assert!(message("400,1\n500,abc\n").starts_with("lamp.csv:2: 'abc' is not a number"));
-        assert!(message("400,1\n400,2\n").starts_with("lamp.csv:2: wavelength 400 nm does not increase"));
+        assert!(message("400,1\n400,2\n")
+            .starts_with("lamp.csv:2: wavelength 400 nm does not increase"));
         assert!(message("400,1\n390,2\n").contains("does not increase"));
         assert!(message("400,1\n\n500,NaN\n").starts_with("lamp.csv:3: 'NaN' is not a finite"));
         assert!(message("400,1\n500,inf\n").contains("not a finite"));
@@ -182,7 +199,9 @@ mod tests {
 
     #[test]
     fn missing_file_is_an_error_naming_it() {
-        let e = read_spectrum_file("/nonexistent/lamp.spd").unwrap_err().to_string();
+        let e = read_spectrum_file("/nonexistent/lamp.spd")
+            .unwrap_err()
+            .to_string();
         assert!(e.starts_with("/nonexistent/lamp.spd: "), "{e}");
     }
 }

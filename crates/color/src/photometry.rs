@@ -50,10 +50,16 @@ pub fn xyz_to_xy([x, y, z]: [f64; 3]) -> Option<[f64; 2]> {
 /// trapezoid rule on the 1 nm grid merged with the spectrum's own tabulated
 /// wavelengths, so narrow emission lines are integrated, not skipped.
 pub fn integrate_observers(s: &Spectrum) -> [f64; 4] {
-    let mut nodes: Vec<f32> = (LAMBDA_MIN as u32..=LAMBDA_MAX as u32).map(|l| l as f32).collect();
+    let mut nodes: Vec<f32> = (LAMBDA_MIN as u32..=LAMBDA_MAX as u32)
+        .map(|l| l as f32)
+        .collect();
     let extra = s.breakpoints();
     if !extra.is_empty() {
-        nodes.extend(extra.iter().filter(|&&l| (LAMBDA_MIN..=LAMBDA_MAX).contains(&l)));
+        nodes.extend(
+            extra
+                .iter()
+                .filter(|&&l| (LAMBDA_MIN..=LAMBDA_MAX).contains(&l)),
+        );
         nodes.sort_by(f32::total_cmp);
         nodes.dedup();
     }
@@ -142,7 +148,9 @@ impl Colorimetry {
             xy,
             cct,
             sp_ratio: xyzv.sp_ratio(),
-            wavelengths: (LAMBDA_MIN as u32..=LAMBDA_MAX as u32).map(|l| l as f32).collect(),
+            wavelengths: (LAMBDA_MIN as u32..=LAMBDA_MAX as u32)
+                .map(|l| l as f32)
+                .collect(),
             values: s.on_grid(LAMBDA_MIN, LAMBDA_MAX, 1.0),
         }
     }
@@ -157,7 +165,10 @@ mod tests {
     fn equal_energy_is_white_with_the_standard_sums() {
         let e = spectrum_to_xyzv(&Spectrum::Constant(1.0));
         let [x, y] = e.xy().unwrap();
-        assert!((x - 1.0 / 3.0).abs() < 2e-4 && (y - 1.0 / 3.0).abs() < 2e-4, "{x} {y}");
+        assert!(
+            (x - 1.0 / 3.0).abs() < 2e-4 && (y - 1.0 / 3.0).abs() < 2e-4,
+            "{x} {y}"
+        );
         // 683 lm/W × Σȳ (≈106.857 nm) cd/m².
         assert!((e.y / (683.0 * 106.857) - 1.0).abs() < 1e-3, "{}", e.y);
     }
@@ -201,7 +212,11 @@ mod tests {
         for k in 0..4 {
             let mean = sum[k] / n as f64;
             let se = ((sum2[k] / n as f64 - mean * mean) / n as f64).sqrt();
-            assert!((mean - exact[k]).abs() < 4.0 * se + 1e-5 * exact[k], "{k}: {mean} vs {}", exact[k]);
+            assert!(
+                (mean - exact[k]).abs() < 4.0 * se + 1e-5 * exact[k],
+                "{k}: {mean} vs {}",
+                exact[k]
+            );
         }
     }
 }

@@ -2,7 +2,9 @@
 //! spectrum's values on it. K is a const generic (default 4) so clusters live
 //! on the stack and loops over them unroll.
 
-use std::ops::{Add, AddAssign, Div, DivAssign, Index, IndexMut, Mul, MulAssign, Neg, Sub, SubAssign};
+use std::ops::{
+    Add, AddAssign, Div, DivAssign, Index, IndexMut, Mul, MulAssign, Neg, Sub, SubAssign,
+};
 
 use crate::{LAMBDA_MAX, LAMBDA_MIN};
 
@@ -105,7 +107,13 @@ impl<const K: usize> SampledSpectrum<K> {
     /// estimator f/p for terminated wavelengths).
     #[inline]
     pub fn safe_div(&self, d: &Self) -> Self {
-        Self::from_fn(|i| if d.0[i] != 0.0 { self.0[i] / d.0[i] } else { 0.0 })
+        Self::from_fn(|i| {
+            if d.0[i] != 0.0 {
+                self.0[i] / d.0[i]
+            } else {
+                0.0
+            }
+        })
     }
 
     /// Applies `f` to each value.
@@ -213,7 +221,10 @@ mod tests {
         let b = SampledSpectrum::splat(2.0);
         assert_eq!((a * b).0, [2.0, 4.0, 6.0, 8.0]);
         assert_eq!((a - 1.0).0, [0.0, 1.0, 2.0, 3.0]);
-        assert_eq!(a.safe_div(&SampledSpectrum([1.0, 0.0, 3.0, 0.0])).0, [1.0, 0.0, 1.0, 0.0]);
+        assert_eq!(
+            a.safe_div(&SampledSpectrum([1.0, 0.0, 3.0, 0.0])).0,
+            [1.0, 0.0, 1.0, 0.0]
+        );
         assert_eq!(a.average(), 2.5);
         let mut c = a;
         c += b;

@@ -11,7 +11,12 @@ fn jakob2019_srgb_meets_the_accuracy_target() {
     let r = round_trip(UpsampleMethod::Jakob2019, RgbSpace::Srgb, 32).unwrap();
     println!("jakob2019 sRGB: {r:?}");
     assert_eq!(r.count, 32 * 32 * 32);
-    assert!(r.max_de <= 0.1, "max ΔE00 {} at {:?}", r.max_de, r.worst_rgb);
+    assert!(
+        r.max_de <= 0.1,
+        "max ΔE00 {} at {:?}",
+        r.max_de,
+        r.worst_rgb
+    );
     assert!(r.mean_de <= 0.01, "mean ΔE00 {}", r.mean_de);
     assert_eq!(r.out_of_range, 0, "every reflectance in [0, 1]");
 }
@@ -26,7 +31,11 @@ fn jakob2019_wide_gamuts_round_trip_what_reflectances_can_reach() {
     let srgb = RgbSpace::Srgb.def();
     // Bounds a little above the measured figures (README): the colours of the
     // sRGB gamut lie nearer the edge of what ACEScg's table reaches.
-    for (space, max) in [(RgbSpace::Rec2020, 0.5), (RgbSpace::DisplayP3, 0.5), (RgbSpace::AcesCg, 1.0)] {
+    for (space, max) in [
+        (RgbSpace::Rec2020, 0.5),
+        (RgbSpace::DisplayP3, 0.5),
+        (RgbSpace::AcesCg, 1.0),
+    ] {
         let def = space.def();
         let colours: Vec<[f32; 3]> = rgb_cube(16)
             .iter()
@@ -37,7 +46,11 @@ fn jakob2019_wide_gamuts_round_trip_what_reflectances_can_reach() {
         assert!(colours.len() > 3000, "{}: {}", space.name(), colours.len());
         let r = round_trip_colours(UpsampleMethod::Jakob2019, space, &colours).unwrap();
         println!("jakob2019 sRGB colours in {}: {r:?}", space.name());
-        assert!(r.max_de <= max && r.mean_de <= 0.02, "{}: {r:?}", space.name());
+        assert!(
+            r.max_de <= max && r.mean_de <= 0.02,
+            "{}: {r:?}",
+            space.name()
+        );
         assert_eq!(r.out_of_range, 0);
     }
 }
@@ -57,7 +70,13 @@ fn stored_srgb_table_is_this_fitter_s_converged_output() {
     let t = table(RgbSpace::Srgb).unwrap();
     let fitter = Fitter::new(RgbSpace::Srgb);
     let n = t.resolution();
-    for (l, k, j, i) in [(0, 40, 3, 60), (1, 20, 63, 0), (2, 63, 10, 10), (0, 63, 0, 0), (1, 5, 30, 31)] {
+    for (l, k, j, i) in [
+        (0, 40, 3, 60),
+        (1, 20, 63, 0),
+        (2, 63, 10, 10),
+        (0, 63, 0, 0),
+        (1, 5, 30, 31),
+    ] {
         let z = t.z(k) as f64;
         let mut rgb = [0.0; 3];
         rgb[l] = z;
@@ -65,10 +84,18 @@ fn stored_srgb_table_is_this_fitter_s_converged_output() {
         rgb[(l + 2) % 3] = xy_nodes(n)[j] * z;
         let stored = t.get(l, k, j, i).map(|v| v as f64);
         let refit = fitter.fit(rgb, stored);
-        assert!(refit.residual < 1e-2, "node {l},{k},{j},{i}: residual {}", refit.residual);
+        assert!(
+            refit.residual < 1e-2,
+            "node {l},{k},{j},{i}: residual {}",
+            refit.residual
+        );
         for c in 0..3 {
             let tol = 1e-3 * stored[c].abs().max(1.0);
-            assert!((refit.coeffs[c] - stored[c]).abs() < tol, "{stored:?} → {:?}", refit.coeffs);
+            assert!(
+                (refit.coeffs[c] - stored[c]).abs() < tol,
+                "{stored:?} → {:?}",
+                refit.coeffs
+            );
         }
     }
 }

@@ -99,7 +99,10 @@ fn wavelength_colour(lambda: f32) -> [u8; 3] {
 pub fn plot_spectrum(path: &Path, values: &[f32], colour: [u8; 3]) -> Result<(), ImageError> {
     let n = (LAMBDA_MAX - LAMBDA_MIN) as usize + 1;
     if values.len() != n {
-        return Err(ImageError::Invalid(format!("plot needs {n} values at 1 nm, got {}", values.len())));
+        return Err(ImageError::Invalid(format!(
+            "plot needs {n} values at 1 nm, got {}",
+            values.len()
+        )));
     }
     let mut c = Canvas {
         px: vec![255; W * H * 3],
@@ -107,8 +110,17 @@ pub fn plot_spectrum(path: &Path, values: &[f32], colour: [u8; 3]) -> Result<(),
     let (pw, ph) = (W - LEFT - RIGHT, H - TOP - BOTTOM);
     let vmax = values.iter().copied().fold(0.0f32, f32::max);
     let vmin = values.iter().copied().fold(0.0f32, f32::min);
-    let span = if vmax - vmin > 0.0 { (vmax - vmin) * 1.05 } else { 1.0 };
-    let y_of = |v: f32| TOP + ph - (((v - vmin) / span) * ph as f32).round().clamp(0.0, ph as f32) as usize;
+    let span = if vmax - vmin > 0.0 {
+        (vmax - vmin) * 1.05
+    } else {
+        1.0
+    };
+    let y_of = |v: f32| {
+        TOP + ph
+            - (((v - vmin) / span) * ph as f32)
+                .round()
+                .clamp(0.0, ph as f32) as usize
+    };
     let value_at = |x: usize| {
         let l = x as f32 / (pw - 1) as f32 * (n - 1) as f32;
         let i = (l as usize).min(n - 2);
@@ -117,9 +129,15 @@ pub fn plot_spectrum(path: &Path, values: &[f32], colour: [u8; 3]) -> Result<(),
 
     // Grid every 50 nm, with labels.
     for lambda in (400..=800).step_by(50) {
-        let x = LEFT + ((lambda as f32 - LAMBDA_MIN) / (LAMBDA_MAX - LAMBDA_MIN) * (pw - 1) as f32) as usize;
+        let x = LEFT
+            + ((lambda as f32 - LAMBDA_MIN) / (LAMBDA_MAX - LAMBDA_MIN) * (pw - 1) as f32) as usize;
         c.rect(x, TOP, x + 1, TOP + ph, [225, 225, 225]);
-        c.text(x.saturating_sub(12), TOP + ph + 8, &lambda.to_string(), [60, 60, 60]);
+        c.text(
+            x.saturating_sub(12),
+            TOP + ph + 8,
+            &lambda.to_string(),
+            [60, 60, 60],
+        );
     }
     c.text(LEFT + pw - 30, TOP + ph + 24, "nm", [60, 60, 60]);
 
@@ -138,7 +156,13 @@ pub fn plot_spectrum(path: &Path, values: &[f32], colour: [u8; 3]) -> Result<(),
     for x in 0..pw {
         let y = y_of(value_at(x));
         let (a, b) = (prev.min(y), prev.max(y));
-        c.rect(LEFT + x, a.saturating_sub(2), LEFT + x + 1, b + 3, [40, 40, 40]);
+        c.rect(
+            LEFT + x,
+            a.saturating_sub(2),
+            LEFT + x + 1,
+            b + 3,
+            [40, 40, 40],
+        );
         prev = y;
     }
     prev = y_of(value_at(0));
@@ -152,9 +176,22 @@ pub fn plot_spectrum(path: &Path, values: &[f32], colour: [u8; 3]) -> Result<(),
     // Axes, value labels and the swatch.
     c.rect(LEFT, TOP, LEFT + 1, TOP + ph, [0, 0, 0]);
     c.rect(LEFT, TOP + ph, LEFT + pw, TOP + ph + 1, [0, 0, 0]);
-    c.text(4, TOP, &format!("{:.3e}", vmax), [60, 60, 60]);
+    let label = if (0.01..1e5).contains(&vmax.abs()) {
+        format!("{:.4}", vmax).chars().take(7).collect::<String>()
+    } else {
+        format!("{vmax:.2e}")
+    };
+    let y_max = y_of(vmax);
+    c.rect(LEFT - 5, y_max, LEFT, y_max + 1, [0, 0, 0]);
+    c.text(4, y_max.saturating_sub(4), &label, [60, 60, 60]);
     c.text(4, zero.saturating_sub(5), "0", [60, 60, 60]);
-    c.rect(W - RIGHT - 60, TOP + 10, W - RIGHT - 10, TOP + 60, [40, 40, 40]);
+    c.rect(
+        W - RIGHT - 60,
+        TOP + 10,
+        W - RIGHT - 10,
+        TOP + 60,
+        [40, 40, 40],
+    );
     c.rect(W - RIGHT - 58, TOP + 12, W - RIGHT - 12, TOP + 58, colour);
 
     write_png_rgb8(path, W as u32, H as u32, &c.px)

@@ -37,16 +37,13 @@ pub fn daylight_chromaticity(cct: f64) -> Result<[f64; 2], ColorError> {
     Ok([x, y])
 }
 
-/// S(λ) = S₀ + M₁S₁ + M₂S₂, CIE 015:2018 eq. 4.10–4.11, 300–830 nm at 5 nm.
-fn from_chromaticity([x, y]: [f64; 2], round_m: bool) -> Tabulated {
+/// S(λ) = S₀ + M₁S₁ + M₂S₂, CIE 015:2018 eq. 4.10–4.11, 300–830 nm at 5 nm,
+/// with M₁, M₂ rounded to three decimals as CIE 015:2018 §4.1.2 prescribes
+/// (so generated and tabulated D illuminants agree).
+fn from_chromaticity([x, y]: [f64; 2]) -> Tabulated {
     let m = 0.0241 + 0.2562 * x - 0.7341 * y;
-    let mut m1 = (-1.3515 - 1.7703 * x + 5.9114 * y) / m;
-    let mut m2 = (0.0300 - 31.4424 * x + 30.0717 * y) / m;
-    if round_m {
-        // CIE 015:2018 §4.1.2: for the named D illuminants M₁, M₂ are rounded to 3 decimals.
-        m1 = (m1 * 1000.0).round() / 1000.0;
-        m2 = (m2 * 1000.0).round() / 1000.0;
-    }
+    let m1 = ((-1.3515 - 1.7703 * x + 5.9114 * y) / m * 1000.0).round() / 1000.0;
+    let m2 = ((0.0300 - 31.4424 * x + 30.0717 * y) / m * 1000.0).round() / 1000.0;
     let b = basis();
     let value = (0..b.wavelengths.len())
         .map(|i| (b.columns[0][i] + m1 * b.columns[1][i] + m2 * b.columns[2][i]) as f32)
@@ -58,16 +55,16 @@ fn from_chromaticity([x, y]: [f64; 2], round_m: bool) -> Tabulated {
 
 /// CIE daylight at `cct` kelvin (4000–25000 K), relative spectral power (≈100 at 560 nm).
 pub fn daylight(cct: f64) -> Result<Tabulated, ColorError> {
-    Ok(from_chromaticity(daylight_chromaticity(cct)?, false))
+    Ok(from_chromaticity(daylight_chromaticity(cct)?))
 }
 
 /// A named D illuminant (D50, D55, D75 from their nominal 5000, 5500, 7500 K):
 /// the nominal CCT is scaled by 1.4388/1.4380 for the change in c₂ since their
-/// definition, and M₁, M₂ rounded, as CIE 015:2018 §4.1.2 prescribes.
+/// definition, as CIE 015:2018 §4.1.2 prescribes.
 pub fn daylight_named(nominal: f64) -> Tabulated {
     let cct = nominal * 1.4388 / 1.4380;
     // Named temperatures are within 4000–25000 K.
-    from_chromaticity(daylight_chromaticity(cct).expect("named CCT in range"), true)
+    from_chromaticity(daylight_chromaticity(cct).expect("named CCT in range"))
 }
 
 #[cfg(test)]

@@ -46,13 +46,10 @@ pub fn illuminant_a() -> Tabulated {
 pub fn illuminant(name: &str) -> Result<Spectrum, ColorError> {
     static CACHE: OnceLock<Vec<(&'static str, Spectrum)>> = OnceLock::new();
     let upper = name.trim().to_ascii_uppercase();
-    let key = upper.strip_prefix("FL").map_or(upper.clone(), |n| format!("F{n}"));
-    let table = CACHE.get_or_init(|| {
-        ILLUMINANT_NAMES
-            .iter()
-            .map(|&n| (n, build(n)))
-            .collect()
-    });
+    let key = upper
+        .strip_prefix("FL")
+        .map_or(upper.clone(), |n| format!("F{n}"));
+    let table = CACHE.get_or_init(|| ILLUMINANT_NAMES.iter().map(|&n| (n, build(n))).collect());
     table
         .iter()
         .find(|(n, _)| *n == key)
@@ -96,7 +93,10 @@ mod tests {
         }
         assert_eq!(illuminant("fl11").unwrap(), illuminant("F11").unwrap());
         let e = illuminant("D93").unwrap_err().to_string();
-        assert!(e.contains("unknown illuminant 'D93'") && e.contains("F12"), "{e}");
+        assert!(
+            e.contains("unknown illuminant 'D93'") && e.contains("F12"),
+            "{e}"
+        );
     }
 
     #[test]
@@ -106,7 +106,11 @@ mod tests {
         // CIE 015:2018 table of illuminant A: 0.930483 at 300 nm, 9.7951 at 380 nm,
         // 241.675 at 780 nm.
         let a = illuminant_a();
-        assert!((a.eval(300.0) - 0.930_483).abs() < 1e-5, "{}", a.eval(300.0));
+        assert!(
+            (a.eval(300.0) - 0.930_483).abs() < 1e-5,
+            "{}",
+            a.eval(300.0)
+        );
         assert!((a.eval(380.0) - 9.7951).abs() < 1e-3, "{}", a.eval(380.0));
         assert!((a.eval(780.0) - 241.675).abs() < 1e-2, "{}", a.eval(780.0));
     }

@@ -27,7 +27,11 @@ fn observer_table() -> &'static [[f32; 4]] {
             .expect("embedded CIE 1931 table");
         let vp = parse_table(VPRIME_CSV, "data/cie/cie1951_scotopic_vprime.csv", 1, false)
             .expect("embedded CIE 1951 table");
-        assert_eq!(cmf.wavelengths.len(), SAMPLES_1NM, "CIE 1931 table: 360–830 nm at 1 nm");
+        assert_eq!(
+            cmf.wavelengths.len(),
+            SAMPLES_1NM,
+            "CIE 1931 table: 360–830 nm at 1 nm"
+        );
         (0..SAMPLES_1NM)
             .map(|i| {
                 let lambda = LAMBDA_MIN as f64 + i as f64;

@@ -42,7 +42,11 @@ impl Cat {
     }
 
     pub fn from_name(name: &str) -> Result<Self, ColorError> {
-        match name.to_ascii_lowercase().replace(['-', '_', ' '], "").as_str() {
+        match name
+            .to_ascii_lowercase()
+            .replace(['-', '_', ' '], "")
+            .as_str()
+        {
             "bradford" => Ok(Cat::Bradford),
             "cat02" => Ok(Cat::Cat02),
             "vonkries" => Ok(Cat::VonKries),
@@ -61,7 +65,9 @@ pub fn adaptation_matrix(src: [f64; 3], dst: [f64; 3], cat: Cat) -> Mat3 {
     let m = cat.matrix();
     let (s, d) = (m.apply(src), m.apply(dst));
     // The three transforms are invertible (constant matrices, checked by test).
-    m.inverse().expect("CAT matrix invertible") * Mat3::diagonal([d[0] / s[0], d[1] / s[1], d[2] / s[2]]) * m
+    m.inverse().expect("CAT matrix invertible")
+        * Mat3::diagonal([d[0] / s[0], d[1] / s[1], d[2] / s[2]])
+        * m
 }
 
 #[cfg(test)]

@@ -33,7 +33,11 @@ pub fn lab_to_xyz([l, a, b]: [f64; 3], white: [f64; 3]) -> [f64; 3] {
     let fy = (l + 16.0) / 116.0;
     let fx = fy + a / 500.0;
     let fz = fy - b / 200.0;
-    [f_inv(fx) * white[0], f_inv(fy) * white[1], f_inv(fz) * white[2]]
+    [
+        f_inv(fx) * white[0],
+        f_inv(fy) * white[1],
+        f_inv(fz) * white[2],
+    ]
 }
 
 /// L*a*b* → L*C*h (h in degrees, [0, 360)).

@@ -36,9 +36,21 @@ impl Mat3 {
             m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0]
         };
         Some(Mat3([
-            [cof(1, 2, 1, 2) / det, -cof(0, 2, 1, 2) / det, cof(0, 1, 1, 2) / det],
-            [-cof(1, 2, 0, 2) / det, cof(0, 2, 0, 2) / det, -cof(0, 1, 0, 2) / det],
-            [cof(1, 2, 0, 1) / det, -cof(0, 2, 0, 1) / det, cof(0, 1, 0, 1) / det],
+            [
+                cof(1, 2, 1, 2) / det,
+                -cof(0, 2, 1, 2) / det,
+                cof(0, 1, 1, 2) / det,
+            ],
+            [
+                -cof(1, 2, 0, 2) / det,
+                cof(0, 2, 0, 2) / det,
+                -cof(0, 1, 0, 2) / det,
+            ],
+            [
+                cof(1, 2, 0, 1) / det,
+                -cof(0, 2, 0, 1) / det,
+                cof(0, 1, 0, 1) / det,
+            ],
         ]))
     }
 
@@ -72,6 +84,8 @@ mod tests {
                 assert!((p.0[r][c] - e).abs() < 1e-12);
             }
         }
-        assert!(Mat3([[1.0, 2.0, 3.0], [2.0, 4.0, 6.0], [0.0, 0.0, 1.0]]).inverse().is_none());
+        assert!(Mat3([[1.0, 2.0, 3.0], [2.0, 4.0, 6.0], [0.0, 0.0, 1.0]])
+            .inverse()
+            .is_none());
     }
 }

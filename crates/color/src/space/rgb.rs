@@ -23,7 +23,12 @@ pub enum RgbSpace {
 }
 
 impl RgbSpace {
-    pub const ALL: [RgbSpace; 4] = [RgbSpace::Srgb, RgbSpace::DisplayP3, RgbSpace::Rec2020, RgbSpace::AcesCg];
+    pub const ALL: [RgbSpace; 4] = [
+        RgbSpace::Srgb,
+        RgbSpace::DisplayP3,
+        RgbSpace::Rec2020,
+        RgbSpace::AcesCg,
+    ];
 
     /// The command-line name.
     pub fn name(self) -> &'static str {
@@ -123,7 +128,8 @@ impl RgbColorSpace {
         let rgb_from_xyz = xyz_from_rgb.inverse().ok_or_else(|| {
             ColorError::OutOfRange(format!("{name}: white point gives a singular matrix"))
         })?;
-        let y_mean = integrate_observers(&illuminant)[1] / integrate_observers(&Spectrum::Constant(1.0))[1];
+        let y_mean =
+            integrate_observers(&illuminant)[1] / integrate_observers(&Spectrum::Constant(1.0))[1];
         let table = match &illuminant {
             Spectrum::Tabulated(t) => (**t).clone(),
             other => Tabulated::from_fn(300.0, 830.0, 1.0, |l| other.eval(l)),
@@ -174,7 +180,11 @@ mod tests {
         ];
         for r in 0..3 {
             for c in 0..3 {
-                assert!((m[r][c] - expected[r][c]).abs() < 1.5e-4, "{r},{c}: {}", m[r][c]);
+                assert!(
+                    (m[r][c] - expected[r][c]).abs() < 1.5e-4,
+                    "{r},{c}: {}",
+                    m[r][c]
+                );
             }
         }
     }
@@ -189,10 +199,17 @@ mod tests {
                 assert!((xyz[k] - w[k]).abs() < 1e-12);
             }
             assert_eq!(RgbSpace::from_name(space.name()).unwrap(), space);
-            let y = integrate_observers(&Spectrum::tabulated((*d.illuminant_normalised).clone()))[1];
+            let y =
+                integrate_observers(&Spectrum::tabulated((*d.illuminant_normalised).clone()))[1];
             assert!((y / integrate_observers(&Spectrum::Constant(1.0))[1] - 1.0).abs() < 1e-5);
         }
-        assert_eq!(RgbSpace::from_name("Display-P3").unwrap(), RgbSpace::DisplayP3);
-        assert!(RgbSpace::from_name("cmyk").unwrap_err().to_string().contains("srgb, p3"));
+        assert_eq!(
+            RgbSpace::from_name("Display-P3").unwrap(),
+            RgbSpace::DisplayP3
+        );
+        assert!(RgbSpace::from_name("cmyk")
+            .unwrap_err()
+            .to_string()
+            .contains("srgb, p3"));
     }
 }

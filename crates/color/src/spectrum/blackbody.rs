@@ -48,6 +48,9 @@ mod tests {
         // ∫ L dλ = σT⁴/π with σ = 5.670374419e-8 W·m⁻²·K⁻⁴ (CODATA 2018).
         let integral: f64 = (1..200_000).map(|i| planck(i as f64 * 0.5, t) * 0.5).sum();
         let expected = 5.670_374_419e-8 * t.powi(4) / std::f64::consts::PI;
-        assert!((integral / expected - 1.0).abs() < 1e-4, "{integral} vs {expected}");
+        assert!(
+            (integral / expected - 1.0).abs() < 1e-4,
+            "{integral} vs {expected}"
+        );
     }
 }

@@ -57,7 +57,10 @@ impl Spectrum {
 
     /// Values on a wavelength cluster; one dispatch for the whole cluster.
     #[inline]
-    pub fn sample<const K: usize>(&self, wavelengths: &SampledWavelengths<K>) -> SampledSpectrum<K> {
+    pub fn sample<const K: usize>(
+        &self,
+        wavelengths: &SampledWavelengths<K>,
+    ) -> SampledSpectrum<K> {
         let lambda = wavelengths.lambdas();
         match self {
             Spectrum::Constant(v) => SampledSpectrum::splat(*v),

@@ -28,7 +28,10 @@ impl Tabulated {
         if lambda.is_empty() {
             return bad("no samples".into());
         }
-        if let Some(i) = lambda.windows(2).position(|w| w[1] <= w[0] || !w[1].is_finite()) {
+        if let Some(i) = lambda
+            .windows(2)
+            .position(|w| w[1] <= w[0] || !w[1].is_finite())
+        {
             return bad(format!("wavelengths not increasing at index {}", i + 1));
         }
         if let Some(i) = value.iter().position(|v| !v.is_finite()) {
@@ -89,7 +92,12 @@ impl Tabulated {
         // Find the segment [i, i + 1] that holds lambda.
         let i = match self.uniform {
             Some((start, inv_step)) => (((lambda - start) * inv_step) as usize).min(n - 2),
-            None => self.lambda.partition_point(|&l| l <= lambda).clamp(1, n - 1) - 1,
+            None => {
+                self.lambda
+                    .partition_point(|&l| l <= lambda)
+                    .clamp(1, n - 1)
+                    - 1
+            }
         };
         let (l0, l1) = (self.lambda[i], self.lambda[i + 1]);
         let t = ((lambda - l0) / (l1 - l0)).clamp(0.0, 1.0);

@@ -37,7 +37,11 @@ pub enum UpsampleMethod {
 }
 
 impl UpsampleMethod {
-    pub const ALL: [UpsampleMethod; 3] = [UpsampleMethod::Jakob2019, UpsampleMethod::Smits, UpsampleMethod::Primaries];
+    pub const ALL: [UpsampleMethod; 3] = [
+        UpsampleMethod::Jakob2019,
+        UpsampleMethod::Smits,
+        UpsampleMethod::Primaries,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -68,7 +72,11 @@ pub enum SpectrumKind {
 }
 
 impl SpectrumKind {
-    pub const ALL: [SpectrumKind; 3] = [SpectrumKind::Reflectance, SpectrumKind::Unbounded, SpectrumKind::Illuminant];
+    pub const ALL: [SpectrumKind; 3] = [
+        SpectrumKind::Reflectance,
+        SpectrumKind::Unbounded,
+        SpectrumKind::Illuminant,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -91,7 +99,11 @@ impl SpectrumKind {
 }
 
 /// The reflectance spectrum of `rgb` ∈ [0, 1]³ by `method` (no checks).
-fn reflectance(rgb: [f32; 3], space: RgbSpace, method: UpsampleMethod) -> Result<Spectrum, ColorError> {
+fn reflectance(
+    rgb: [f32; 3],
+    space: RgbSpace,
+    method: UpsampleMethod,
+) -> Result<Spectrum, ColorError> {
     if rgb == [0.0; 3] {
         return Ok(Spectrum::Constant(0.0));
     }
@@ -182,17 +194,34 @@ mod tests {
         let go = |rgb, kind| rgb_to_spectrum(rgb, RgbSpace::Srgb, UpsampleMethod::Smits, kind);
         assert!(go([-0.1, 0.5, 0.5], SpectrumKind::Unbounded).is_err());
         assert!(go([f32::NAN, 0.5, 0.5], SpectrumKind::Unbounded).is_err());
-        let e = go([1.5, 0.5, 0.5], SpectrumKind::Reflectance).unwrap_err().to_string();
+        let e = go([1.5, 0.5, 0.5], SpectrumKind::Reflectance)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("unbounded"), "{e}");
         assert!(go([1.5, 0.5, 0.5], SpectrumKind::Unbounded).is_ok());
-        assert_eq!(go([0.0; 3], SpectrumKind::Illuminant).unwrap(), Spectrum::Constant(0.0));
+        assert_eq!(
+            go([0.0; 3], SpectrumKind::Illuminant).unwrap(),
+            Spectrum::Constant(0.0)
+        );
     }
 
     #[test]
     fn unbounded_scales_linearly_for_linear_methods() {
         for method in [UpsampleMethod::Smits, UpsampleMethod::Primaries] {
-            let a = rgb_to_spectrum([0.2, 0.4, 0.1], RgbSpace::Srgb, method, SpectrumKind::Unbounded).unwrap();
-            let b = rgb_to_spectrum([2.0, 4.0, 1.0], RgbSpace::Srgb, method, SpectrumKind::Unbounded).unwrap();
+            let a = rgb_to_spectrum(
+                [0.2, 0.4, 0.1],
+                RgbSpace::Srgb,
+                method,
+                SpectrumKind::Unbounded,
+            )
+            .unwrap();
+            let b = rgb_to_spectrum(
+                [2.0, 4.0, 1.0],
+                RgbSpace::Srgb,
+                method,
+                SpectrumKind::Unbounded,
+            )
+            .unwrap();
             for l in (360..=830).step_by(10) {
                 let l = l as f32;
                 assert!((b.eval(l) - 10.0 * a.eval(l)).abs() < 1e-5 * b.eval(l).max(1.0));

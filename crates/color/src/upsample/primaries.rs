@@ -15,7 +15,14 @@ const RAMP: f32 = 0.5;
 pub fn reflectance(rgb: [f32; 3]) -> Tabulated {
     let [r, g, b] = rgb;
     let (e0, e1) = (EDGES[0], EDGES[1]);
-    let lambda = vec![LAMBDA_MIN, e0 - RAMP, e0 + RAMP, e1 - RAMP, e1 + RAMP, LAMBDA_MAX];
+    let lambda = vec![
+        LAMBDA_MIN,
+        e0 - RAMP,
+        e0 + RAMP,
+        e1 - RAMP,
+        e1 + RAMP,
+        LAMBDA_MAX,
+    ];
     let value = vec![b, b, g, g, r, r];
     // The wavelengths are fixed and increasing.
     Tabulated::new(lambda, value).expect("fixed box edges")

@@ -29,7 +29,11 @@ pub fn rgb_cube(n: usize) -> Vec<[f32; 3]> {
 }
 
 /// Measures `method` on the n×n×n grid of `space`'s RGB cube.
-pub fn round_trip(method: UpsampleMethod, space: RgbSpace, n: usize) -> Result<RoundTrip, ColorError> {
+pub fn round_trip(
+    method: UpsampleMethod,
+    space: RgbSpace,
+    n: usize,
+) -> Result<RoundTrip, ColorError> {
     round_trip_colours(method, space, &rgb_cube(n))
 }
 
@@ -49,7 +53,10 @@ pub fn round_trip_colours(
             let xyz = weights.xyz(|l| s.eval(l));
             let target = def.rgb_to_xyz(rgb.map(|v| v as f64));
             let de = delta_e_2000(xyz_to_lab(target, white), xyz_to_lab(xyz, white));
-            let bounded = weights.lambda.iter().all(|&l| (0.0..=1.0).contains(&s.eval(l)));
+            let bounded = weights
+                .lambda
+                .iter()
+                .all(|&l| (0.0..=1.0).contains(&s.eval(l)));
             Ok((de, !bounded))
         })
         .collect::<Result<_, ColorError>>()?;

@@ -23,7 +23,9 @@ const BLUE: usize = 6;
 fn basis() -> &'static Table {
     static B: OnceLock<Table> = OnceLock::new();
     // Embedded table, part of the build.
-    B.get_or_init(|| parse_table(BASIS_CSV, "data/smits1999.csv", 7, false).expect("embedded Smits table"))
+    B.get_or_init(|| {
+        parse_table(BASIS_CSV, "data/smits1999.csv", 7, false).expect("embedded Smits table")
+    })
 }
 
 /// The Smits spectrum of a reflectance `rgb`, at the basis wavelengths with

@@ -21,12 +21,19 @@ impl ReflectanceWeights {
     /// The weights for `space`'s white illuminant, built once per space.
     pub fn of(space: RgbSpace) -> &'static ReflectanceWeights {
         static W: OnceLock<Vec<ReflectanceWeights>> = OnceLock::new();
-        let all = W.get_or_init(|| RgbSpace::ALL.iter().map(|&s| Self::build(&s.def().illuminant)).collect());
+        let all = W.get_or_init(|| {
+            RgbSpace::ALL
+                .iter()
+                .map(|&s| Self::build(&s.def().illuminant))
+                .collect()
+        });
         &all[space as usize]
     }
 
     fn build(illuminant: &Spectrum) -> Self {
-        let lambda: Vec<f32> = (LAMBDA_MIN as u32..=LAMBDA_MAX as u32).map(|l| l as f32).collect();
+        let lambda: Vec<f32> = (LAMBDA_MIN as u32..=LAMBDA_MAX as u32)
+            .map(|l| l as f32)
+            .collect();
         let raw: Vec<[f64; 3]> = lambda
             .iter()
             .map(|&l| {

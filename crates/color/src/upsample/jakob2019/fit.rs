@@ -76,7 +76,13 @@ impl Fitter {
 
     /// CIELAB of `xyz` and ∂Lab/∂XYZ.
     fn lab_and_jacobian(&self, xyz: [f64; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
-        let f = |v: f64| if v > EPSILON { v.cbrt() } else { (KAPPA * v + 16.0) / 116.0 };
+        let f = |v: f64| {
+            if v > EPSILON {
+                v.cbrt()
+            } else {
+                (KAPPA * v + 16.0) / 116.0
+            }
+        };
         let df = |v: f64| {
             if v > EPSILON {
                 1.0 / (3.0 * v.cbrt() * v.cbrt())

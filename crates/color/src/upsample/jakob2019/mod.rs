@@ -24,8 +24,12 @@ const TABLE_FILES: [&[u8]; 4] = [
 
 /// The table for `space`, decoded on first use.
 pub fn table(space: RgbSpace) -> Result<&'static SigmoidTable, ColorError> {
-    static TABLES: [OnceLock<Result<SigmoidTable, String>>; 4] =
-        [OnceLock::new(), OnceLock::new(), OnceLock::new(), OnceLock::new()];
+    static TABLES: [OnceLock<Result<SigmoidTable, String>>; 4] = [
+        OnceLock::new(),
+        OnceLock::new(),
+        OnceLock::new(),
+        OnceLock::new(),
+    ];
     let i = space as usize;
     TABLES[i]
         .get_or_init(|| SigmoidTable::decode(TABLE_FILES[i]).map_err(|e| e.to_string()))

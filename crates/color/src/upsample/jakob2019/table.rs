@@ -52,7 +52,9 @@ pub fn z_nodes(n: usize) -> Vec<f64> {
 /// needs reflectances near 1). Against uniform spacing this lowers the
 /// sRGB-in-Rec.2020 round trip's worst ΔE₀₀ from 1.9 to 0.35.
 pub fn xy_nodes(n: usize) -> Vec<f64> {
-    (0..n).map(|i| xy_spacing(i as f64 / (n - 1) as f64)).collect()
+    (0..n)
+        .map(|i| xy_spacing(i as f64 / (n - 1) as f64))
+        .collect()
 }
 
 fn xy_spacing(u: f64) -> f64 {
@@ -189,7 +191,10 @@ impl SigmoidTable {
             return Err(bad("non-finite coefficient"));
         }
         let mut table = Self::empty(res, floats[..res].to_vec());
-        table.coeffs = floats[res..].chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+        table.coeffs = floats[res..]
+            .chunks_exact(3)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect();
         Ok(table)
     }
 }

@@ -1,0 +1,69 @@
+# scotopia — the two set-up commands are `make demo` and `make test`.
+SHELL := /bin/bash
+.SHELLFLAGS := -eu -o pipefail -c
+
+VENV      := .venv
+PY        := $(VENV)/bin/python
+STAMP     := $(VENV)/.installed
+CARGO     ?= cargo
+BIN       := target/release/scotopia
+DEMO_OUT  := out/demo
+
+.PHONY: all test demo bench tables fmt lint cargo-test python pytest toolchain clean
+
+all: test
+
+## The Python virtual environment with the build tool and the oracle.
+$(STAMP): python/requirements-dev.txt
+	python3 -m venv $(VENV)
+	$(PY) -m pip install --quiet --upgrade pip
+	$(PY) -m pip install --quiet -r python/requirements-dev.txt
+	touch $(STAMP)
+
+## rustfmt and clippy, if the toolchain lacks them.
+toolchain:
+	@command -v rustup >/dev/null && rustup component add rustfmt clippy >/dev/null 2>&1 || true
+
+fmt: toolchain
+	$(CARGO) fmt --all -- --check
+
+lint: toolchain
+	$(CARGO) clippy --workspace --all-targets -- -D warnings
+
+cargo-test:
+	$(CARGO) test --workspace
+
+## Builds the extension module into the venv (release: the tests are numeric).
+python: $(STAMP)
+	VIRTUAL_ENV=$(CURDIR)/$(VENV) PATH=$(CURDIR)/$(VENV)/bin:$$PATH \
+	  $(VENV)/bin/maturin develop --release --quiet -m python/Cargo.toml
+
+pytest: python
+	$(PY) -m pytest -q python/tests
+
+## Everything CI checks.
+test: fmt lint cargo-test pytest
+
+## Until rendering exists: the colorimetry of a few lamps, with plots.
+demo:
+	$(CARGO) build --release -p scotopia
+	@mkdir -p $(DEMO_OUT)
+	@for lamp in A D65 F2 F11; do \
+	  $(BIN) spectrum --illuminant $$lamp --plot $(DEMO_OUT)/illuminant-$$lamp.png; echo; done
+	@$(BIN) spectrum --blackbody 1900 --plot $(DEMO_OUT)/candle-1900K.png; echo
+	@$(BIN) spectrum --file scenes/lamps/led-4000k.csv --plot $(DEMO_OUT)/led-4000k.png; echo
+	@$(BIN) spectrum --file scenes/lamps/low-pressure-sodium.csv --plot $(DEMO_OUT)/low-pressure-sodium.png; echo
+	@$(BIN) spectrum --rgb 0.8,0.3,0.1 --plot $(DEMO_OUT)/srgb-orange-reflectance.png; echo
+	@echo "plots in $(DEMO_OUT)/"
+
+## criterion benchmarks.
+bench:
+	$(CARGO) bench -p scotopia-color
+
+## Regenerates the Jakob–Hanika coefficient tables in data/rgb2spec.
+tables:
+	$(CARGO) run --release -p scotopia-color --bin scotopia-rgb2spec -- data/rgb2spec
+
+clean:
+	$(CARGO) clean
+	rm -rf $(VENV) out
