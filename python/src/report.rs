@@ -25,7 +25,7 @@ fn colorimetry<'py>(
     let c = Colorimetry::of(&spectrum.inner);
     if let Some(path) = plot {
         let linear = RgbSpace::Srgb.def().xyz_to_rgb(c.xyzv.xyz());
-        plot_spectrum(&path, &c.values, display_colour(linear))
+        plot_spectrum(&path, &spectrum.inner, display_colour(linear))
             .map_err(|e| pyo3::exceptions::PyOSError::new_err(e.to_string()))?;
     }
     let d = PyDict::new(py);

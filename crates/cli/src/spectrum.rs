@@ -118,7 +118,7 @@ fn report(args: &Args) -> Result<String> {
     let c = Colorimetry::of(&spectrum);
     if let Some(path) = &args.plot {
         let linear = RgbSpace::Srgb.def().xyz_to_rgb(c.xyzv.xyz());
-        plot_spectrum(path, &c.values, display_colour(linear))?;
+        plot_spectrum(path, &spectrum, display_colour(linear))?;
     }
     if args.json {
         let report = json!({

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use scotopia_color::cie::xyz_bar;
 use scotopia_color::space::{srgb_encode, RgbSpace};
-use scotopia_color::{LAMBDA_MAX, LAMBDA_MIN};
+use scotopia_color::{Spectrum, LAMBDA_MAX, LAMBDA_MIN};
 
 use crate::png_out::{write_png_rgb8, ImageError};
 
@@ -94,38 +94,39 @@ fn wavelength_colour(lambda: f32) -> [u8; 3] {
     to_display(RgbSpace::Srgb.def().xyz_to_rgb(xyz))
 }
 
-/// Draws `values` (at 1 nm from 360 nm) to `path`. `colour` is the 8-bit
-/// sRGB colour to draw the curve and swatch in.
-pub fn plot_spectrum(path: &Path, values: &[f32], colour: [u8; 3]) -> Result<(), ImageError> {
-    let n = (LAMBDA_MAX - LAMBDA_MIN) as usize + 1;
-    if values.len() != n {
-        return Err(ImageError::Invalid(format!(
-            "plot needs {n} values at 1 nm, got {}",
-            values.len()
-        )));
-    }
+/// The value drawn in each pixel column: the extreme (largest magnitude) of
+/// the spectrum over the column's wavelength range, sampled finely and at
+/// the spectrum's own breakpoints, so a line narrower than a pixel shows at
+/// its full height.
+fn column_values(s: &Spectrum, columns: usize) -> Vec<f32> {
+    let width = (LAMBDA_MAX - LAMBDA_MIN) / columns as f32;
+    let breaks = s.breakpoints();
+    (0..columns)
+        .map(|x| {
+            let (l0, l1) = (LAMBDA_MIN + width * x as f32, LAMBDA_MIN + width * (x + 1) as f32);
+            let inside = breaks.iter().copied().filter(|&l| l >= l0 && l < l1);
+            (0..8)
+                .map(|k| l0 + width * k as f32 / 8.0)
+                .chain(inside)
+                .map(|l| s.eval(l))
+                .fold(0.0f32, |m, v| if v.abs() > m.abs() { v } else { m })
+        })
+        .collect()
+}
+
+/// Draws `spectrum` over 360–830 nm to `path`. `colour` is the 8-bit sRGB
+/// colour to draw the curve and swatch in.
+pub fn plot_spectrum(path: &Path, spectrum: &Spectrum, colour: [u8; 3]) -> Result<(), ImageError> {
     let mut c = Canvas {
         px: vec![255; W * H * 3],
     };
     let (pw, ph) = (W - LEFT - RIGHT, H - TOP - BOTTOM);
+    let values = column_values(spectrum, pw);
     let vmax = values.iter().copied().fold(0.0f32, f32::max);
     let vmin = values.iter().copied().fold(0.0f32, f32::min);
-    let span = if vmax - vmin > 0.0 {
-        (vmax - vmin) * 1.05
-    } else {
-        1.0
-    };
-    let y_of = |v: f32| {
-        TOP + ph
-            - (((v - vmin) / span) * ph as f32)
-                .round()
-                .clamp(0.0, ph as f32) as usize
-    };
-    let value_at = |x: usize| {
-        let l = x as f32 / (pw - 1) as f32 * (n - 1) as f32;
-        let i = (l as usize).min(n - 2);
-        values[i] + (l - i as f32) * (values[i + 1] - values[i])
-    };
+    let span = if vmax - vmin > 0.0 { (vmax - vmin) * 1.05 } else { 1.0 };
+    let y_of = |v: f32| TOP + ph - (((v - vmin) / span) * ph as f32).round().clamp(0.0, ph as f32) as usize;
+    let value_at = |x: usize| values[x];
 
     // Grid every 50 nm, with labels.
     for lambda in (400..=800).step_by(50) {
