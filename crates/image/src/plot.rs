@@ -103,7 +103,10 @@ fn column_values(s: &Spectrum, columns: usize) -> Vec<f32> {
     let breaks = s.breakpoints();
     (0..columns)
         .map(|x| {
-            let (l0, l1) = (LAMBDA_MIN + width * x as f32, LAMBDA_MIN + width * (x + 1) as f32);
+            let (l0, l1) = (
+                LAMBDA_MIN + width * x as f32,
+                LAMBDA_MIN + width * (x + 1) as f32,
+            );
             let inside = breaks.iter().copied().filter(|&l| l >= l0 && l < l1);
             (0..8)
                 .map(|k| l0 + width * k as f32 / 8.0)
@@ -124,8 +127,17 @@ pub fn plot_spectrum(path: &Path, spectrum: &Spectrum, colour: [u8; 3]) -> Resul
     let values = column_values(spectrum, pw);
     let vmax = values.iter().copied().fold(0.0f32, f32::max);
     let vmin = values.iter().copied().fold(0.0f32, f32::min);
-    let span = if vmax - vmin > 0.0 { (vmax - vmin) * 1.05 } else { 1.0 };
-    let y_of = |v: f32| TOP + ph - (((v - vmin) / span) * ph as f32).round().clamp(0.0, ph as f32) as usize;
+    let span = if vmax - vmin > 0.0 {
+        (vmax - vmin) * 1.05
+    } else {
+        1.0
+    };
+    let y_of = |v: f32| {
+        TOP + ph
+            - (((v - vmin) / span) * ph as f32)
+                .round()
+                .clamp(0.0, ph as f32) as usize
+    };
     let value_at = |x: usize| values[x];
 
     // Grid every 50 nm, with labels.

@@ -97,7 +97,11 @@ impl Tabulated {
                 (i, (x - i as f32).min(1.0))
             }
             None => {
-                let i = self.lambda.partition_point(|&l| l <= lambda).clamp(1, n - 1) - 1;
+                let i = self
+                    .lambda
+                    .partition_point(|&l| l <= lambda)
+                    .clamp(1, n - 1)
+                    - 1;
                 let (l0, l1) = (self.lambda[i], self.lambda[i + 1]);
                 (i, ((lambda - l0) / (l1 - l0)).clamp(0.0, 1.0))
             }
