@@ -32,6 +32,8 @@ from ._scotopia import (  # noqa: F401
     xyz_to_lab,
     xyz_to_oklab,
     xyz_to_rgb,
+    xyy_to_xyz,
+    xyz_to_xyy,
 )
 
 

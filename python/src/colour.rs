@@ -97,40 +97,37 @@ fn delta_e_2000<'py>(
     map3_pair(py, lab1, lab2, space::delta_e_2000)
 }
 
-/// XYZ (D65, Y = 1 for white) → Oklab.
+/// XYZ → xyY (black keeps the D65 chromaticity).
 #[pyfunction]
-fn xyz_to_oklab<'py>(
+fn xyz_to_xyy<'py>(
     py: Python<'py>,
     xyz: PyReadonlyArrayDyn<'py, f64>,
 ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-    map3(py, xyz, space::xyz_to_oklab)
+    map3(py, xyz, |v| space::xyz_to_xyy(v, [0.3127, 0.3290]))
 }
 
-/// Oklab → XYZ.
-#[pyfunction]
-fn oklab_to_xyz<'py>(
-    py: Python<'py>,
-    lab: PyReadonlyArrayDyn<'py, f64>,
-) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-    map3(py, lab, space::oklab_to_xyz)
+/// A Python function applying a per-colour conversion over arrays (..., 3).
+macro_rules! unary3 {
+    ($(#[doc = $doc:literal] $name:ident => $f:expr;)*) => {$(
+        #[doc = $doc]
+        #[pyfunction]
+        fn $name<'py>(py: Python<'py>, v: PyReadonlyArrayDyn<'py, f64>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+            map3(py, v, $f)
+        }
+    )*};
 }
 
-/// Oklab → OkLCh (hue in degrees).
-#[pyfunction]
-fn oklab_to_oklch<'py>(
-    py: Python<'py>,
-    lab: PyReadonlyArrayDyn<'py, f64>,
-) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-    map3(py, lab, space::oklab_to_oklch)
-}
-
-/// OkLCh → Oklab.
-#[pyfunction]
-fn oklch_to_oklab<'py>(
-    py: Python<'py>,
-    lch: PyReadonlyArrayDyn<'py, f64>,
-) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-    map3(py, lch, space::oklch_to_oklab)
+unary3! {
+    /// XYZ (D65, Y = 1 for white) → Oklab.
+    xyz_to_oklab => space::xyz_to_oklab;
+    /// Oklab → XYZ.
+    oklab_to_xyz => space::oklab_to_xyz;
+    /// Oklab → OkLCh (hue in degrees).
+    oklab_to_oklch => space::oklab_to_oklch;
+    /// OkLCh → Oklab.
+    oklch_to_oklab => space::oklch_to_oklab;
+    /// xyY → XYZ.
+    xyy_to_xyz => space::xyy_to_xyz;
 }
 
 /// (CCT in K, Duv) of a chromaticity (x, y), Ohno 2013; None outside 1000–100000 K.
@@ -153,5 +150,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(oklab_to_oklch, m)?)?;
     m.add_function(wrap_pyfunction!(oklch_to_oklab, m)?)?;
     m.add_function(wrap_pyfunction!(cct_from_xy, m)?)?;
+    m.add_function(wrap_pyfunction!(xyz_to_xyy, m)?)?;
+    m.add_function(wrap_pyfunction!(xyy_to_xyz, m)?)?;
     Ok(())
 }

@@ -69,3 +69,10 @@ def test_bad_shapes_and_names_are_errors():
         scotopia.rgb_to_xyz(np.zeros((4, 2)))
     with pytest.raises(ValueError, match="unknown colour space"):
         scotopia.rgb_to_xyz(np.zeros(3), "cmyk")
+
+
+def test_xyy(rng):
+    xyz = rng.random((20, 3))
+    xyy = scotopia.xyz_to_xyy(xyz)
+    np.testing.assert_allclose(xyy, colour.XYZ_to_xyY(xyz), atol=1e-12)
+    np.testing.assert_allclose(scotopia.xyy_to_xyz(xyy), xyz, atol=1e-12)

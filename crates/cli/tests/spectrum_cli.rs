@@ -37,6 +37,8 @@ fn json_report_has_the_documented_fields() {
     assert!((xy[0].as_f64().unwrap() - 0.44757).abs() < 2e-5);
     assert!((v["cct"].as_f64().unwrap() - 2855.5).abs() < 1.0);
     assert_eq!(v["wavelengths"].as_array().unwrap().len(), 471);
+    assert_eq!(v["wavelengths"][0], 360);
+    assert_eq!(v["wavelengths"][470], 830);
     assert_eq!(v["values"].as_array().unwrap().len(), 471);
     // X, Y, Z are the integrals: Y / V′ is consistent with the S/P ratio.
     let y = v["xyz"][1].as_f64().unwrap();

@@ -15,12 +15,10 @@ pub enum ColorError {
     #[error("{path}: no spectral data (expected lines of 'wavelength,value')")]
     EmptySpectrumFile { path: String },
     /// A spectrum file could not be read at all.
-    #[error("{path}: {source}")]
-    Io {
-        path: String,
-        #[source]
-        source: std::io::Error,
-    },
+    /// (The I/O error is part of the message, not a separate cause, so
+    /// reports do not print it twice.)
+    #[error("{path}: {cause}")]
+    Io { path: String, cause: std::io::Error },
     /// Spectrum data given directly (not from a file) is invalid.
     #[error("invalid spectrum: {0}")]
     InvalidSpectrum(String),

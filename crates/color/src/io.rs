@@ -143,9 +143,9 @@ pub fn parse_spectrum(
 pub fn read_spectrum_file(path: impl AsRef<Path>) -> Result<Tabulated, ColorError> {
     let path = path.as_ref();
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|source| ColorError::Io {
+    let text = std::fs::read_to_string(path).map_err(|cause| ColorError::Io {
         path: name.clone(),
-        source,
+        cause,
     })?;
     parse_spectrum(&text, &name, false)
 }

@@ -134,7 +134,7 @@ pub struct Colorimetry {
     pub cct: Option<Cct>,
     pub sp_ratio: Option<f64>,
     /// 360, 361, …, 830 nm.
-    pub wavelengths: Vec<f32>,
+    pub wavelengths: Vec<u32>,
     pub values: Vec<f32>,
 }
 
@@ -148,9 +148,7 @@ impl Colorimetry {
             xy,
             cct,
             sp_ratio: xyzv.sp_ratio(),
-            wavelengths: (LAMBDA_MIN as u32..=LAMBDA_MAX as u32)
-                .map(|l| l as f32)
-                .collect(),
+            wavelengths: (LAMBDA_MIN as u32..=LAMBDA_MAX as u32).collect(),
             values: s.on_grid(LAMBDA_MIN, LAMBDA_MAX, 1.0),
         }
     }

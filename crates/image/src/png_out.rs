@@ -8,12 +8,10 @@ use std::path::{Path, PathBuf};
 /// Errors writing images.
 #[derive(Debug, thiserror::Error)]
 pub enum ImageError {
-    #[error("{path}: {source}")]
-    Io {
-        path: String,
-        #[source]
-        source: std::io::Error,
-    },
+    /// (The I/O error is part of the message, not a separate cause, so
+    /// reports do not print it twice.)
+    #[error("{path}: {cause}")]
+    Io { path: String, cause: std::io::Error },
     #[error("{path}: PNG encoding failed: {message}")]
     Png { path: String, message: String },
     #[error("{0}")]
@@ -39,9 +37,9 @@ pub fn write_png_rgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Resul
         )));
     }
     let name = path.display().to_string();
-    let io = |source| ImageError::Io {
+    let io = |cause| ImageError::Io {
         path: name.clone(),
-        source,
+        cause,
     };
     let png_err = |e: png::EncodingError| ImageError::Png {
         path: name.clone(),
