@@ -50,13 +50,14 @@ pub fn round_trip_colours(
         .par_iter()
         .map(|&rgb| {
             let s = rgb_to_spectrum(rgb, space, method, SpectrumKind::Reflectance)?;
-            let xyz = weights.xyz(|l| s.eval(l));
+            let mut bounded = true;
+            let xyz = weights.xyz(|l| {
+                let v = s.eval(l);
+                bounded &= (0.0..=1.0).contains(&v);
+                v
+            });
             let target = def.rgb_to_xyz(rgb.map(|v| v as f64));
             let de = delta_e_2000(xyz_to_lab(target, white), xyz_to_lab(xyz, white));
-            let bounded = weights
-                .lambda
-                .iter()
-                .all(|&l| (0.0..=1.0).contains(&s.eval(l)));
             Ok((de, !bounded))
         })
         .collect::<Result<_, ColorError>>()?;

@@ -47,7 +47,7 @@ impl ReflectanceWeights {
     }
 
     /// Relative XYZ of the reflectance `r` (Y = 1 for the perfect reflector).
-    pub fn xyz(&self, r: impl Fn(f32) -> f32) -> [f64; 3] {
+    pub fn xyz(&self, mut r: impl FnMut(f32) -> f32) -> [f64; 3] {
         let mut xyz = [0.0f64; 3];
         for (l, w) in self.lambda.iter().zip(&self.w) {
             let v = r(*l) as f64;
