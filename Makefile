@@ -58,7 +58,7 @@ demo:
 
 ## criterion benchmarks.
 bench:
-	$(CARGO) bench -p scotopia-color
+	$(CARGO) bench -p scotopia-color -p scotopia-render
 
 ## Regenerates the Jakob–Hanika coefficient tables in data/rgb2spec.
 tables:

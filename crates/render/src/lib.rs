@@ -1,3 +1,7 @@
-//! Geometry, BVH, camera, BSDFs, lights, wavelength sampling, integrators, film.
-//!
-//! Filled in by a later issue; see ../../shared/DESIGN.md for its place in the workspace.
+//! scotopia-render: geometry, acceleration, cameras, BSDFs, lights,
+//! wavelength sampling, integrators and the film. So far: the math, the
+//! shapes and the BVH.
+
+pub mod accel;
+pub mod geometry;
+pub mod math;

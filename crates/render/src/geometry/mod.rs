@@ -1,0 +1,183 @@
+//! Shapes: triangle meshes, spheres, disks, rectangles; what a ray hit on
+//! them, and the surface there.
+
+mod mesh;
+mod planar;
+mod sphere;
+mod triangle;
+
+pub use mesh::TriangleMesh;
+pub use planar::{Planar, PlanarKind};
+pub use sphere::Sphere;
+pub use triangle::{intersect_triangle, RayShear, TriangleHit};
+
+use crate::accel::Aabb;
+use crate::math::{Ray, Vec3};
+
+/// Geometry that cannot be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum GeometryError {
+    #[error("{0}")]
+    Invalid(String),
+}
+
+/// The closed set of shapes.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Shape {
+    Mesh(TriangleMesh),
+    Sphere(Sphere),
+    /// Boxed: it carries two 4×4 transforms.
+    Planar(Box<Planar>),
+}
+
+/// The minimum a traversal records about the closest hit; the surface is
+/// computed from it once, for that hit only.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Hit {
+    pub t: f32,
+    pub shape: u32,
+    pub prim: u32,
+    /// Barycentrics (triangles) or object-space (x, y) (planar shapes).
+    pub uv: [f32; 2],
+}
+
+/// The surface at a hit: position, geometric and shading normals (unit,
+/// facing the side the shape's normals point to), and texture coordinates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Surface {
+    pub p: Vec3,
+    pub n_geometric: Vec3,
+    pub n_shading: Vec3,
+    pub uv: [f32; 2],
+}
+
+impl Shape {
+    /// Number of primitives the BVH sees (triangles, or 1).
+    pub fn primitive_count(&self) -> usize {
+        match self {
+            Shape::Mesh(m) => m.triangle_count(),
+            _ => 1,
+        }
+    }
+
+    /// Bounds of primitive `prim`.
+    pub fn bounds(&self, prim: usize) -> Aabb {
+        match self {
+            Shape::Mesh(m) => {
+                let (a, b, c) = m.vertices(prim);
+                Aabb::from_points(&[a, b, c])
+            }
+            Shape::Sphere(s) => Aabb {
+                min: s.center - Vec3::splat(s.radius),
+                max: s.center + Vec3::splat(s.radius),
+            },
+            Shape::Planar(p) => {
+                let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+                let pts = corners.map(|(x, y)| p.world_from_object.point(Vec3::new(x, y, 0.0)));
+                Aabb::from_points(&pts)
+            }
+        }
+    }
+
+    /// Intersects primitive `prim` within (0, t_max).
+    #[inline]
+    pub fn intersect(
+        &self,
+        prim: usize,
+        ray: &Ray,
+        shear: &RayShear,
+        t_max: f32,
+    ) -> Option<(f32, [f32; 2])> {
+        match self {
+            Shape::Mesh(m) => {
+                let (a, b, c) = m.vertices(prim);
+                intersect_triangle(ray, shear, a, b, c, t_max).map(|h| (h.t, [h.b[1], h.b[2]]))
+            }
+            Shape::Sphere(s) => s.intersect(ray, t_max).map(|t| (t, [0.0, 0.0])),
+            Shape::Planar(p) => p.intersect(ray, t_max),
+        }
+    }
+
+    /// Total surface area.
+    pub fn area(&self) -> f32 {
+        match self {
+            Shape::Mesh(m) => (0..m.triangle_count()).map(|f| m.face_area(f)).sum(),
+            Shape::Sphere(s) => s.area(),
+            Shape::Planar(p) => p.area(),
+        }
+    }
+
+    /// The surface at `hit` of `ray`.
+    pub fn surface(&self, hit: &Hit, ray: &Ray) -> Surface {
+        match self {
+            Shape::Mesh(m) => {
+                let [b1, b2] = hit.uv;
+                let b0 = 1.0 - b1 - b2;
+                let f = hit.prim as usize;
+                let (a, b, c) = m.vertices(f);
+                let p = a * b0 + b * b1 + c * b2;
+                let n_geometric = (b - a).cross(c - a).normalize();
+                let [ia, ib, ic] = m.indices[f].map(|i| i as usize);
+                let interpolated = m
+                    .normals
+                    .as_ref()
+                    .map(|n| (n[ia] * b0 + n[ib] * b1 + n[ic] * b2).normalize())
+                    .filter(|n| n.is_finite());
+                // The geometric normal follows the shading normal's side.
+                let (n_geometric, n_shading) = match interpolated {
+                    Some(ns) if ns.dot(n_geometric) < 0.0 => (-n_geometric, ns),
+                    Some(ns) => (n_geometric, ns),
+                    None => (n_geometric, n_geometric),
+                };
+                let uv = m.uvs.as_ref().map_or([b1, b2], |t| {
+                    std::array::from_fn(|k| t[ia][k] * b0 + t[ib][k] * b1 + t[ic][k] * b2)
+                });
+                Surface {
+                    p,
+                    n_geometric,
+                    n_shading,
+                    uv,
+                }
+            }
+            Shape::Sphere(s) => {
+                let p = ray.at(hit.t);
+                let n = (p - s.center).normalize();
+                // Re-project onto the surface to remove the distance's rounding.
+                let p = s.center + n * s.radius;
+                let phi = n.y.atan2(n.x).rem_euclid(2.0 * std::f32::consts::PI);
+                let theta = n.z.clamp(-1.0, 1.0).acos();
+                Surface {
+                    p,
+                    n_geometric: n,
+                    n_shading: n,
+                    uv: [
+                        phi / (2.0 * std::f32::consts::PI),
+                        theta / std::f32::consts::PI,
+                    ],
+                }
+            }
+            Shape::Planar(pl) => {
+                let [x, y] = hit.uv;
+                let p = pl.world_from_object.point(Vec3::new(x, y, 0.0));
+                let n = pl.normal();
+                let uv = match pl.kind {
+                    PlanarKind::Rectangle => [0.5 * (x + 1.0), 0.5 * (y + 1.0)],
+                    PlanarKind::Disk => {
+                        let r = (x * x + y * y).sqrt();
+                        [
+                            r,
+                            y.atan2(x).rem_euclid(2.0 * std::f32::consts::PI)
+                                / (2.0 * std::f32::consts::PI),
+                        ]
+                    }
+                };
+                Surface {
+                    p,
+                    n_geometric: n,
+                    n_shading: n,
+                    uv,
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,179 @@
+//! The watertight ray–triangle test of Woop, Benthin & Wald 2013,
+//! "Watertight Ray/Triangle Intersection" (JCGT 2(1)): no ray passes between
+//! two triangles that share an edge.
+
+use crate::math::{Ray, Vec3};
+
+/// Per-ray precomputation: the axis permutation and shear that make the ray
+/// run along +z (Woop et al. 2013, §3).
+#[derive(Debug, Clone, Copy)]
+pub struct RayShear {
+    kx: usize,
+    ky: usize,
+    kz: usize,
+    sx: f32,
+    sy: f32,
+    sz: f32,
+}
+
+impl RayShear {
+    #[inline]
+    pub fn new(ray: &Ray) -> Self {
+        let kz = ray.d.abs().max_dimension();
+        let mut kx = (kz + 1) % 3;
+        let mut ky = (kx + 1) % 3;
+        // Keep the winding: swap when the ray points down the chosen axis.
+        if ray.d[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        Self {
+            kx,
+            ky,
+            kz,
+            sx: ray.d[kx] / ray.d[kz],
+            sy: ray.d[ky] / ray.d[kz],
+            sz: 1.0 / ray.d[kz],
+        }
+    }
+}
+
+/// A hit on a triangle: distance and barycentric weights of (p0, p1, p2).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TriangleHit {
+    pub t: f32,
+    pub b: [f32; 3],
+}
+
+/// Intersects the triangle (p0, p1, p2) with `ray` in (0, t_max).
+#[inline]
+pub fn intersect_triangle(
+    ray: &Ray,
+    s: &RayShear,
+    p0: Vec3,
+    p1: Vec3,
+    p2: Vec3,
+    t_max: f32,
+) -> Option<TriangleHit> {
+    // Vertices relative to the origin, sheared so the ray is the +z axis.
+    let (a, b, c) = (p0 - ray.o, p1 - ray.o, p2 - ray.o);
+    let ax = a[s.kx] - s.sx * a[s.kz];
+    let ay = a[s.ky] - s.sy * a[s.kz];
+    let bx = b[s.kx] - s.sx * b[s.kz];
+    let by = b[s.ky] - s.sy * b[s.kz];
+    let cx = c[s.kx] - s.sx * c[s.kz];
+    let cy = c[s.ky] - s.sy * c[s.kz];
+
+    // Scaled barycentrics: 2D edge functions, in f64 when one is exactly 0
+    // (an edge through the ray), so the shared edge decides consistently.
+    let mut u = cx * by - cy * bx;
+    let mut v = ax * cy - ay * cx;
+    let mut w = bx * ay - by * ax;
+    if u == 0.0 || v == 0.0 || w == 0.0 {
+        let (ax, ay, bx, by, cx, cy) = (
+            ax as f64, ay as f64, bx as f64, by as f64, cx as f64, cy as f64,
+        );
+        u = (cx * by - cy * bx) as f32;
+        v = (ax * cy - ay * cx) as f32;
+        w = (bx * ay - by * ax) as f32;
+    }
+    if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+        return None;
+    }
+    let det = u + v + w;
+    if det == 0.0 {
+        return None;
+    }
+
+    // Scaled distance, compared without dividing (Woop et al. 2013, §3).
+    let az = s.sz * a[s.kz];
+    let bz = s.sz * b[s.kz];
+    let cz = s.sz * c[s.kz];
+    let t_scaled = u * az + v * bz + w * cz;
+    if (det < 0.0 && (t_scaled >= 0.0 || t_scaled < t_max * det))
+        || (det > 0.0 && (t_scaled <= 0.0 || t_scaled > t_max * det))
+    {
+        return None;
+    }
+    let inv = 1.0 / det;
+    let t = t_scaled * inv;
+    if !(t > 0.0 && t < t_max) {
+        return None;
+    }
+    Some(TriangleHit {
+        t,
+        b: [u * inv, v * inv, w * inv],
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tri() -> (Vec3, Vec3, Vec3) {
+        (
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        )
+    }
+
+    #[test]
+    fn hits_with_barycentrics() {
+        let (p0, p1, p2) = tri();
+        let ray = Ray::new(Vec3::new(0.25, 0.5, 2.0), Vec3::new(0.0, 0.0, -1.0));
+        let h = intersect_triangle(&ray, &RayShear::new(&ray), p0, p1, p2, f32::INFINITY).unwrap();
+        assert!((h.t - 2.0).abs() < 1e-6);
+        let p = p0 * h.b[0] + p1 * h.b[1] + p2 * h.b[2];
+        assert!((p - ray.at(h.t)).length() < 1e-6, "{h:?}");
+        // Behind the origin, beyond t_max, outside: misses.
+        let back = Ray::new(Vec3::new(0.25, 0.5, -2.0), Vec3::new(0.0, 0.0, -1.0));
+        assert!(
+            intersect_triangle(&back, &RayShear::new(&back), p0, p1, p2, f32::INFINITY).is_none()
+        );
+        assert!(intersect_triangle(&ray, &RayShear::new(&ray), p0, p1, p2, 1.5).is_none());
+        let out = Ray::new(Vec3::new(0.75, 0.75, 2.0), Vec3::new(0.0, 0.0, -1.0));
+        assert!(
+            intersect_triangle(&out, &RayShear::new(&out), p0, p1, p2, f32::INFINITY).is_none()
+        );
+    }
+
+    #[test]
+    fn shared_edge_is_watertight() {
+        // Two triangles sharing the diagonal of the unit square: rays through
+        // the diagonal hit exactly one of them.
+        let (a, b, c, d) = (
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        );
+        let mut state = 12345u32;
+        for _ in 0..10_000 {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            let s = (state >> 8) as f32 / (1u32 << 24) as f32;
+            let o = Vec3::new(s, s, 1.0) + Vec3::new(0.3, -0.2, 0.0) * 1e-3;
+            let ray = Ray::new(o, (Vec3::new(s, s, 0.0) - o).normalize());
+            let sh = RayShear::new(&ray);
+            let hits = intersect_triangle(&ray, &sh, a, b, c, f32::INFINITY).is_some() as u32
+                + intersect_triangle(&ray, &sh, a, c, d, f32::INFINITY).is_some() as u32;
+            assert!(
+                hits >= 1,
+                "a ray through the shared edge fell through at {s}"
+            );
+        }
+    }
+
+    #[test]
+    fn degenerate_triangles_never_hit() {
+        let p = Vec3::new(0.5, 0.5, 0.0);
+        let ray = Ray::new(Vec3::new(0.5, 0.5, 1.0), Vec3::new(0.0, 0.0, -1.0));
+        let s = RayShear::new(&ray);
+        assert!(intersect_triangle(&ray, &s, p, p, p, f32::INFINITY).is_none());
+        let line = (
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(2.0, 2.0, 0.0),
+        );
+        assert!(intersect_triangle(&ray, &s, line.0, line.1, line.2, f32::INFINITY).is_none());
+    }
+}

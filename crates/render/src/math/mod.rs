@@ -1,0 +1,9 @@
+//! Vectors, rays and transforms.
+
+mod ray;
+mod transform;
+mod vec3;
+
+pub use ray::{offset_ray_origin, Ray};
+pub use transform::{invert, Mat4, Transform};
+pub use vec3::Vec3;
