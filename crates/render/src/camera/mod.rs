@@ -1,0 +1,239 @@
+//! Cameras: perspective (pinhole) and thin lens, with Mitsuba 3's mapping
+//! from film position to ray, so that a scene rendered by both lines up
+//! pixel for pixel.
+//!
+//! Camera space (Mitsuba's): +z is the view direction, +y up, +x left. The
+//! film position (x, y) runs from (0, 0) at the top-left corner of the image
+//! to (width, height) at the bottom-right; a pixel (i, j) covers
+//! [i, i + 1) × [j, j + 1).
+
+use crate::math::{Ray, Transform, Vec3};
+use crate::sampling::warp::square_to_disk_concentric;
+
+/// Which image axis `fov` spans (Mitsuba's `fov_axis`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FovAxis {
+    X,
+    Y,
+    Diagonal,
+    /// The smaller of the two image axes.
+    Smaller,
+    /// The larger of the two image axes.
+    Larger,
+}
+
+impl FovAxis {
+    pub fn from_name(name: &str) -> Option<Self> {
+        Some(match name {
+            "x" => FovAxis::X,
+            "y" => FovAxis::Y,
+            "diagonal" => FovAxis::Diagonal,
+            "smaller" => FovAxis::Smaller,
+            "larger" => FovAxis::Larger,
+            _ => return None,
+        })
+    }
+}
+
+/// A perspective camera; a thin lens when `aperture_radius` > 0.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Camera {
+    pub world_from_camera: Transform,
+    pub width: u32,
+    pub height: u32,
+    /// tan of half the horizontal field of view.
+    tan_half_x: f32,
+    pub near_clip: f32,
+    pub far_clip: f32,
+    pub aperture_radius: f32,
+    pub focus_distance: f32,
+}
+
+/// A camera that cannot be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("camera: {0}")]
+pub struct CameraError(pub String);
+
+impl Camera {
+    /// A camera with field of view `fov_degrees` along `axis` over a film of
+    /// `width`×`height` pixels. `aperture_radius` 0 is a pinhole.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        world_from_camera: Transform,
+        width: u32,
+        height: u32,
+        fov_degrees: f32,
+        axis: FovAxis,
+        near_clip: f32,
+        far_clip: f32,
+        aperture_radius: f32,
+        focus_distance: f32,
+    ) -> Result<Self, CameraError> {
+        let bad = |m: String| Err(CameraError(m));
+        if width == 0 || height == 0 {
+            return bad(format!("film of {width}×{height} pixels"));
+        }
+        if !(fov_degrees > 0.0 && fov_degrees < 180.0) {
+            return bad(format!("field of view {fov_degrees}° is not in (0°, 180°)"));
+        }
+        if !(near_clip > 0.0 && far_clip > near_clip) {
+            return bad(format!("clip range near {near_clip}, far {far_clip}"));
+        }
+        if !(aperture_radius >= 0.0 && aperture_radius.is_finite()) {
+            return bad(format!("aperture radius {aperture_radius}"));
+        }
+        if aperture_radius > 0.0 && !(focus_distance > 0.0 && focus_distance.is_finite()) {
+            return bad(format!("focus distance {focus_distance}"));
+        }
+        let aspect = width as f32 / height as f32;
+        let t = (0.5 * fov_degrees.to_radians()).tan();
+        // Mitsuba's fov_axis conversion to a horizontal field of view.
+        let axis = match axis {
+            FovAxis::Smaller if aspect > 1.0 => FovAxis::Y,
+            FovAxis::Smaller => FovAxis::X,
+            FovAxis::Larger if aspect > 1.0 => FovAxis::X,
+            FovAxis::Larger => FovAxis::Y,
+            a => a,
+        };
+        let tan_half_x = match axis {
+            FovAxis::Y => t * aspect,
+            FovAxis::Diagonal => t / (1.0 + 1.0 / (aspect * aspect)).sqrt(),
+            _ => t,
+        };
+        Ok(Self {
+            world_from_camera,
+            width,
+            height,
+            tan_half_x,
+            near_clip,
+            far_clip,
+            aperture_radius,
+            focus_distance,
+        })
+    }
+
+    /// Horizontal and vertical field of view, degrees.
+    pub fn fov_degrees(&self) -> (f32, f32) {
+        let aspect = self.width as f32 / self.height as f32;
+        (
+            2.0 * self.tan_half_x.atan().to_degrees(),
+            2.0 * (self.tan_half_x / aspect).atan().to_degrees(),
+        )
+    }
+
+    /// The camera-space direction (z = 1) through film position `film`.
+    #[inline]
+    fn direction(&self, film: [f32; 2]) -> Vec3 {
+        let (u, v) = (film[0] / self.width as f32, film[1] / self.height as f32);
+        let aspect = self.width as f32 / self.height as f32;
+        Vec3::new(
+            (1.0 - 2.0 * u) * self.tan_half_x,
+            (1.0 - 2.0 * v) * self.tan_half_x / aspect,
+            1.0,
+        )
+    }
+
+    /// The world-space ray through film position `film` (pixels), with
+    /// `lens` ∈ [0, 1)² choosing the point on the aperture. The ray starts at
+    /// the near clip plane and ends at the far one, as in Mitsuba.
+    #[inline]
+    pub fn generate_ray(&self, film: [f32; 2], lens: [f32; 2]) -> Ray {
+        let d = self.direction(film);
+        let (origin, dir) = if self.aperture_radius > 0.0 {
+            // Thin lens: rays through every point of the aperture meet on the
+            // plane z = focus_distance.
+            let [lx, ly] = square_to_disk_concentric(lens);
+            let o = Vec3::new(lx * self.aperture_radius, ly * self.aperture_radius, 0.0);
+            let focus = d * self.focus_distance;
+            (o, (focus - o).normalize())
+        } else {
+            (Vec3::ZERO, d.normalize())
+        };
+        let near = self.near_clip / dir.z;
+        let far = self.far_clip / dir.z;
+        let o = self.world_from_camera.point(origin + dir * near);
+        let world_dir = self.world_from_camera.vector(dir);
+        let scale = world_dir.length();
+        Ray {
+            o,
+            d: world_dir / scale,
+            t_max: (far - near) * scale,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn camera(w: u32, h: u32, fov: f32, axis: FovAxis) -> Camera {
+        let t = Transform::look_at(
+            Vec3::ZERO,
+            Vec3::new(0.0, 0.0, -1.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        )
+        .unwrap();
+        Camera::new(t, w, h, fov, axis, 1e-2, 1e4, 0.0, 1.0).unwrap()
+    }
+
+    #[test]
+    fn centre_edges_and_orientation() {
+        let c = camera(200, 100, 90.0, FovAxis::X);
+        let centre = c.generate_ray([100.0, 50.0], [0.5, 0.5]);
+        assert!((centre.d - Vec3::new(0.0, 0.0, -1.0)).length() < 1e-6);
+        // The right edge of the film is 45° to the right (+x in the world,
+        // looking down −z with +y up); the top edge is atan(0.5) up.
+        let right = c.generate_ray([200.0, 50.0], [0.5, 0.5]).d;
+        assert!(
+            (right - Vec3::new(1.0, 0.0, -1.0).normalize()).length() < 1e-6,
+            "{right:?}"
+        );
+        let top = c.generate_ray([100.0, 0.0], [0.5, 0.5]).d;
+        assert!(
+            (top - Vec3::new(0.0, 0.5, -1.0).normalize()).length() < 1e-6,
+            "{top:?}"
+        );
+        let (fx, fy) = c.fov_degrees();
+        assert!((fx - 90.0).abs() < 1e-4 && (fy - 2.0 * 0.5f32.atan().to_degrees()).abs() < 1e-4);
+        // The ray starts on the near plane.
+        assert!((centre.o - Vec3::new(0.0, 0.0, -1e-2)).length() < 1e-7);
+    }
+
+    #[test]
+    fn fov_axes() {
+        let y = camera(200, 100, 40.0, FovAxis::Y).fov_degrees();
+        assert!((y.1 - 40.0).abs() < 1e-3);
+        let d = camera(300, 400, 60.0, FovAxis::Diagonal);
+        let (tx, ty) = (
+            (d.fov_degrees().0 / 2.0).to_radians().tan(),
+            (d.fov_degrees().1 / 2.0).to_radians().tan(),
+        );
+        assert!(((tx * tx + ty * ty).sqrt() - 30f32.to_radians().tan()).abs() < 1e-5);
+        assert!((camera(300, 400, 50.0, FovAxis::Smaller).fov_degrees().0 - 50.0).abs() < 1e-3);
+        assert!((camera(300, 400, 50.0, FovAxis::Larger).fov_degrees().1 - 50.0).abs() < 1e-3);
+    }
+
+    #[test]
+    fn thin_lens_focuses_on_the_focal_plane() {
+        let t = Transform::IDENTITY;
+        let c = Camera::new(t, 64, 64, 45.0, FovAxis::X, 1e-3, 1e3, 0.2, 3.0).unwrap();
+        let film = [10.3, 50.7];
+        let pinhole_dir = c.direction(film);
+        let focus = pinhole_dir * 3.0;
+        for lens in [[0.1, 0.9], [0.5, 0.5], [0.99, 0.01]] {
+            let r = c.generate_ray(film, lens);
+            let t = (focus.z - r.o.z) / r.d.z;
+            assert!((r.at(t) - focus).length() < 1e-4, "{lens:?}");
+        }
+    }
+
+    #[test]
+    fn bad_parameters_are_errors() {
+        let t = Transform::IDENTITY;
+        assert!(Camera::new(t, 0, 10, 45.0, FovAxis::X, 0.1, 10.0, 0.0, 1.0).is_err());
+        assert!(Camera::new(t, 10, 10, 180.0, FovAxis::X, 0.1, 10.0, 0.0, 1.0).is_err());
+        assert!(Camera::new(t, 10, 10, 45.0, FovAxis::X, 1.0, 0.5, 0.0, 1.0).is_err());
+        assert!(Camera::new(t, 10, 10, 45.0, FovAxis::X, 0.1, 10.0, 0.1, 0.0).is_err());
+        assert!(Camera::new(t, 10, 10, f32::NAN, FovAxis::X, 0.1, 10.0, 0.0, 1.0).is_err());
+    }
+}

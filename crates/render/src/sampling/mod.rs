@@ -1,0 +1,3 @@
+//! Sample warping.
+
+pub mod warp;
