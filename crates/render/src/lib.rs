@@ -1,8 +1,9 @@
 //! scotopia-render: geometry, acceleration, cameras, BSDFs, lights,
 //! wavelength sampling, integrators and the film. So far: the math, the
-//! shapes, the BVH and the camera.
+//! shapes, the BVH, the camera and the BSDFs.
 
 pub mod accel;
+pub mod bsdf;
 pub mod camera;
 pub mod geometry;
 pub mod math;

@@ -200,6 +200,37 @@ mod tests {
     }
 
     #[test]
+    fn matches_mitsuba_3() {
+        use std::f32::consts::FRAC_1_SQRT_2;
+        // Mitsuba 3.9.1 (scalar_spectral) `perspective`, fov 90 along x,
+        // 200×100 film, near_clip 0.01, look_at (0,0,0) → (0,0,−1), up +y:
+        // sensor.sample_ray(position = film / size, aperture (0.5, 0.5)).
+        let c = camera(200, 100, 90.0, FovAxis::X);
+        let cases = [
+            (
+                [0.0, 0.0],
+                [-0.01, 0.005, -0.01],
+                [-0.666667, 0.333333, -0.666667],
+            ),
+            (
+                [50.0, 80.0],
+                [-0.005, -0.003, -0.01],
+                [-0.431934, -0.25916, -0.863868],
+            ),
+            (
+                [200.0, 50.0],
+                [0.01, 0.0, -0.01],
+                [FRAC_1_SQRT_2, 0.0, -FRAC_1_SQRT_2],
+            ),
+        ];
+        for (film, o, d) in cases {
+            let r = c.generate_ray(film, [0.5, 0.5]);
+            assert!((r.o - Vec3::from(o)).length() < 1e-6, "{film:?}: {:?}", r.o);
+            assert!((r.d - Vec3::from(d)).length() < 1e-5, "{film:?}: {:?}", r.d);
+        }
+    }
+
+    #[test]
     fn fov_axes() {
         let y = camera(200, 100, 40.0, FovAxis::Y).fov_degrees();
         assert!((y.1 - 40.0).abs() < 1e-3);

@@ -1,0 +1,319 @@
+//! BSDF checks, as Mitsuba and pbrt test theirs: sampling matches the pdf
+//! (chi-square), sample weights equal eval/pdf, reciprocity, energy
+//! conservation, and the delta lobes' analytic behaviour.
+
+mod common;
+
+use common::{chi2_directions, Rng};
+use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
+use scotopia_render::bsdf::{
+    fresnel_dielectric, Bsdf, Conductor, Dielectric, Diffuse, Ior, ThinDielectric, Transport,
+};
+use scotopia_render::math::Vec3;
+
+/// Significance per test, Bonferroni-corrected over the chi-square cases.
+const ALPHA: f64 = 0.01 / 12.0;
+
+fn wl() -> SampledWavelengths<4> {
+    SampledWavelengths::sample_uniform(0.37)
+}
+
+fn dir(theta_deg: f32, phi_deg: f32) -> Vec3 {
+    let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
+    Vec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
+}
+
+fn diffuse() -> Bsdf {
+    Bsdf::Diffuse(Diffuse {
+        reflectance: Spectrum::Constant(0.7),
+    })
+}
+
+/// Copper-like constants (η 0.27, κ 3.4 at 600 nm).
+fn rough_conductor(alpha: f32) -> Bsdf {
+    Bsdf::Conductor(Conductor {
+        eta: Spectrum::Constant(0.27),
+        k: Spectrum::Constant(3.4),
+        specular_reflectance: Spectrum::Constant(1.0),
+        alpha,
+    })
+}
+
+fn glass(eta: Spectrum) -> Ior {
+    Ior {
+        interior: eta,
+        exterior: Spectrum::Constant(1.0),
+    }
+}
+
+fn sampling_cases() -> Vec<(&'static str, Bsdf, Vec3)> {
+    let mut cases = vec![];
+    for theta in [0.0, 40.0, 80.0] {
+        cases.push(("diffuse", diffuse(), dir(theta, 30.0)));
+        cases.push((
+            "rough conductor α 0.2",
+            rough_conductor(0.2),
+            dir(theta, 10.0),
+        ));
+        cases.push((
+            "rough conductor α 0.6",
+            rough_conductor(0.6),
+            dir(theta, 200.0),
+        ));
+        cases.push((
+            "twosided rough conductor from below",
+            Bsdf::TwoSided(Box::new(rough_conductor(0.4))),
+            -dir(theta, 70.0),
+        ));
+    }
+    cases
+}
+
+#[test]
+fn sampling_matches_pdf_chi_square() {
+    let w = wl();
+    assert_eq!(sampling_cases().len(), 12);
+    for (i, (name, bsdf, wi)) in sampling_cases().into_iter().enumerate() {
+        let mut rng = Rng(100 + i as u64);
+        let p = chi2_directions(
+            200_000,
+            &mut rng,
+            |r| {
+                let (u1, u2) = (r.next(), r.pair());
+                bsdf.sample(&w, wi, u1, u2, Transport::Radiance)
+                    .map(|s| s.wo)
+            },
+            |wo| bsdf.pdf(wi, wo) as f64,
+        );
+        assert!(p > ALPHA, "{name}, wi {wi:?}: p = {p:e}");
+    }
+}
+
+#[test]
+fn a_wrong_pdf_is_caught() {
+    // The test must be able to fail: claim a uniform hemisphere density for
+    // cosine-weighted samples.
+    let w = wl();
+    let b = diffuse();
+    let wi = dir(20.0, 0.0);
+    let p = chi2_directions(
+        200_000,
+        &mut Rng(7),
+        |r| {
+            b.sample(&w, wi, 0.5, r.pair(), Transport::Radiance)
+                .map(|s| s.wo)
+        },
+        |wo| {
+            if wo.z > 0.0 {
+                1.0 / (2.0 * std::f64::consts::PI)
+            } else {
+                0.0
+            }
+        },
+    );
+    assert!(p < 1e-6, "p = {p}");
+}
+
+#[test]
+fn weights_are_eval_over_pdf() {
+    let w = wl();
+    let mut rng = Rng(3);
+    for (name, bsdf, wi) in sampling_cases() {
+        for _ in 0..200 {
+            let Some(s) = bsdf.sample(&w, wi, rng.next(), rng.pair(), Transport::Radiance) else {
+                continue;
+            };
+            let expected = bsdf.eval(&w, wi, s.wo) / bsdf.pdf(wi, s.wo);
+            for k in 0..4 {
+                assert!(
+                    (s.weight[k] - expected[k]).abs() <= 1e-3 * expected[k].max(1.0),
+                    "{name}: {s:?} vs {expected:?}"
+                );
+            }
+            assert!((s.pdf - bsdf.pdf(wi, s.wo)).abs() <= 1e-3 * s.pdf, "{name}");
+        }
+    }
+}
+
+#[test]
+fn reciprocity() {
+    let w = wl();
+    let mut rng = Rng(4);
+    for bsdf in [diffuse(), rough_conductor(0.3), rough_conductor(0.05)] {
+        for _ in 0..500 {
+            let (a, b) = (
+                dir(85.0 * rng.next(), 360.0 * rng.next()),
+                dir(85.0 * rng.next(), 360.0 * rng.next()),
+            );
+            // f(a, b) = f(b, a), with the cosines eval includes divided out.
+            let fab = bsdf.eval(&w, a, b) / b.z;
+            let fba = bsdf.eval(&w, b, a) / a.z;
+            for k in 0..4 {
+                assert!(
+                    (fab[k] - fba[k]).abs() <= 1e-4 * fab[k].max(1e-3),
+                    "{a:?} {b:?}: {fab:?} {fba:?}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn albedo_is_at_most_one() {
+    // Directional albedo by Monte Carlo: mean weight, within 4 standard errors of ≤ 1.
+    let w = wl();
+    for (name, bsdf, wi) in sampling_cases() {
+        let mut rng = Rng(5);
+        let n = 50_000;
+        let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+        for _ in 0..n {
+            let v = bsdf
+                .sample(&w, wi, rng.next(), rng.pair(), Transport::Radiance)
+                .map_or(0.0, |s| s.weight[0] as f64);
+            sum += v;
+            sum2 += v * v;
+        }
+        let mean = sum / n as f64;
+        let se = ((sum2 / n as f64 - mean * mean).max(0.0) / n as f64).sqrt();
+        assert!(
+            mean - 4.0 * se <= 1.0,
+            "{name} {wi:?}: albedo {mean} ± {se}"
+        );
+    }
+    // The Lambertian albedo is exactly its reflectance.
+    let s = diffuse()
+        .sample(&w, dir(30.0, 0.0), 0.5, [0.3, 0.6], Transport::Radiance)
+        .unwrap();
+    assert_eq!(s.weight, SampledSpectrum::splat(0.7));
+}
+
+#[test]
+fn smooth_dielectric_splits_by_fresnel_and_obeys_snell() {
+    let w = wl();
+    let d = Dielectric {
+        ior: glass(Spectrum::Constant(1.5)),
+        specular_reflectance: Spectrum::Constant(1.0),
+        specular_transmittance: Spectrum::Constant(1.0),
+    };
+    let wi = dir(50.0, 120.0);
+    let (f, _, _) = fresnel_dielectric(wi.z, 1.5);
+    let mut rng = Rng(6);
+    let n = 100_000;
+    let (mut reflected, mut energy) = (0usize, 0.0f64);
+    for _ in 0..n {
+        let s = d.sample(&w, wi, rng.next(), Transport::Importance).unwrap();
+        assert!(s.delta && !s.collapse);
+        if s.wo.z > 0.0 {
+            reflected += 1;
+            assert!((s.wo - Vec3::new(-wi.x, -wi.y, wi.z)).length() < 1e-6);
+        } else {
+            // Snell: sin θ_t = sin θ_i / 1.5, same plane of incidence.
+            let (si, st) = ((1.0 - wi.z * wi.z).sqrt(), (1.0 - s.wo.z * s.wo.z).sqrt());
+            assert!((st - si / 1.5).abs() < 1e-5);
+            assert!(s.wo.x * wi.x <= 0.0 && s.wo.y * wi.y <= 0.0);
+        }
+        energy += s.weight[0] as f64;
+    }
+    // Reflection probability F, within 4 binomial standard errors.
+    let p = reflected as f64 / n as f64;
+    let se = (f as f64 * (1.0 - f as f64) / n as f64).sqrt();
+    assert!((p - f as f64).abs() < 4.0 * se, "{p} vs {f}");
+    // Importance transport through a lossless interface conserves energy.
+    assert!((energy / n as f64 - 1.0).abs() < 1e-6);
+    // Radiance is scaled by 1/η² on entering.
+    let s = d.sample(&w, wi, 0.9999, Transport::Radiance).unwrap();
+    assert!(s.wo.z < 0.0 && (s.weight[0] - 1.0 / (1.5 * 1.5)).abs() < 1e-5);
+    // From inside beyond the critical angle: total internal reflection.
+    let inside = -dir(60.0, 0.0);
+    let s = d.sample(&w, inside, 0.9999, Transport::Radiance).unwrap();
+    assert!(s.wo.z < 0.0 && (s.weight[0] - 1.0).abs() < 1e-6 && s.wo.z == inside.z);
+}
+
+#[test]
+fn dispersive_refraction_collapses_the_cluster() {
+    let w = SampledWavelengths::<4>::new([450.0, 500.0, 600.0, 700.0], [1.0 / 470.0; 4]);
+    // A Cauchy-like index, larger in the blue.
+    let eta = Spectrum::tabulated(
+        scotopia_color::Tabulated::new(vec![400.0, 800.0], vec![1.55, 1.50]).unwrap(),
+    );
+    let d = Dielectric {
+        ior: glass(eta),
+        specular_reflectance: Spectrum::Constant(1.0),
+        specular_transmittance: Spectrum::Constant(1.0),
+    };
+    let wi = dir(45.0, 0.0);
+    let t = d.sample(&w, wi, 0.9999, Transport::Importance).unwrap();
+    assert!(
+        t.collapse,
+        "refraction through a dispersive index collapses"
+    );
+    // The direction is the first wavelength's (η at 450 nm ≈ 1.54375).
+    let eta0 = 1.55 - 0.05 * (450.0 - 400.0) / 400.0;
+    assert!(((1.0 - t.wo.z * t.wo.z).sqrt() - wi.x / eta0).abs() < 1e-5);
+    let r = d.sample(&w, wi, 0.0, Transport::Importance).unwrap();
+    assert!(!r.collapse, "reflection is the same for every wavelength");
+    // Each wavelength's reflection weight is its own F over the first one's.
+    let f: Vec<f32> = w
+        .lambdas()
+        .iter()
+        .map(|&l| fresnel_dielectric(wi.z, 1.55 - 0.05 * (l - 400.0) / 400.0).0)
+        .collect();
+    for k in 0..4 {
+        assert!((r.weight[k] - f[k] / f[0]).abs() < 1e-5);
+    }
+}
+
+#[test]
+fn thin_dielectric_sums_internal_reflections() {
+    let w = wl();
+    let d = ThinDielectric {
+        ior: glass(Spectrum::Constant(1.5)),
+        specular_reflectance: Spectrum::Constant(1.0),
+        specular_transmittance: Spectrum::Constant(1.0),
+    };
+    // Normal incidence: R = 0.04, R' = 2R/(1 + R).
+    let s = d.sample(&w, Vec3::new(0.0, 0.0, 1.0), 0.0).unwrap();
+    let expected = 2.0 * 0.04 / 1.04;
+    let t = d.sample(&w, Vec3::new(0.0, 0.0, 1.0), 0.5).unwrap();
+    assert!(s.wo.z > 0.0 && t.wo == Vec3::new(0.0, 0.0, -1.0));
+    assert!(
+        (t.weight[0] - 1.0).abs() < 1e-6,
+        "weights are 1 for a colourless slab"
+    );
+    let mut rng = Rng(8);
+    let n = 200_000;
+    let refl = (0..n)
+        .filter(|_| {
+            d.sample(&w, Vec3::new(0.0, 0.0, 1.0), rng.next())
+                .unwrap()
+                .wo
+                .z
+                > 0.0
+        })
+        .count();
+    let p = refl as f64 / n as f64;
+    let se = (expected * (1.0 - expected) / n as f64).sqrt();
+    assert!((p - expected).abs() < 4.0 * se, "{p} vs {expected}");
+}
+
+#[test]
+fn smooth_conductor_reflects_with_fresnel() {
+    let w = wl();
+    let b = rough_conductor(0.0);
+    assert!(b.is_delta());
+    let s = b
+        .sample(
+            &w,
+            Vec3::new(0.0, 0.0, 1.0),
+            0.5,
+            [0.5, 0.5],
+            Transport::Radiance,
+        )
+        .unwrap();
+    let r0 = ((0.27f32 - 1.0).powi(2) + 3.4 * 3.4) / ((0.27f32 + 1.0).powi(2) + 3.4 * 3.4);
+    assert!((s.weight[0] - r0).abs() < 1e-5 && s.delta && s.wo == Vec3::new(0.0, 0.0, 1.0));
+    assert_eq!(
+        b.eval(&w, Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.0, 0.0, 1.0)),
+        SampledSpectrum::splat(0.0)
+    );
+}
