@@ -7,12 +7,13 @@ mod common;
 use common::{chi2_directions, Rng};
 use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
 use scotopia_render::bsdf::{
-    fresnel_dielectric, Bsdf, Conductor, Dielectric, Diffuse, Ior, ThinDielectric, Transport,
+    fresnel_dielectric, Bsdf, Conductor, Dielectric, Diffuse, Ior, RoughDielectric, ThinDielectric,
+    Transport,
 };
 use scotopia_render::math::Vec3;
 
 /// Significance per test, Bonferroni-corrected over the chi-square cases.
-const ALPHA: f64 = 0.01 / 12.0;
+const ALPHA: f64 = 0.01 / 18.0;
 
 fn wl() -> SampledWavelengths<4> {
     SampledWavelengths::sample_uniform(0.37)
@@ -46,6 +47,15 @@ fn glass(eta: Spectrum) -> Ior {
     }
 }
 
+fn rough_glass(alpha: f32) -> Bsdf {
+    Bsdf::RoughDielectric(RoughDielectric {
+        ior: glass(Spectrum::Constant(1.5)),
+        alpha,
+        specular_reflectance: Spectrum::Constant(1.0),
+        specular_transmittance: Spectrum::Constant(1.0),
+    })
+}
+
 fn sampling_cases() -> Vec<(&'static str, Bsdf, Vec3)> {
     let mut cases = vec![];
     for theta in [0.0, 40.0, 80.0] {
@@ -65,6 +75,16 @@ fn sampling_cases() -> Vec<(&'static str, Bsdf, Vec3)> {
             Bsdf::TwoSided(Box::new(rough_conductor(0.4))),
             -dir(theta, 70.0),
         ));
+        cases.push((
+            "rough glass α 0.3 from outside",
+            rough_glass(0.3),
+            dir(theta, 45.0),
+        ));
+        cases.push((
+            "rough glass α 0.5 from inside",
+            rough_glass(0.5),
+            -dir(theta, 300.0),
+        ));
     }
     cases
 }
@@ -72,7 +92,7 @@ fn sampling_cases() -> Vec<(&'static str, Bsdf, Vec3)> {
 #[test]
 fn sampling_matches_pdf_chi_square() {
     let w = wl();
-    assert_eq!(sampling_cases().len(), 12);
+    assert_eq!(sampling_cases().len(), 18);
     for (i, (name, bsdf, wi)) in sampling_cases().into_iter().enumerate() {
         let mut rng = Rng(100 + i as u64);
         let p = chi2_directions(
@@ -83,7 +103,7 @@ fn sampling_matches_pdf_chi_square() {
                 bsdf.sample(&w, wi, u1, u2, Transport::Radiance)
                     .map(|s| s.wo)
             },
-            |wo| bsdf.pdf(wi, wo) as f64,
+            |wo| bsdf.pdf(&w, wi, wo) as f64,
         );
         assert!(p > ALPHA, "{name}, wi {wi:?}: p = {p:e}");
     }
@@ -123,14 +143,17 @@ fn weights_are_eval_over_pdf() {
             let Some(s) = bsdf.sample(&w, wi, rng.next(), rng.pair(), Transport::Radiance) else {
                 continue;
             };
-            let expected = bsdf.eval(&w, wi, s.wo) / bsdf.pdf(wi, s.wo);
+            let expected = bsdf.eval(&w, wi, s.wo, Transport::Radiance) / bsdf.pdf(&w, wi, s.wo);
             for k in 0..4 {
                 assert!(
                     (s.weight[k] - expected[k]).abs() <= 1e-3 * expected[k].max(1.0),
                     "{name}: {s:?} vs {expected:?}"
                 );
             }
-            assert!((s.pdf - bsdf.pdf(wi, s.wo)).abs() <= 1e-3 * s.pdf, "{name}");
+            assert!(
+                (s.pdf - bsdf.pdf(&w, wi, s.wo)).abs() <= 1e-3 * s.pdf,
+                "{name}"
+            );
         }
     }
 }
@@ -146,8 +169,8 @@ fn reciprocity() {
                 dir(85.0 * rng.next(), 360.0 * rng.next()),
             );
             // f(a, b) = f(b, a), with the cosines eval includes divided out.
-            let fab = bsdf.eval(&w, a, b) / b.z;
-            let fba = bsdf.eval(&w, b, a) / a.z;
+            let fab = bsdf.eval(&w, a, b, Transport::Radiance) / b.z;
+            let fba = bsdf.eval(&w, b, a, Transport::Radiance) / a.z;
             for k in 0..4 {
                 assert!(
                     (fab[k] - fba[k]).abs() <= 1e-4 * fab[k].max(1e-3),
@@ -167,8 +190,9 @@ fn albedo_is_at_most_one() {
         let n = 50_000;
         let (mut sum, mut sum2) = (0.0f64, 0.0f64);
         for _ in 0..n {
+            // Importance: radiance leaving glass gains 1/η² legitimately.
             let v = bsdf
-                .sample(&w, wi, rng.next(), rng.pair(), Transport::Radiance)
+                .sample(&w, wi, rng.next(), rng.pair(), Transport::Importance)
                 .map_or(0.0, |s| s.weight[0] as f64);
             sum += v;
             sum2 += v * v;
@@ -313,7 +337,12 @@ fn smooth_conductor_reflects_with_fresnel() {
     let r0 = ((0.27f32 - 1.0).powi(2) + 3.4 * 3.4) / ((0.27f32 + 1.0).powi(2) + 3.4 * 3.4);
     assert!((s.weight[0] - r0).abs() < 1e-5 && s.delta && s.wo == Vec3::new(0.0, 0.0, 1.0));
     assert_eq!(
-        b.eval(&w, Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.0, 0.0, 1.0)),
+        b.eval(
+            &w,
+            Vec3::new(0.0, 0.0, 1.0),
+            Vec3::new(0.0, 0.0, 1.0),
+            Transport::Radiance
+        ),
         SampledSpectrum::splat(0.0)
     );
 }

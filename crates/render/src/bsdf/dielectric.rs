@@ -25,7 +25,7 @@ impl Ior {
     }
 
     #[inline]
-    fn eta<const K: usize>(&self, wl: &SampledWavelengths<K>) -> SampledSpectrum<K> {
+    pub(crate) fn eta<const K: usize>(&self, wl: &SampledWavelengths<K>) -> SampledSpectrum<K> {
         self.interior.sample(wl) / self.exterior.sample(wl)
     }
 }

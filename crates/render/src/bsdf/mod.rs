@@ -12,12 +12,14 @@ mod dielectric;
 mod diffuse;
 mod fresnel;
 mod microfacet;
+mod rough_dielectric;
 
 pub use conductor::Conductor;
 pub use dielectric::{Dielectric, Ior, ThinDielectric};
 pub use diffuse::Diffuse;
 pub use fresnel::{fresnel_conductor, fresnel_dielectric};
 pub use microfacet::Ggx;
+pub use rough_dielectric::RoughDielectric;
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
@@ -53,6 +55,7 @@ pub enum Bsdf {
     Conductor(Conductor),
     Dielectric(Dielectric),
     ThinDielectric(ThinDielectric),
+    RoughDielectric(RoughDielectric),
     /// The inner BSDF on both sides (Mitsuba's `twosided`).
     TwoSided(Box<Bsdf>),
 }
@@ -76,27 +79,31 @@ impl Bsdf {
         wl: &SampledWavelengths<K>,
         wi: Vec3,
         wo: Vec3,
+        mode: Transport,
     ) -> SampledSpectrum<K> {
         match self {
             Bsdf::Diffuse(b) => b.eval(wl, wi, wo),
             Bsdf::Conductor(b) => b.eval(wl, wi, wo),
             Bsdf::Dielectric(_) | Bsdf::ThinDielectric(_) => SampledSpectrum::splat(0.0),
+            Bsdf::RoughDielectric(b) => b.eval(wl, wi, wo, mode),
             Bsdf::TwoSided(inner) => {
                 let (wi, wo) = two_sided(wi, wo);
-                inner.eval(wl, wi, wo)
+                inner.eval(wl, wi, wo, mode)
             }
         }
     }
 
-    /// Density of `sample` producing `wo` (zero for delta lobes).
-    pub fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
+    /// Density of `sample` producing `wo` (zero for delta lobes); for a
+    /// dispersive lobe, the first wavelength's.
+    pub fn pdf<const K: usize>(&self, wl: &SampledWavelengths<K>, wi: Vec3, wo: Vec3) -> f32 {
         match self {
             Bsdf::Diffuse(b) => b.pdf(wi, wo),
             Bsdf::Conductor(b) => b.pdf(wi, wo),
             Bsdf::Dielectric(_) | Bsdf::ThinDielectric(_) => 0.0,
+            Bsdf::RoughDielectric(b) => b.pdf(wl, wi, wo),
             Bsdf::TwoSided(inner) => {
                 let (wi, wo) = two_sided(wi, wo);
-                inner.pdf(wi, wo)
+                inner.pdf(wl, wi, wo)
             }
         }
     }
@@ -115,6 +122,7 @@ impl Bsdf {
             Bsdf::Conductor(b) => b.sample(wl, wi, u),
             Bsdf::Dielectric(b) => b.sample(wl, wi, u_lobe, mode),
             Bsdf::ThinDielectric(b) => b.sample(wl, wi, u_lobe),
+            Bsdf::RoughDielectric(b) => b.sample(wl, wi, u_lobe, u, mode),
             Bsdf::TwoSided(inner) => {
                 let flip = wi.z < 0.0;
                 let wi = if flip {
@@ -137,6 +145,7 @@ impl Bsdf {
             Bsdf::Diffuse(_) => false,
             Bsdf::Conductor(c) => c.alpha == 0.0,
             Bsdf::Dielectric(_) | Bsdf::ThinDielectric(_) => true,
+            Bsdf::RoughDielectric(_) => false,
             Bsdf::TwoSided(inner) => inner.is_delta(),
         }
     }

@@ -104,9 +104,10 @@ pub fn chi2_directions(
 ) -> f64 {
     const THETA: usize = 10;
     const PHI: usize = 20;
-    // Sub-samples per bin side: the midpoint rule in cos θ converges slowly
-    // near the poles, where a narrow lobe at normal incidence sits.
-    const SUB: usize = 40;
+    // Midpoint sub-samples per bin in θ and in φ: narrow lobes (a rough
+    // refraction at normal incidence) need the finer θ steps.
+    const SUB_T: usize = 64;
+    const SUB_P: usize = 16;
     let bin_of = |w: Vec3| {
         let c = ((w.z.clamp(-1.0, 1.0) + 1.0) * 0.5 * THETA as f32) as usize;
         let phi = w.y.atan2(w.x).rem_euclid(2.0 * std::f32::consts::PI);
@@ -123,23 +124,41 @@ pub fn chi2_directions(
     let mut expected = vec![0.0f64; THETA * PHI + 1];
     let (dc, dp) = (2.0 / THETA as f64, 2.0 * std::f64::consts::PI / PHI as f64);
     for t in 0..THETA {
+        // Integrate each bin in θ (dω = sin θ dθ dφ): uniform steps in cos θ
+        // would miss a narrow lobe at a pole.
+        let (th_hi, th_lo) = (
+            (-1.0 + dc * (t + 1) as f64).acos(),
+            (-1.0 + dc * t as f64).acos(),
+        );
+        let dth = (th_lo - th_hi) / SUB_T as f64;
         for p in 0..PHI {
             let mut sum = 0.0;
-            for a in 0..SUB {
-                for b in 0..SUB {
-                    let c = -1.0 + dc * (t as f64 + (a as f64 + 0.5) / SUB as f64);
-                    let phi = dp * (p as f64 + (b as f64 + 0.5) / SUB as f64);
-                    let s = (1.0 - c * c).max(0.0).sqrt();
+            for a in 0..SUB_T {
+                let th = th_hi + dth * (a as f64 + 0.5);
+                let (s, c) = th.sin_cos();
+                for b in 0..SUB_P {
+                    let phi = dp * (p as f64 + (b as f64 + 0.5) / SUB_P as f64);
                     let w = Vec3::new((s * phi.cos()) as f32, (s * phi.sin()) as f32, c as f32);
-                    sum += pdf(w);
+                    sum += pdf(w) * s;
                 }
             }
-            expected[t * PHI + p] = sum * dc * dp / (SUB * SUB) as f64 * n as f64;
+            expected[t * PHI + p] = sum * dth * dp / SUB_P as f64 * n as f64;
         }
     }
     let total: f64 = expected[..THETA * PHI].iter().sum();
     expected[THETA * PHI] = (n as f64 - total).max(0.0);
     // Pool the bins that expect too few.
+    if std::env::var("CHI2_DEBUG").is_ok() {
+        for (i, (o, e)) in observed.iter().zip(&expected).enumerate() {
+            if (o - e).abs() > 3.0 * e.sqrt().max(1.0) {
+                eprintln!(
+                    "bin {i} (θ row {}, φ {}): observed {o} expected {e:.1}",
+                    i / PHI,
+                    i % PHI
+                );
+            }
+        }
+    }
     let (mut chi2, mut dof, mut pool_o, mut pool_e) = (0.0, 0usize, 0.0, 0.0);
     for (o, e) in observed.iter().zip(&expected) {
         if *e < 5.0 {
