@@ -12,6 +12,7 @@ mod dielectric;
 mod diffuse;
 mod fresnel;
 mod microfacet;
+mod plastic;
 mod rough_dielectric;
 
 pub use conductor::Conductor;
@@ -19,6 +20,7 @@ pub use dielectric::{Dielectric, Ior, ThinDielectric};
 pub use diffuse::Diffuse;
 pub use fresnel::{fresnel_conductor, fresnel_dielectric};
 pub use microfacet::Ggx;
+pub use plastic::{diffuse_fresnel_reflectance, Plastic};
 pub use rough_dielectric::RoughDielectric;
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
@@ -56,6 +58,7 @@ pub enum Bsdf {
     Dielectric(Dielectric),
     ThinDielectric(ThinDielectric),
     RoughDielectric(RoughDielectric),
+    Plastic(Plastic),
     /// The inner BSDF on both sides (Mitsuba's `twosided`).
     TwoSided(Box<Bsdf>),
 }
@@ -86,6 +89,7 @@ impl Bsdf {
             Bsdf::Conductor(b) => b.eval(wl, wi, wo),
             Bsdf::Dielectric(_) | Bsdf::ThinDielectric(_) => SampledSpectrum::splat(0.0),
             Bsdf::RoughDielectric(b) => b.eval(wl, wi, wo, mode),
+            Bsdf::Plastic(b) => b.eval(wl, wi, wo),
             Bsdf::TwoSided(inner) => {
                 let (wi, wo) = two_sided(wi, wo);
                 inner.eval(wl, wi, wo, mode)
@@ -93,14 +97,15 @@ impl Bsdf {
         }
     }
 
-    /// Density of `sample` producing `wo` (zero for delta lobes); for a
-    /// dispersive lobe, the first wavelength's.
+    /// Density of `sample` producing `wo` by its non-delta lobes (zero for
+    /// pure delta BSDFs); for a dispersive lobe, the first wavelength's.
     pub fn pdf<const K: usize>(&self, wl: &SampledWavelengths<K>, wi: Vec3, wo: Vec3) -> f32 {
         match self {
             Bsdf::Diffuse(b) => b.pdf(wi, wo),
             Bsdf::Conductor(b) => b.pdf(wi, wo),
             Bsdf::Dielectric(_) | Bsdf::ThinDielectric(_) => 0.0,
             Bsdf::RoughDielectric(b) => b.pdf(wl, wi, wo),
+            Bsdf::Plastic(b) => b.pdf(wi, wo),
             Bsdf::TwoSided(inner) => {
                 let (wi, wo) = two_sided(wi, wo);
                 inner.pdf(wl, wi, wo)
@@ -123,6 +128,7 @@ impl Bsdf {
             Bsdf::Dielectric(b) => b.sample(wl, wi, u_lobe, mode),
             Bsdf::ThinDielectric(b) => b.sample(wl, wi, u_lobe),
             Bsdf::RoughDielectric(b) => b.sample(wl, wi, u_lobe, u, mode),
+            Bsdf::Plastic(b) => b.sample(wl, wi, u_lobe, u),
             Bsdf::TwoSided(inner) => {
                 let flip = wi.z < 0.0;
                 let wi = if flip {
@@ -145,7 +151,7 @@ impl Bsdf {
             Bsdf::Diffuse(_) => false,
             Bsdf::Conductor(c) => c.alpha == 0.0,
             Bsdf::Dielectric(_) | Bsdf::ThinDielectric(_) => true,
-            Bsdf::RoughDielectric(_) => false,
+            Bsdf::RoughDielectric(_) | Bsdf::Plastic(_) => false,
             Bsdf::TwoSided(inner) => inner.is_delta(),
         }
     }
