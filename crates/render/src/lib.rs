@@ -1,10 +1,11 @@
 //! scotopia-render: geometry, acceleration, cameras, BSDFs, lights,
 //! wavelength sampling, integrators and the film. So far: the math, the
-//! shapes, the BVH, the camera and the BSDFs.
+//! shapes, the BVH, the camera, the BSDFs and the lights.
 
 pub mod accel;
 pub mod bsdf;
 pub mod camera;
 pub mod geometry;
+pub mod light;
 pub mod math;
 pub mod sampling;

@@ -52,24 +52,13 @@ impl TriangleMesh {
                 "a vertex normal is not finite".into(),
             ));
         }
-        // Normals of zero length are dropped at use (geometric normal instead).
-        let flip = world_from_object.swaps_handedness();
+        // Normals transform as normals (as in Mitsuba); zero-length ones are
+        // dropped at use in favour of the geometric normal.
         let positions = positions
             .into_iter()
             .map(|p| world_from_object.point(p))
             .collect();
-        let normals = normals.map(|v| {
-            v.into_iter()
-                .map(|n| {
-                    let w = world_from_object.normal(n);
-                    if flip {
-                        -w
-                    } else {
-                        w
-                    }
-                })
-                .collect()
-        });
+        let normals = normals.map(|v| v.into_iter().map(|n| world_from_object.normal(n)).collect());
         Ok(Self {
             positions,
             normals,

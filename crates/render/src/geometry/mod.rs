@@ -3,11 +3,13 @@
 
 mod mesh;
 mod planar;
+mod sample;
 mod sphere;
 mod triangle;
 
 pub use mesh::TriangleMesh;
 pub use planar::{Planar, PlanarKind};
+pub use sample::{AreaCdf, SurfacePoint};
 pub use sphere::Sphere;
 pub use triangle::{intersect_triangle, RayShear, TriangleHit};
 

@@ -51,17 +51,12 @@ impl Planar {
         inside.then_some((t, [x, y]))
     }
 
-    /// World-space normal (object +z).
+    /// World-space normal: object +z transformed as a normal, as Mitsuba
+    /// does (a mirroring `to_world` turns the shape over).
     pub fn normal(&self) -> Vec3 {
-        let n = self
-            .world_from_object
+        self.world_from_object
             .normal(Vec3::new(0.0, 0.0, 1.0))
-            .normalize();
-        if self.world_from_object.swaps_handedness() {
-            -n
-        } else {
-            n
-        }
+            .normalize()
     }
 
     /// World-space area (the object shape's area times the transform's

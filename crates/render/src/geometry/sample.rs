@@ -1,0 +1,99 @@
+//! Uniform sampling of points on shapes, by area.
+
+use super::{PlanarKind, Shape};
+use crate::math::Vec3;
+use crate::sampling::warp::{square_to_disk_concentric, square_to_uniform_sphere};
+
+/// A point on a surface and its unit normal.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfacePoint {
+    pub p: Vec3,
+    pub n: Vec3,
+}
+
+/// Cumulative triangle areas of a mesh, for choosing a triangle by area.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AreaCdf {
+    cdf: Vec<f32>,
+    pub total: f32,
+}
+
+impl AreaCdf {
+    pub fn new(areas: impl Iterator<Item = f32>) -> Self {
+        let mut total = 0.0f64;
+        let mut cdf: Vec<f32> = areas
+            .map(|a| {
+                total += a as f64;
+                total as f32
+            })
+            .collect();
+        if total > 0.0 {
+            for c in &mut cdf {
+                *c /= total as f32;
+            }
+        }
+        Self {
+            cdf,
+            total: total as f32,
+        }
+    }
+
+    /// The index whose CDF interval holds `u`, and `u` rescaled into it.
+    pub fn sample(&self, u: f32) -> (usize, f32) {
+        let i = self
+            .cdf
+            .partition_point(|&c| c <= u)
+            .min(self.cdf.len() - 1);
+        let lo = if i == 0 { 0.0 } else { self.cdf[i - 1] };
+        let width = self.cdf[i] - lo;
+        (
+            i,
+            if width > 0.0 {
+                ((u - lo) / width).clamp(0.0, 1.0 - f32::EPSILON)
+            } else {
+                0.5
+            },
+        )
+    }
+}
+
+impl Shape {
+    /// A point uniformly distributed over the shape's area (density 1/area).
+    /// `cdf` is the mesh's triangle-area table (ignored for other shapes).
+    pub fn sample_area(
+        &self,
+        cdf: Option<&AreaCdf>,
+        u_select: f32,
+        u: [f32; 2],
+    ) -> Option<SurfacePoint> {
+        match self {
+            Shape::Mesh(m) => {
+                let (face, _) = cdf?.sample(u_select);
+                let (a, b, c) = m.vertices(face);
+                // Uniform barycentrics (the square-root parameterisation).
+                let s = u[0].sqrt();
+                let (b0, b1) = (1.0 - s, u[1] * s);
+                let p = a * b0 + b * b1 + c * (1.0 - b0 - b1);
+                let n = (b - a).cross(c - a).normalize();
+                n.is_finite().then_some(SurfacePoint { p, n })
+            }
+            Shape::Sphere(s) => {
+                let n = square_to_uniform_sphere(u);
+                Some(SurfacePoint {
+                    p: s.center + n * s.radius,
+                    n,
+                })
+            }
+            Shape::Planar(pl) => {
+                let [x, y] = match pl.kind {
+                    PlanarKind::Disk => square_to_disk_concentric(u),
+                    PlanarKind::Rectangle => [2.0 * u[0] - 1.0, 2.0 * u[1] - 1.0],
+                };
+                Some(SurfacePoint {
+                    p: pl.world_from_object.point(Vec3::new(x, y, 0.0)),
+                    n: pl.normal(),
+                })
+            }
+        }
+    }
+}

@@ -1,0 +1,93 @@
+//! Area lights: a shape emitting radiance L from the side its normal
+//! points to (Mitsuba's `area`), sampled uniformly by area.
+
+use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
+
+use super::{spectral_power, LightSample, Power};
+use crate::geometry::{AreaCdf, Shape};
+use crate::math::Vec3;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct AreaLight {
+    /// Index of the emitting shape in the scene's shape list.
+    pub shape: u32,
+    pub radiance: Spectrum,
+    /// Triangle areas of a mesh emitter.
+    cdf: Option<AreaCdf>,
+    area: f32,
+}
+
+impl AreaLight {
+    pub fn new(shape_index: u32, shape: &Shape, radiance: Spectrum) -> Self {
+        let cdf = match shape {
+            Shape::Mesh(m) => Some(AreaCdf::new(
+                (0..m.triangle_count()).map(|f| m.face_area(f)),
+            )),
+            _ => None,
+        };
+        Self {
+            shape: shape_index,
+            radiance,
+            area: shape.area(),
+            cdf,
+        }
+    }
+
+    /// Emitted radiance leaving a point with normal `n` in direction `w`.
+    pub fn radiance<const K: usize>(
+        &self,
+        wl: &SampledWavelengths<K>,
+        n: Vec3,
+        w: Vec3,
+    ) -> SampledSpectrum<K> {
+        if n.dot(w) > 0.0 {
+            self.radiance.sample(wl)
+        } else {
+            SampledSpectrum::splat(0.0)
+        }
+    }
+
+    pub fn sample_li<const K: usize>(
+        &self,
+        shapes: &[Shape],
+        wl: &SampledWavelengths<K>,
+        p: Vec3,
+        u_select: f32,
+        u: [f32; 2],
+    ) -> Option<LightSample<K>> {
+        let shape = shapes.get(self.shape as usize)?;
+        let s = shape.sample_area(self.cdf.as_ref(), u_select, u)?;
+        let d = s.p - p;
+        let dist2 = d.length_squared();
+        let dist = dist2.sqrt();
+        let wi = d / dist;
+        let cos_l = -wi.dot(s.n);
+        if cos_l <= 0.0 || dist2 == 0.0 || self.area <= 0.0 {
+            return None;
+        }
+        // Area density 1/A converted to solid angle: d² / (A cos θ_l).
+        Some(LightSample {
+            wi,
+            distance: dist,
+            radiance: self.radiance.sample(wl),
+            pdf: dist2 / (self.area * cos_l),
+            delta: false,
+        })
+    }
+
+    /// Density per solid angle of reaching `p_light` (normal `n_light`) from `p`.
+    pub fn pdf_li(&self, p: Vec3, p_light: Vec3, n_light: Vec3) -> f32 {
+        let d = p_light - p;
+        let dist2 = d.length_squared();
+        let cos_l = -(d / dist2.sqrt()).dot(n_light);
+        if cos_l <= 0.0 || self.area <= 0.0 {
+            return 0.0;
+        }
+        dist2 / (self.area * cos_l)
+    }
+
+    /// Φ = π A ∫ L dλ for a one-sided Lambertian emitter.
+    pub fn power(&self) -> Power {
+        spectral_power(&self.radiance).scaled(std::f64::consts::PI * self.area as f64)
+    }
+}

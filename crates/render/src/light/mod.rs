@@ -1,0 +1,94 @@
+//! Lights: point, spot, directional, area (on any shape) and a constant
+//! environment. Each samples an incident direction at a point, evaluates
+//! the density of directions found by BSDF sampling (for MIS), and reports
+//! its total power, so that lights can be chosen in proportion to it.
+//!
+//! Units: area and environment emitters give spectral radiance
+//! (W·sr⁻¹·m⁻²·nm⁻¹); point and spot lights spectral intensity
+//! (W·sr⁻¹·nm⁻¹); directional lights spectral irradiance (W·m⁻²·nm⁻¹).
+
+mod area;
+mod power;
+mod simple;
+
+pub use area::AreaLight;
+pub use power::{spectral_power, Power};
+pub use simple::{ConstantLight, DirectionalLight, PointLight, SpotLight};
+
+use scotopia_color::{SampledSpectrum, SampledWavelengths};
+
+use crate::geometry::Shape;
+use crate::math::Vec3;
+
+/// An incident-light sample at a reference point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LightSample<const K: usize> {
+    /// Unit direction from the reference point towards the light.
+    pub wi: Vec3,
+    /// Distance to the sampled point (∞ for directional and environment).
+    pub distance: f32,
+    /// Incident radiance (for delta lights: intensity/d² or irradiance).
+    pub radiance: SampledSpectrum<K>,
+    /// Density per solid angle; 1 for delta lights.
+    pub pdf: f32,
+    pub delta: bool,
+}
+
+/// The closed set of lights.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Light {
+    Point(PointLight),
+    Spot(SpotLight),
+    Directional(DirectionalLight),
+    Area(AreaLight),
+    Constant(ConstantLight),
+}
+
+/// The scene facts lights need: the shapes (for area lights) and the
+/// bounding sphere (for lights at infinity).
+#[derive(Debug, Clone, Copy)]
+pub struct SceneExtent<'a> {
+    pub shapes: &'a [Shape],
+    pub center: Vec3,
+    pub radius: f32,
+}
+
+impl Light {
+    /// Samples incident light at `p` with `u` ∈ [0, 1)² and `u_select`
+    /// (choosing a triangle of a mesh emitter).
+    pub fn sample_li<const K: usize>(
+        &self,
+        scene: &SceneExtent,
+        wl: &SampledWavelengths<K>,
+        p: Vec3,
+        u_select: f32,
+        u: [f32; 2],
+    ) -> Option<LightSample<K>> {
+        match self {
+            Light::Point(l) => l.sample_li(wl, p),
+            Light::Spot(l) => l.sample_li(wl, p),
+            Light::Directional(l) => l.sample_li(wl),
+            Light::Area(l) => l.sample_li(scene.shapes, wl, p, u_select, u),
+            Light::Constant(l) => l.sample_li(wl, u),
+        }
+    }
+
+    /// Whether the light is a delta distribution (not hit by rays).
+    pub fn is_delta(&self) -> bool {
+        matches!(
+            self,
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_)
+        )
+    }
+
+    /// Total emitted power.
+    pub fn power(&self, scene: &SceneExtent) -> Power {
+        match self {
+            Light::Point(l) => l.power(),
+            Light::Spot(l) => l.power(),
+            Light::Directional(l) => l.power(scene.radius),
+            Light::Area(l) => l.power(),
+            Light::Constant(l) => l.power(scene.radius),
+        }
+    }
+}

@@ -1,0 +1,183 @@
+//! Point, spot and directional lights, and the constant environment.
+
+use scotopia_color::{SampledWavelengths, Spectrum};
+
+use super::{spectral_power, LightSample, Power};
+use crate::math::{Frame, Vec3};
+use crate::sampling::warp::{square_to_uniform_sphere, UNIFORM_SPHERE_PDF};
+
+/// Isotropic point light of spectral intensity I.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PointLight {
+    pub position: Vec3,
+    pub intensity: Spectrum,
+}
+
+impl PointLight {
+    pub fn sample_li<const K: usize>(
+        &self,
+        wl: &SampledWavelengths<K>,
+        p: Vec3,
+    ) -> Option<LightSample<K>> {
+        let d = self.position - p;
+        let dist2 = d.length_squared();
+        if dist2 == 0.0 {
+            return None;
+        }
+        let dist = dist2.sqrt();
+        Some(LightSample {
+            wi: d / dist,
+            distance: dist,
+            radiance: self.intensity.sample(wl) / dist2,
+            pdf: 1.0,
+            delta: true,
+        })
+    }
+
+    /// Φ = 4π ∫ I dλ.
+    pub fn power(&self) -> Power {
+        spectral_power(&self.intensity).scaled(4.0 * std::f64::consts::PI)
+    }
+}
+
+/// A spot light (Mitsuba's `spot`): intensity I along its axis, full out to
+/// `beam_width`, falling linearly in angle to zero at `cutoff_angle`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpotLight {
+    pub position: Vec3,
+    /// The axis; the light shines along `frame.n`.
+    pub frame: Frame,
+    pub intensity: Spectrum,
+    pub cutoff: f32,
+    pub beam_width: f32,
+}
+
+impl SpotLight {
+    /// `cutoff_deg` and `beam_width_deg` as in Mitsuba (defaults 20° and ¾ of it).
+    pub fn new(
+        position: Vec3,
+        axis: Vec3,
+        intensity: Spectrum,
+        cutoff_deg: f32,
+        beam_width_deg: f32,
+    ) -> Self {
+        Self {
+            position,
+            frame: Frame::from_normal(axis.normalize()),
+            intensity,
+            cutoff: cutoff_deg.to_radians(),
+            beam_width: beam_width_deg.min(cutoff_deg).to_radians(),
+        }
+    }
+
+    /// The angular falloff in [0, 1] at angle θ from the axis.
+    pub fn falloff(&self, cos_theta: f32) -> f32 {
+        let theta = cos_theta.clamp(-1.0, 1.0).acos();
+        if theta >= self.cutoff {
+            0.0
+        } else if theta <= self.beam_width {
+            1.0
+        } else {
+            (self.cutoff - theta) / (self.cutoff - self.beam_width)
+        }
+    }
+
+    pub fn sample_li<const K: usize>(
+        &self,
+        wl: &SampledWavelengths<K>,
+        p: Vec3,
+    ) -> Option<LightSample<K>> {
+        let d = self.position - p;
+        let dist2 = d.length_squared();
+        if dist2 == 0.0 {
+            return None;
+        }
+        let dist = dist2.sqrt();
+        let wi = d / dist;
+        let f = self.falloff((-wi).dot(self.frame.n));
+        if f == 0.0 {
+            return None;
+        }
+        Some(LightSample {
+            wi,
+            distance: dist,
+            radiance: self.intensity.sample(wl) * (f / dist2),
+            pdf: 1.0,
+            delta: true,
+        })
+    }
+
+    /// Φ = 2π ∫ falloff(θ) sin θ dθ · ∫ I dλ: the full cone 2π(1 − cos θ_b)
+    /// plus the linear ramp, integrated exactly by parts.
+    pub fn power(&self) -> Power {
+        let (b, c) = (self.beam_width as f64, self.cutoff as f64);
+        let ramp = if c > b {
+            // ∫_b^c (c − θ)/(c − b) sin θ dθ = cos b − (sin c − sin b)/(c − b)
+            b.cos() - (c.sin() - b.sin()) / (c - b)
+        } else {
+            0.0
+        };
+        let solid = 2.0 * std::f64::consts::PI * (1.0 - b.cos() + ramp);
+        spectral_power(&self.intensity).scaled(solid)
+    }
+}
+
+/// Parallel light arriving along `direction` with spectral irradiance E.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DirectionalLight {
+    /// The direction light travels (unit).
+    pub direction: Vec3,
+    pub irradiance: Spectrum,
+}
+
+impl DirectionalLight {
+    pub fn sample_li<const K: usize>(&self, wl: &SampledWavelengths<K>) -> Option<LightSample<K>> {
+        Some(LightSample {
+            wi: -self.direction,
+            distance: f32::INFINITY,
+            radiance: self.irradiance.sample(wl),
+            pdf: 1.0,
+            delta: true,
+        })
+    }
+
+    /// Φ = E π R² over the scene's bounding disk.
+    pub fn power(&self, scene_radius: f32) -> Power {
+        let r = scene_radius as f64;
+        spectral_power(&self.irradiance).scaled(std::f64::consts::PI * r * r)
+    }
+}
+
+/// The same radiance from every direction at infinity.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ConstantLight {
+    pub radiance: Spectrum,
+}
+
+impl ConstantLight {
+    pub fn sample_li<const K: usize>(
+        &self,
+        wl: &SampledWavelengths<K>,
+        u: [f32; 2],
+    ) -> Option<LightSample<K>> {
+        Some(LightSample {
+            wi: square_to_uniform_sphere(u),
+            distance: f32::INFINITY,
+            radiance: self.radiance.sample(wl),
+            pdf: UNIFORM_SPHERE_PDF,
+            delta: false,
+        })
+    }
+
+    /// Density of a direction (uniform).
+    pub fn pdf_li(&self) -> f32 {
+        UNIFORM_SPHERE_PDF
+    }
+
+    /// Φ = π · 4πR² · ∫ L dλ: the radiance through the scene's bounding sphere.
+    pub fn power(&self, scene_radius: f32) -> Power {
+        let r = scene_radius as f64;
+        spectral_power(&self.radiance)
+            .scaled(4.0 * std::f64::consts::PI * std::f64::consts::PI * r * r)
+    }
+}
