@@ -1,3 +1,5 @@
-//! Scene loaders (Mitsuba 3 XML), meshes, bitmaps, named material data.
-//!
-//! Filled in by a later issue; see ../../shared/DESIGN.md for its place in the workspace.
+//! scotopia-scene: scene loading (the Mitsuba 3 XML loader arrives with the
+//! rest of issue 3) and the named material data scenes refer to: measured
+//! metal indices and dispersive glasses.
+
+pub mod materials;
