@@ -3,3 +3,4 @@
 //! metal indices and dispersive glasses.
 
 pub mod materials;
+pub mod mitsuba;

@@ -1,0 +1,10 @@
+//! The Mitsuba 3 XML scene format: parse to plain nodes (`parse`), then
+//! read values (`values`). Building scene objects follows.
+
+mod error;
+mod parse;
+mod values;
+
+pub use error::{Location, SceneError};
+pub use parse::{parse_file, Node, Parameters};
+pub use values::{parse_floats, read_transform};

@@ -1,0 +1,51 @@
+//! The parser never panics, whatever the bytes: random text and random
+//! mutations of a valid scene either parse or give an error.
+
+use proptest::prelude::*;
+use scotopia_scene::mitsuba::{parse_file, read_transform, Parameters};
+
+const VALID: &str = r#"<scene version="3.0.0">
+    <default name="spp" value="16"/>
+    <sensor type="perspective">
+        <float name="fov" value="45"/>
+        <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+        <film type="hdrfilm"><integer name="width" value="$spp"/></film>
+    </sensor>
+    <shape type="sphere"><transform name="to_world"><scale value="2"/><rotate y="1" angle="30"/></transform></shape>
+</scene>"#;
+
+fn check(text: &str, test: &str) {
+    let dir = std::env::temp_dir().join(format!("scotopia-fuzz-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("{test}.xml"));
+    std::fs::write(&path, text).unwrap();
+    if let Ok(root) = parse_file(&path, &Parameters::new()) {
+        fn walk(n: &scotopia_scene::mitsuba::Node) {
+            if n.tag == "transform" {
+                let _ = read_transform(n);
+            }
+            n.children.iter().for_each(walk);
+        }
+        walk(&root);
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    #[test]
+    fn random_text_never_panics(text in "\\PC{0,200}") {
+        check(&text, "random");
+    }
+
+    #[test]
+    fn mutated_scenes_never_panic(cuts in proptest::collection::vec((0usize..VALID.len(), 0usize..8, "[<>/=\"$ a-z0-9.,-]{0,4}"), 1..4)) {
+        let mut bytes = VALID.as_bytes().to_vec();
+        for (at, len, insert) in cuts {
+            let at = at.min(bytes.len());
+            let end = (at + len).min(bytes.len());
+            bytes.splice(at..end, insert.bytes());
+        }
+        check(&String::from_utf8_lossy(&bytes), "mutated");
+    }
+}

@@ -1,0 +1,104 @@
+//! The Mitsuba XML parse step: defaults, parameters, includes, transforms,
+//! and errors that name file, line, column and element.
+
+use std::path::{Path, PathBuf};
+
+use scotopia_render::math::Vec3;
+use scotopia_scene::mitsuba::{parse_file, read_transform, Parameters};
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("scotopia-parse-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn defaults_parameters_and_includes() {
+    let d = tmp("ok");
+    write(
+        &d,
+        "part.xml",
+        r#"<scene version="3.0.0"><shape type="sphere" id="ball"/></scene>"#,
+    );
+    let main = write(
+        &d,
+        "main.xml",
+        r#"<scene version="3.0.0">
+    <default name="spp" value="16"/>
+    <default name="res" value="64"/>
+    <sampler type="independent"><integer name="sample_count" value="$spp"/></sampler>
+    <film type="hdrfilm"><integer name="width" value="$res"/></film>
+    <include filename="part.xml"/>
+</scene>"#,
+    );
+    let mut params = Parameters::new();
+    params.insert("spp".into(), "128".into());
+    let root = parse_file(&main, &params).unwrap();
+    let tags: Vec<&str> = root.children.iter().map(|n| n.tag.as_str()).collect();
+    assert_eq!(tags, ["sampler", "film", "shape"]);
+    assert_eq!(
+        root.children[0].children[0].attr("value"),
+        Some("128"),
+        "parameter beats default"
+    );
+    assert_eq!(root.children[1].children[0].attr("value"), Some("64"));
+    assert_eq!(root.children[2].attr("id"), Some("ball"));
+    assert!(root.children[2].location.file.ends_with("part.xml"));
+}
+
+#[test]
+fn transforms_compose_in_document_order() {
+    let d = tmp("tf");
+    let f = write(
+        &d,
+        "t.xml",
+        r#"<scene version="3.0.0"><transform name="to_world">
+    <scale value="2"/>
+    <rotate z="1" angle="90"/>
+    <translate x="1" y="2" z="3"/>
+</transform></scene>"#,
+    );
+    let root = parse_file(&f, &Parameters::new()).unwrap();
+    let t = read_transform(&root.children[0]).unwrap();
+    // (1,0,0) → scale (2,0,0) → rotate (0,2,0) → translate (1,4,3).
+    assert!((t.point(Vec3::new(1.0, 0.0, 0.0)) - Vec3::new(1.0, 4.0, 3.0)).length() < 1e-5);
+}
+
+#[test]
+fn errors_name_file_line_column_and_element() {
+    let d = tmp("err");
+    let cases: [(&str, &str); 7] = [
+        ("<scene version=\"3.0.0\">\n  <shape type=\"sphere\">\n</scene>", "xml"),
+        ("<scene>\n  <film type=\"hdrfilm\"><integer name=\"width\" value=\"$w\"/></film>\n</scene>", "<integer>: parameter '$w'"),
+        ("<scene>\n  <include filename=\"missing.xml\"/>\n</scene>", "<include>: cannot read"),
+        ("<scene>\n  <include filename=\"self.xml\"/>\n</scene>", "includes itself"),
+        ("<scene>\n  <transform name=\"to_world\">\n    <scale value=\"0\"/>\n  </transform>\n</scene>", "t.xml:3:5: <scale>: degenerate"),
+        ("<scene>\n  <transform name=\"to_world\"><translate value=\"1 NaN 2\"/></transform>\n</scene>", "not a finite number"),
+        ("<notascene/>", "root element must be <scene>"),
+    ];
+    for (text, needle) in cases {
+        let name = if text.contains("self.xml") {
+            "self.xml"
+        } else {
+            "t.xml"
+        };
+        let f = write(&d, name, text);
+        let result = parse_file(&f, &Parameters::new()).and_then(|root| {
+            for n in &root.children {
+                if n.tag == "transform" {
+                    read_transform(n)?;
+                }
+            }
+            Ok(root)
+        });
+        let e = result.unwrap_err().to_string();
+        assert!(e.contains(needle), "{text}\n→ {e}");
+        assert!(e.contains(name), "names the file: {e}");
+    }
+}
