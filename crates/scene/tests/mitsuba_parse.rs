@@ -102,3 +102,55 @@ fn errors_name_file_line_column_and_element() {
         assert!(e.contains(name), "names the file: {e}");
     }
 }
+
+#[test]
+fn spectral_values() {
+    use scotopia_scene::mitsuba::{Props, Usage};
+    let d = tmp("spec");
+    write(&d, "lamp.spd", "400 1\n700 3\n");
+    let f = write(
+        &d,
+        "s.xml",
+        r#"<scene version="3.0.0"><bsdf type="diffuse">
+    <spectrum name="a" value="400:0.1, 500:0.3"/>
+    <spectrum name="b" value="0.5"/>
+    <spectrum name="c" filename="lamp.spd"/>
+    <spectrum name="d" type="blackbody"><float name="temperature" value="3000"/></spectrum>
+    <spectrum name="e" type="d65"/>
+    <spectrum name="f" type="f11"/>
+    <rgb name="g" value="0.8, 0.2, 0.1"/>
+    <rgb name="h" value="1.5, 0.2, 0.1"/>
+    <float name="i" value="0.25"/>
+    <spectrum name="bad" value="400:0.1, 390:0.3"/>
+    <float name="unused" value="1"/>
+</bsdf></scene>"#,
+    );
+    let root = parse_file(&f, &Parameters::new()).unwrap();
+    let p = Props::new(&root.children[0]);
+    let s = |n: &str, u| p.spectrum(n, u).unwrap().unwrap();
+    assert!((s("a", Usage::Reflectance).eval(450.0) - 0.2).abs() < 1e-6);
+    assert_eq!(s("b", Usage::Reflectance).eval(600.0), 0.5);
+    assert_eq!(s("c", Usage::Emission).eval(550.0), 2.0);
+    assert!(s("d", Usage::Emission).eval(550.0) > 0.0);
+    assert!((s("e", Usage::Emission).eval(560.0) - 100.0).abs() < 1e-3);
+    assert!(s("f", Usage::Emission).eval(545.0) > 10.0);
+    assert!(s("g", Usage::Reflectance).eval(650.0) > s("g", Usage::Reflectance).eval(450.0));
+    assert!(p
+        .spectrum("h", Usage::Reflectance)
+        .unwrap_err()
+        .to_string()
+        .contains("above 1"));
+    assert!(s("h", Usage::Emission).eval(650.0) > 0.0);
+    assert_eq!(s("i", Usage::Unbounded).eval(500.0), 0.25);
+    let e = p
+        .spectrum("bad", Usage::Reflectance)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("s.xml:11:5: <spectrum>") && e.contains("not increasing"),
+        "{e}"
+    );
+    assert!(p.spectrum("none", Usage::Reflectance).unwrap().is_none());
+    let unused: Vec<&str> = p.unused().iter().filter_map(|n| n.attr("name")).collect();
+    assert_eq!(unused, ["unused"]);
+}

@@ -3,8 +3,10 @@
 
 mod error;
 mod parse;
+mod props;
 mod values;
 
 pub use error::{Location, SceneError};
 pub use parse::{parse_file, Node, Parameters};
+pub use props::{read_spectrum, resolve, Props, Usage};
 pub use values::{parse_floats, read_transform};

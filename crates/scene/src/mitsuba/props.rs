@@ -1,0 +1,262 @@
+//! Properties of an object node: `<float name=…>`, `<integer>`,
+//! `<boolean>`, `<string>`, `<rgb>`, `<spectrum>`, `<point>`, `<vector>`,
+//! `<transform>`. Each read is remembered, so what a scene sets but
+//! scotopia does not use can be reported once as a warning.
+
+use std::cell::RefCell;
+use std::path::Path;
+
+use scotopia_color::{
+    cie, io, rgb_to_spectrum, RgbSpace, Spectrum, SpectrumKind, Tabulated, UpsampleMethod,
+};
+use scotopia_render::math::{Transform, Vec3};
+
+use super::error::SceneError;
+use super::parse::Node;
+use super::values::{parse_floats, read_transform};
+
+/// What a colour is used as: it decides how `<rgb>` is upsampled and
+/// whether negative values are allowed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Usage {
+    /// A reflectance or transmittance in [0, 1].
+    Reflectance,
+    /// A non-negative factor that may exceed 1 (an index, a scale).
+    Unbounded,
+    /// Emission: spectral radiance, `<rgb>` upsampled as an illuminant.
+    Emission,
+}
+
+/// The property tags.
+const PROPERTY_TAGS: [&str; 9] = [
+    "float",
+    "integer",
+    "boolean",
+    "string",
+    "rgb",
+    "spectrum",
+    "point",
+    "vector",
+    "transform",
+];
+
+/// Read access to an object's properties.
+pub struct Props<'a> {
+    pub node: &'a Node,
+    used: RefCell<Vec<&'a str>>,
+}
+
+impl<'a> Props<'a> {
+    pub fn new(node: &'a Node) -> Self {
+        Self {
+            node,
+            used: RefCell::new(Vec::new()),
+        }
+    }
+
+    /// The property child named `name`.
+    pub fn get(&self, name: &str) -> Option<&'a Node> {
+        let n =
+            self.node.children.iter().find(|c| {
+                PROPERTY_TAGS.contains(&c.tag.as_str()) && c.attr("name") == Some(name)
+            })?;
+        self.used.borrow_mut().push(n.attr("name").unwrap_or(""));
+        Some(n)
+    }
+
+    /// Properties set but never read: (node, name), for one warning each.
+    pub fn unused(&self) -> Vec<&'a Node> {
+        let used = self.used.borrow();
+        self.node
+            .children
+            .iter()
+            .filter(|c| PROPERTY_TAGS.contains(&c.tag.as_str()))
+            .filter(|c| !used.contains(&c.attr("name").unwrap_or("")))
+            .collect()
+    }
+
+    fn number(&self, n: &Node) -> Result<f32, SceneError> {
+        let v = parse_floats(n, n.require("value")?)?;
+        match v.as_slice() {
+            [x] => Ok(*x),
+            _ => Err(n.error("expected one number")),
+        }
+    }
+
+    pub fn float(&self, name: &str, default: f32) -> Result<f32, SceneError> {
+        match self.get(name) {
+            Some(n) if n.tag == "float" || n.tag == "integer" => self.number(n),
+            Some(n) => Err(n.error(format!("'{name}' must be a <float>"))),
+            None => Ok(default),
+        }
+    }
+
+    pub fn integer(&self, name: &str, default: i64) -> Result<i64, SceneError> {
+        match self.get(name) {
+            Some(n) if n.tag == "integer" => n.require("value")?.trim().parse().map_err(|_| {
+                n.error(format!(
+                    "'{}' is not an integer",
+                    n.attr("value").unwrap_or("")
+                ))
+            }),
+            Some(n) => Err(n.error(format!("'{name}' must be an <integer>"))),
+            None => Ok(default),
+        }
+    }
+
+    pub fn boolean(&self, name: &str, default: bool) -> Result<bool, SceneError> {
+        match self.get(name) {
+            Some(n) if n.tag == "boolean" => match n.require("value")?.trim() {
+                "true" => Ok(true),
+                "false" => Ok(false),
+                v => Err(n.error(format!("'{v}' is not true or false"))),
+            },
+            Some(n) => Err(n.error(format!("'{name}' must be a <boolean>"))),
+            None => Ok(default),
+        }
+    }
+
+    pub fn string(&self, name: &str) -> Result<Option<&'a str>, SceneError> {
+        match self.get(name) {
+            Some(n) if n.tag == "string" => Ok(Some(n.require("value")?)),
+            Some(n) => Err(n.error(format!("'{name}' must be a <string>"))),
+            None => Ok(None),
+        }
+    }
+
+    pub fn point(&self, name: &str, default: Vec3) -> Result<Vec3, SceneError> {
+        match self.get(name) {
+            Some(n) if n.tag == "point" || n.tag == "vector" => {
+                if let Some(v) = n.attr("value") {
+                    let f = parse_floats(n, v)?;
+                    return match f.as_slice() {
+                        [x, y, z] => Ok(Vec3::new(*x, *y, *z)),
+                        _ => Err(n.error("expected 3 numbers")),
+                    };
+                }
+                let c = |k: &str| n.attr(k).map_or(Ok(0.0), |v| self.one(n, v));
+                Ok(Vec3::new(c("x")?, c("y")?, c("z")?))
+            }
+            Some(n) => Err(n.error(format!("'{name}' must be a <point>"))),
+            None => Ok(default),
+        }
+    }
+
+    fn one(&self, n: &Node, text: &str) -> Result<f32, SceneError> {
+        match parse_floats(n, text)?.as_slice() {
+            [x] => Ok(*x),
+            _ => Err(n.error("expected one number")),
+        }
+    }
+
+    pub fn transform(&self, name: &str) -> Result<Transform, SceneError> {
+        match self.get(name) {
+            Some(n) if n.tag == "transform" => read_transform(n),
+            Some(n) => Err(n.error(format!("'{name}' must be a <transform>"))),
+            None => Ok(Transform::IDENTITY),
+        }
+    }
+
+    /// A spectral property from `<spectrum>`, `<rgb>` or a number.
+    pub fn spectrum(&self, name: &str, usage: Usage) -> Result<Option<Spectrum>, SceneError> {
+        let Some(n) = self.get(name) else {
+            return Ok(None);
+        };
+        let s = match n.tag.as_str() {
+            "float" => Spectrum::Constant(self.number(n)?),
+            "rgb" => {
+                let f = parse_floats(n, n.require("value")?)?;
+                let rgb = match f.as_slice() {
+                    [r, g, b] => [*r, *g, *b],
+                    [v] => [*v; 3],
+                    _ => return Err(n.error("expected 3 numbers (R, G, B)")),
+                };
+                let kind = match usage {
+                    Usage::Reflectance => SpectrumKind::Reflectance,
+                    Usage::Unbounded => SpectrumKind::Unbounded,
+                    Usage::Emission => SpectrumKind::Illuminant,
+                };
+                rgb_to_spectrum(rgb, RgbSpace::Srgb, UpsampleMethod::Jakob2019, kind)
+                    .map_err(|e| n.error(e.to_string()))?
+            }
+            "spectrum" => read_spectrum(n)?,
+            other => {
+                return Err(n.error(format!(
+                    "'{name}' must be a spectrum, <rgb> or <float>, not <{other}>"
+                )))
+            }
+        };
+        if usage == Usage::Reflectance {
+            check_reflectance(n, &s)?;
+        }
+        Ok(Some(s))
+    }
+}
+
+/// Reflectances above 1 or below 0 create energy: an error.
+fn check_reflectance(n: &Node, s: &Spectrum) -> Result<(), SceneError> {
+    let bad = (360..=830)
+        .step_by(5)
+        .map(|l| s.eval(l as f32))
+        .find(|v| !(0.0..=1.0 + 1e-4).contains(v));
+    match bad {
+        Some(v) => Err(n.error(format!("a reflectance must lie in [0, 1], found {v}"))),
+        None => Ok(()),
+    }
+}
+
+/// `<spectrum>`: `value="0.5"`, `value="400:0.1, 500:0.3"`, `filename`,
+/// `type="blackbody"` (with `temperature`), or `type` = any CIE illuminant
+/// name (`d65` as in Mitsuba; `a`, `d50`, `f11`, … are scotopia's extension).
+pub fn read_spectrum(n: &Node) -> Result<Spectrum, SceneError> {
+    if let Some(t) = n.attr("type") {
+        if t == "blackbody" {
+            let props = Props::new(n);
+            let k = props.float("temperature", f32::NAN)?;
+            return Spectrum::blackbody(k).map_err(|e| n.error(e.to_string()));
+        }
+        return cie::illuminant(t).map_err(|e| n.error(e.to_string()));
+    }
+    if let Some(file) = n.attr("filename") {
+        let path = resolve(&n.dir, file);
+        return io::read_spectrum_file(&path)
+            .map(Spectrum::from)
+            .map_err(|e| n.error(e.to_string()));
+    }
+    let value = n.require("value")?;
+    if !value.contains(':') {
+        return match parse_floats(n, value)?.as_slice() {
+            [v] => Ok(Spectrum::Constant(*v)),
+            _ => Err(n.error("a constant spectrum is one number; use 'λ:value' pairs for a curve")),
+        };
+    }
+    let mut lambda = Vec::new();
+    let mut values = Vec::new();
+    for pair in value.split(',').map(str::trim).filter(|p| !p.is_empty()) {
+        let (l, v) = pair
+            .split_once(':')
+            .ok_or_else(|| n.error(format!("'{pair}' is not 'wavelength:value'")))?;
+        let num = |s: &str| -> Result<f32, SceneError> {
+            s.trim()
+                .parse::<f32>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| n.error(format!("'{s}' is not a finite number")))
+        };
+        lambda.push(num(l)?);
+        values.push(num(v)?);
+    }
+    Tabulated::new(lambda, values)
+        .map(Spectrum::from)
+        .map_err(|e| n.error(e.to_string()))
+}
+
+/// A path relative to the scene file's folder.
+pub fn resolve(dir: &Path, file: &str) -> std::path::PathBuf {
+    let p = Path::new(file);
+    if p.is_absolute() {
+        p.to_path_buf()
+    } else {
+        dir.join(p)
+    }
+}
