@@ -5,7 +5,8 @@ The colour-science core: spectra (``Spectrum``), the CIE observers
 ``colorimetry``), colour spaces and differences, RGB → spectrum upsampling
 (``Spectrum.from_rgb``) and its accuracy (``round_trip``).
 
-``spectrum(...)`` is the Python form of the ``scotopia spectrum`` command.
+``spectrum(...)`` is the Python form of the ``scotopia spectrum`` command,
+``scene_info(path)`` of ``scotopia info``.
 """
 
 from ._scotopia import (  # noqa: F401
@@ -27,6 +28,7 @@ from ._scotopia import (  # noqa: F401
     rgb_to_xyz,
     rgb_to_xyz_matrix,
     round_trip,
+    scene_info,
     vprime,
     white_point,
     xyz_to_lab,

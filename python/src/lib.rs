@@ -4,6 +4,7 @@
 mod arrays;
 mod colour;
 mod report;
+mod scene;
 mod spectrum;
 
 use pyo3::exceptions::{PyOSError, PyValueError};
@@ -29,5 +30,6 @@ fn _scotopia(m: &Bound<'_, PyModule>) -> PyResult<()> {
     spectrum::register(m)?;
     colour::register(m)?;
     report::register(m)?;
+    scene::register(m)?;
     Ok(())
 }

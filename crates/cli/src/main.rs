@@ -1,6 +1,7 @@
 //! The `scotopia` command line. Each verb parses its arguments, calls the
 //! library, and prints or writes the result.
 
+mod info;
 mod spectrum;
 
 use std::process::ExitCode;
@@ -20,6 +21,9 @@ enum Command {
     /// Print the colorimetry of one spectrum: absolute X, Y, Z (cd/m²), V′
     /// (scotopic cd/m²), chromaticity, CCT and the S/P ratio.
     Spectrum(spectrum::Args),
+    /// Load a Mitsuba 3 XML scene and print what it holds: shapes,
+    /// triangles, materials, emitters and their power, camera, film, warnings.
+    Info(info::Args),
 }
 
 /// Writes `text` to standard output; a closed pipe (`| head`) is not an error.
@@ -35,6 +39,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Spectrum(args) => spectrum::run(args),
+        Command::Info(args) => info::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -114,3 +114,28 @@ fn bad_input_is_reported_not_panicked() {
     assert_eq!(code, 2, "no source is a usage error: {err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn info_describes_the_cornell_box() {
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/cornell-box.xml");
+    let (code, out, err) = scotopia(&["info", scene, "--json", "-D", "res=100"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["shapes"], 8);
+    assert_eq!(v["triangles"], 24);
+    assert_eq!(v["film"]["width"], 100);
+    assert_eq!(v["lights"][0]["type"], "area");
+    assert!(v["lights"][0]["lumens"].as_f64().unwrap() > 0.0);
+    let (code, out, _) = scotopia(&["info", scene]);
+    assert_eq!(code, 0);
+    assert!(out.contains("pixel_format") && out.contains("lm"), "{out}");
+    let (code, _, err) = scotopia(&["info", "/nonexistent/scene.xml"]);
+    assert_eq!(code, 1);
+    assert!(
+        err.contains("/nonexistent/scene.xml") && !err.contains("panicked"),
+        "{err}"
+    );
+    let (code, _, err) = scotopia(&["info", scene, "-D", "novalue"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("NAME=VALUE"), "{err}");
+}

@@ -9,3 +9,4 @@ pub mod geometry;
 pub mod light;
 pub mod math;
 pub mod sampling;
+pub mod scene;

@@ -2,5 +2,10 @@
 //! rest of issue 3) and the named material data scenes refer to: measured
 //! metal indices and dispersive glasses.
 
+mod build;
+mod info;
 pub mod materials;
 pub mod mitsuba;
+
+pub use build::load_scene;
+pub use info::{LightInfo, SceneInfo};

@@ -57,9 +57,10 @@ fn io_error(path: &Path, from: Option<&Location>, e: std::io::Error) -> SceneErr
         line: 0,
         column: 0,
     });
+    let element = if from.is_some() { "include" } else { "scene" };
     SceneError::new(
         &location,
-        "include",
+        element,
         format!("cannot read {}: {e}", path.display()),
     )
 }

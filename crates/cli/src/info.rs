@@ -1,0 +1,101 @@
+//! `scotopia info`: what a scene file holds.
+
+use std::fmt::Write;
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use serde_json::json;
+
+use scotopia_scene::mitsuba::Parameters;
+use scotopia_scene::{load_scene, SceneInfo};
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The scene (Mitsuba 3 XML).
+    scene: PathBuf,
+    /// Set a scene parameter, overriding its <default> (repeatable).
+    #[arg(short = 'D', value_name = "NAME=VALUE")]
+    define: Vec<String>,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Parses `-D name=value` pairs.
+pub fn parameters(define: &[String]) -> Result<Parameters> {
+    define
+        .iter()
+        .map(|d| {
+            let (k, v) = d
+                .split_once('=')
+                .with_context(|| format!("-D {d}: expected NAME=VALUE"))?;
+            Ok((k.to_string(), v.to_string()))
+        })
+        .collect()
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let scene = load_scene(&args.scene, &parameters(&args.define)?)?;
+    let i = SceneInfo::of(&scene);
+    let text = if args.json {
+        let v = json!({
+            "shapes": i.shapes,
+            "triangles": i.triangles,
+            "materials": i.materials,
+            "emitters": i.emitters,
+            "camera": {
+                "fov_degrees": [i.fov_degrees.0, i.fov_degrees.1],
+                "thin_lens": i.thin_lens,
+            },
+            "film": {"width": i.width, "height": i.height, "filter": i.filter},
+            "samples_per_pixel": i.samples_per_pixel,
+            "max_depth": i.max_depth,
+            "lights": i.lights.iter().map(|l| json!({"type": l.kind, "watts": l.power.watts, "lumens": l.power.lumens})).collect::<Vec<_>>(),
+            "warnings": i.warnings,
+        });
+        format!("{v}\n")
+    } else {
+        let mut o = String::new();
+        writeln!(o, "{}", args.scene.display())?;
+        writeln!(o, "  shapes      {} ({} triangles)", i.shapes, i.triangles)?;
+        writeln!(o, "  materials   {}", i.materials)?;
+        writeln!(o, "  emitters    {}", i.emitters)?;
+        writeln!(
+            o,
+            "  camera      {}, fov {:.2}° × {:.2}°",
+            if i.thin_lens {
+                "thin lens"
+            } else {
+                "perspective"
+            },
+            i.fov_degrees.0,
+            i.fov_degrees.1
+        )?;
+        writeln!(
+            o,
+            "  film        {}×{}, {} filter, {} spp",
+            i.width, i.height, i.filter, i.samples_per_pixel
+        )?;
+        writeln!(
+            o,
+            "  max depth   {}",
+            if i.max_depth < 0 {
+                "unlimited".to_string()
+            } else {
+                i.max_depth.to_string()
+            }
+        )?;
+        for (k, l) in i.lights.iter().enumerate() {
+            writeln!(
+                o,
+                "  light {k}     {}: {:.4e} W, {:.4e} lm",
+                l.kind, l.power.watts, l.power.lumens
+            )?;
+        }
+        for w in &i.warnings {
+            writeln!(o, "  warning     {w}")?;
+        }
+        o
+    };
+    crate::print(&text)
+}

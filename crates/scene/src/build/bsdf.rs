@@ -1,0 +1,138 @@
+//! `<bsdf>` elements.
+
+use scotopia_color::Spectrum;
+use scotopia_render::bsdf::{
+    Bsdf, Conductor, Dielectric, Diffuse, Ior, Plastic, RoughDielectric, ThinDielectric,
+};
+
+use super::ior::read_ior;
+use super::Builder;
+use crate::materials::{named_conductor, CONDUCTOR_NAMES};
+use crate::mitsuba::{Node, Props, SceneError, Usage};
+
+pub fn build_bsdf(b: &mut Builder, node: &Node) -> Result<Bsdf, SceneError> {
+    let kind = node.require("type")?;
+    let p = Props::new(node);
+    let spec =
+        |p: &Props, name: &str, usage: Usage, default: f32| -> Result<Spectrum, SceneError> {
+            Ok(p.spectrum(name, usage)?
+                .unwrap_or(Spectrum::Constant(default)))
+        };
+    let bsdf = match kind {
+        "diffuse" => Bsdf::Diffuse(Diffuse {
+            reflectance: spec(&p, "reflectance", Usage::Reflectance, 0.5)?,
+        }),
+        "conductor" | "roughconductor" => {
+            let alpha = if kind == "roughconductor" {
+                roughness(b, &p, node)?
+            } else {
+                0.0
+            };
+            let (eta, k) = match (
+                p.spectrum("eta", Usage::Unbounded)?,
+                p.spectrum("k", Usage::Unbounded)?,
+            ) {
+                (Some(e), Some(k)) => (e, k),
+                (None, None) => {
+                    let name = p.string("material")?.unwrap_or("none");
+                    if name == "none" {
+                        // Mitsuba's "none": a perfect mirror (η = 0, κ = 1 gives R = 1).
+                        (Spectrum::Constant(0.0), Spectrum::Constant(1.0))
+                    } else {
+                        named_conductor(name).ok_or_else(|| {
+                            node.error(format!(
+                                "unknown conductor '{name}' (known: none, {})",
+                                CONDUCTOR_NAMES.join(", ")
+                            ))
+                        })?
+                    }
+                }
+                _ => return Err(node.error("give both 'eta' and 'k', or a 'material'")),
+            };
+            Bsdf::Conductor(Conductor {
+                eta,
+                k,
+                specular_reflectance: spec(&p, "specular_reflectance", Usage::Reflectance, 1.0)?,
+                alpha,
+            })
+        }
+        "dielectric" | "roughdielectric" | "thindielectric" => {
+            let ior = Ior {
+                interior: read_ior(&p, "int_ior", "bk7")?,
+                exterior: read_ior(&p, "ext_ior", "air")?,
+            };
+            let sr = spec(&p, "specular_reflectance", Usage::Reflectance, 1.0)?;
+            let st = spec(&p, "specular_transmittance", Usage::Reflectance, 1.0)?;
+            match kind {
+                "dielectric" => Bsdf::Dielectric(Dielectric {
+                    ior,
+                    specular_reflectance: sr,
+                    specular_transmittance: st,
+                }),
+                "thindielectric" => Bsdf::ThinDielectric(ThinDielectric {
+                    ior,
+                    specular_reflectance: sr,
+                    specular_transmittance: st,
+                }),
+                _ => Bsdf::RoughDielectric(RoughDielectric {
+                    alpha: roughness(b, &p, node)?,
+                    ior,
+                    specular_reflectance: sr,
+                    specular_transmittance: st,
+                }),
+            }
+        }
+        "plastic" => {
+            // The coating model takes one index: the interior over exterior at 550 nm.
+            let int = read_ior(&p, "int_ior", "polypropylene")?.eval(550.0);
+            let ext = read_ior(&p, "ext_ior", "air")?.eval(550.0);
+            Bsdf::Plastic(Plastic::new(
+                spec(&p, "diffuse_reflectance", Usage::Reflectance, 0.5)?,
+                spec(&p, "specular_reflectance", Usage::Reflectance, 1.0)?,
+                int / ext,
+                p.boolean("nonlinear", false)?,
+            ))
+        }
+        "twosided" => {
+            let inner: Vec<&Node> = node
+                .children
+                .iter()
+                .filter(|c| c.tag == "bsdf" || c.tag == "ref")
+                .collect();
+            match inner.as_slice() {
+                [one] => Bsdf::TwoSided(Box::new(b.bsdf_child(one)?)),
+                _ => return Err(node.error("twosided needs exactly one nested <bsdf> or <ref>")),
+            }
+        }
+        other => return Err(node.error(format!("BSDF type '{other}' is not supported"))),
+    };
+    b.report_unused(&p);
+    Ok(bsdf)
+}
+
+/// `alpha` (GGX). An explicit Beckmann or anisotropic roughness would render
+/// a different material, so they are errors; an unstated distribution
+/// (Mitsuba's default is Beckmann) is a warning.
+fn roughness(b: &mut Builder, p: &Props, node: &Node) -> Result<f32, SceneError> {
+    match p.string("distribution")? {
+        Some("ggx") => {}
+        Some(other) => {
+            return Err(node.error(format!(
+                "microfacet distribution '{other}' is not supported; use ggx"
+            )))
+        }
+        None => b.warn(
+            node,
+            "no 'distribution' given: Mitsuba would use beckmann, scotopia renders ggx".into(),
+        ),
+    }
+    let alpha = p.float("alpha", 0.1)?;
+    let (au, av) = (p.float("alpha_u", alpha)?, p.float("alpha_v", alpha)?);
+    if au != av {
+        return Err(node.error("anisotropic roughness (alpha_u ≠ alpha_v) is not supported"));
+    }
+    if !(au > 0.0 && au.is_finite()) {
+        return Err(node.error(format!("roughness alpha must be positive, got {au}")));
+    }
+    Ok(au)
+}

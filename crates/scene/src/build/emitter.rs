@@ -1,0 +1,59 @@
+//! `<emitter>` elements other than area lights (which belong to shapes).
+
+use scotopia_color::Spectrum;
+use scotopia_render::light::{ConstantLight, DirectionalLight, Light, PointLight, SpotLight};
+use scotopia_render::math::Vec3;
+
+use super::Builder;
+use crate::mitsuba::{Node, Props, SceneError, Usage};
+
+pub fn build_emitter(b: &mut Builder, node: &Node) -> Result<Light, SceneError> {
+    let kind = node.require("type")?;
+    let p = Props::new(node);
+    let required = |name: &str| -> Result<Spectrum, SceneError> {
+        p.spectrum(name, Usage::Emission)?
+            .ok_or_else(|| node.error(format!("missing '{name}'")))
+    };
+    let light = match kind {
+        "point" => {
+            let to_world = p.transform("to_world")?;
+            let position = to_world.point(p.point("position", Vec3::ZERO)?);
+            Light::Point(PointLight {
+                position,
+                intensity: required("intensity")?,
+            })
+        }
+        "spot" => {
+            let to_world = p.transform("to_world")?;
+            let cutoff = p.float("cutoff_angle", 20.0)?;
+            let beam = p.float("beam_width", cutoff * 0.75)?;
+            Light::Spot(SpotLight::new(
+                to_world.point(Vec3::ZERO),
+                to_world.vector(Vec3::new(0.0, 0.0, 1.0)),
+                required("intensity")?,
+                cutoff,
+                beam,
+            ))
+        }
+        "directional" => {
+            let to_world = p.transform("to_world")?;
+            let d = p
+                .point("direction", to_world.vector(Vec3::new(0.0, 0.0, 1.0)))?
+                .normalize();
+            if !d.is_finite() {
+                return Err(node.error("direction has zero length"));
+            }
+            Light::Directional(DirectionalLight {
+                direction: d,
+                irradiance: required("irradiance")?,
+            })
+        }
+        "constant" => Light::Constant(ConstantLight {
+            radiance: required("radiance")?,
+        }),
+        "area" => return Err(node.error("an area emitter must be nested in a <shape>")),
+        other => return Err(node.error(format!("emitter type '{other}' is not supported yet"))),
+    };
+    b.report_unused(&p);
+    Ok(light)
+}

@@ -1,0 +1,193 @@
+//! Build: plain Mitsuba nodes to a renderable `Scene`. Each element type
+//! has its file; this one walks the scene, resolves `id`/`ref`, and
+//! collects warnings about what scotopia reads but does not use.
+
+mod bsdf;
+mod emitter;
+mod ior;
+mod sensor;
+mod shape;
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use scotopia_color::Spectrum;
+use scotopia_render::accel::Aggregate;
+use scotopia_render::bsdf::{Bsdf, Diffuse};
+use scotopia_render::light::{AreaLight, Light};
+use scotopia_render::scene::{IntegratorSettings, Scene};
+
+use crate::mitsuba::{parse_file, Node, Parameters, Props, SceneError, Usage};
+
+/// Collects state while building.
+pub struct Builder {
+    warnings: Vec<String>,
+    named_bsdfs: HashMap<String, Node>,
+}
+
+impl Builder {
+    pub(crate) fn warn(&mut self, node: &Node, message: String) {
+        let line = format!("{}: <{}>: {message}", node.location, node.tag);
+        if !self.warnings.contains(&line) {
+            self.warnings.push(line);
+        }
+    }
+
+    /// One warning per property an object sets that scotopia ignores.
+    pub(crate) fn report_unused(&mut self, p: &Props) {
+        for n in p.unused() {
+            let name = n.attr("name").unwrap_or("?").to_string();
+            self.warn(
+                n,
+                format!("property '{name}' is not used by scotopia; ignored"),
+            );
+        }
+    }
+
+    /// A nested `<bsdf>` or a `<ref id>` to a top-level one.
+    pub(crate) fn bsdf_child(&mut self, node: &Node) -> Result<Bsdf, SceneError> {
+        if node.tag == "ref" {
+            let id = node.require("id")?;
+            let target = self
+                .named_bsdfs
+                .get(id)
+                .cloned()
+                .ok_or_else(|| node.error(format!("no <bsdf id=\"{id}\"> is defined")))?;
+            return bsdf::build_bsdf(self, &target);
+        }
+        bsdf::build_bsdf(self, node)
+    }
+}
+
+/// Loads a Mitsuba 3 scene file with parameters (`$name` values).
+pub fn load_scene(path: &Path, params: &Parameters) -> Result<Scene, SceneError> {
+    let root = parse_file(path, params)?;
+    let mut b = Builder {
+        warnings: Vec::new(),
+        named_bsdfs: HashMap::new(),
+    };
+    if let Some(v) = root.attr("version") {
+        if !v.starts_with('3') {
+            b.warn(
+                &root,
+                format!("version {v}: scotopia reads the Mitsuba 3 format"),
+            );
+        }
+    }
+    for n in root.children.iter().filter(|n| n.tag == "bsdf") {
+        if let Some(id) = n.attr("id") {
+            b.named_bsdfs.insert(id.to_string(), n.clone());
+        }
+    }
+
+    let mut sensor = None;
+    let mut integrator = IntegratorSettings {
+        max_depth: -1,
+        rr_depth: 5,
+    };
+    let mut shapes = Vec::new();
+    let mut materials: Vec<Bsdf> = Vec::new();
+    let mut material_ids: HashMap<String, u32> = HashMap::new();
+    let mut shape_material = Vec::new();
+    let mut shape_light = Vec::new();
+    let mut lights = Vec::new();
+
+    for n in &root.children {
+        match n.tag.as_str() {
+            "sensor" => {
+                if sensor.is_some() {
+                    b.warn(n, "more than one sensor: using the first".into());
+                    continue;
+                }
+                sensor = Some(sensor::build_sensor(&mut b, n)?);
+            }
+            "integrator" => {
+                let kind = n.require("type")?;
+                let p = Props::new(n);
+                if kind != "path" {
+                    b.warn(
+                        n,
+                        format!("integrator '{kind}' is not supported, using path"),
+                    );
+                }
+                integrator = IntegratorSettings {
+                    max_depth: p.integer("max_depth", -1)? as i32,
+                    rr_depth: p.integer("rr_depth", 5)? as i32,
+                };
+                b.report_unused(&p);
+            }
+            "bsdf" => {
+                // Built on use (by ref); a top-level BSDF without id is unused.
+                n.require("type")?;
+            }
+            "shape" => {
+                let shape = shape::build_shape(&mut b, n)?;
+                // The material: a nested <bsdf>, a <ref>, or the default diffuse.
+                let bsdf_node = n
+                    .children
+                    .iter()
+                    .find(|c| c.tag == "bsdf" || c.tag == "ref");
+                let material = match bsdf_node {
+                    Some(c) if c.tag == "ref" => {
+                        let id = c.require("id")?.to_string();
+                        match material_ids.get(&id) {
+                            Some(&m) => m,
+                            None => {
+                                let bsdf = b.bsdf_child(c)?;
+                                materials.push(bsdf);
+                                let m = (materials.len() - 1) as u32;
+                                material_ids.insert(id, m);
+                                m
+                            }
+                        }
+                    }
+                    Some(c) => {
+                        materials.push(b.bsdf_child(c)?);
+                        (materials.len() - 1) as u32
+                    }
+                    None => {
+                        materials.push(Bsdf::Diffuse(Diffuse {
+                            reflectance: Spectrum::Constant(0.5),
+                        }));
+                        (materials.len() - 1) as u32
+                    }
+                };
+                let index = shapes.len() as u32;
+                let mut light = None;
+                for e in n.children.iter().filter(|c| c.tag == "emitter") {
+                    if e.require("type")? != "area" {
+                        return Err(e.error("only an 'area' emitter can be attached to a shape"));
+                    }
+                    let p = Props::new(e);
+                    let radiance = p
+                        .spectrum("radiance", Usage::Emission)?
+                        .ok_or_else(|| e.error("missing 'radiance'"))?;
+                    b.report_unused(&p);
+                    lights.push(Light::Area(AreaLight::new(index, &shape, radiance)));
+                    light = Some((lights.len() - 1) as u32);
+                }
+                shapes.push(shape);
+                shape_material.push(material);
+                shape_light.push(light);
+            }
+            "emitter" => lights.push(emitter::build_emitter(&mut b, n)?),
+            "texture" => {
+                return Err(n.error("textures are not supported yet (next step of issue 3)"))
+            }
+            other => b.warn(n, format!("<{other}> is not used by scotopia; ignored")),
+        }
+    }
+    let sensor = sensor.ok_or_else(|| root.error("the scene has no <sensor>"))?;
+    Ok(Scene {
+        camera: sensor.camera,
+        filter: sensor.filter,
+        samples_per_pixel: sensor.spp,
+        integrator,
+        geometry: Aggregate::new(shapes),
+        materials,
+        shape_material,
+        shape_light,
+        lights,
+        warnings: b.warnings,
+    })
+}

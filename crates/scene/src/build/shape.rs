@@ -1,0 +1,95 @@
+//! `<shape>` elements: spheres, rectangles, disks and cubes.
+
+use scotopia_render::geometry::{Planar, PlanarKind, Shape, Sphere, TriangleMesh};
+use scotopia_render::math::{Transform, Vec3};
+
+use super::Builder;
+use crate::mitsuba::{Node, Props, SceneError};
+
+pub fn build_shape(b: &mut Builder, node: &Node) -> Result<Shape, SceneError> {
+    let kind = node.require("type")?;
+    let p = Props::new(node);
+    let to_world = p.transform("to_world")?;
+    let flip = p.boolean("flip_normals", false)?;
+    let flipped = |t: Transform| {
+        if flip {
+            t.then_after(&Transform::scale(Vec3::new(1.0, 1.0, -1.0)).expect("invertible"))
+        } else {
+            t
+        }
+    };
+    let shape = match kind {
+        "sphere" => {
+            if flip {
+                return Err(node.error("flip_normals on a sphere is not supported"));
+            }
+            let center = p.point("center", Vec3::ZERO)?;
+            let radius = p.float("radius", 1.0)?;
+            // Mitsuba allows similarity transforms only: one scale factor.
+            let axes = [
+                Vec3::new(1.0, 0.0, 0.0),
+                Vec3::new(0.0, 1.0, 0.0),
+                Vec3::new(0.0, 0.0, 1.0),
+            ]
+            .map(|a| to_world.vector(a).length());
+            if (axes[0] - axes[1]).abs() > 1e-4 * axes[0]
+                || (axes[0] - axes[2]).abs() > 1e-4 * axes[0]
+            {
+                return Err(node.error("a sphere's to_world must scale all axes equally"));
+            }
+            if radius.is_nan() || radius <= 0.0 {
+                return Err(node.error(format!("radius must be positive, got {radius}")));
+            }
+            Shape::Sphere(Sphere {
+                center: to_world.point(center),
+                radius: radius * axes[0],
+            })
+        }
+        "rectangle" => Shape::Planar(Box::new(Planar::new(
+            PlanarKind::Rectangle,
+            flipped(to_world),
+        ))),
+        "disk" => Shape::Planar(Box::new(Planar::new(PlanarKind::Disk, flipped(to_world)))),
+        "cube" => Shape::Mesh(cube(&to_world, flip).map_err(|e| node.error(e.to_string()))?),
+        "obj" | "ply" => {
+            return Err(node.error(format!(
+                "'{kind}' meshes are not readable yet (next step of issue 3)"
+            )));
+        }
+        other => return Err(node.error(format!("shape type '{other}' is not supported"))),
+    };
+    b.report_unused(&p);
+    Ok(shape)
+}
+
+/// Mitsuba's cube: [−1, 1]³, outward normals (inward when flipped).
+fn cube(
+    to_world: &Transform,
+    flip: bool,
+) -> Result<TriangleMesh, scotopia_render::geometry::GeometryError> {
+    let mut positions = Vec::new();
+    let mut indices = Vec::new();
+    // Each face: normal axis and sign; corners wound counter-clockwise seen from outside.
+    for axis in 0..3 {
+        for sign in [-1.0f32, 1.0] {
+            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+            let base = positions.len() as u32;
+            for (a, c) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                let mut p = [0.0f32; 3];
+                p[axis] = sign;
+                p[u] = a;
+                p[v] = c * sign;
+                positions.push(Vec3::from(p));
+            }
+            let (t1, t2) = ([base, base + 1, base + 2], [base, base + 2, base + 3]);
+            if flip {
+                indices.push([t1[0], t1[2], t1[1]]);
+                indices.push([t2[0], t2[2], t2[1]]);
+            } else {
+                indices.push(t1);
+                indices.push(t2);
+            }
+        }
+    }
+    TriangleMesh::new(positions, None, None, indices, to_world)
+}

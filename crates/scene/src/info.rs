@@ -1,0 +1,86 @@
+//! What a loaded scene holds, for `scotopia info`.
+
+use scotopia_render::geometry::Shape;
+use scotopia_render::light::{Light, Power, SceneExtent};
+use scotopia_render::scene::{Filter, Scene};
+
+/// One light's kind and power.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LightInfo {
+    pub kind: &'static str,
+    pub power: Power,
+}
+
+/// A summary of a scene.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneInfo {
+    pub shapes: usize,
+    pub triangles: usize,
+    pub materials: usize,
+    pub emitters: usize,
+    pub width: u32,
+    pub height: u32,
+    pub fov_degrees: (f32, f32),
+    pub thin_lens: bool,
+    pub samples_per_pixel: u32,
+    pub filter: String,
+    pub max_depth: i32,
+    pub lights: Vec<LightInfo>,
+    pub warnings: Vec<String>,
+}
+
+impl SceneInfo {
+    pub fn of(scene: &Scene) -> Self {
+        let bounds = scene.geometry.bounds();
+        let (center, radius) = if bounds.is_empty() {
+            (Default::default(), 1.0)
+        } else {
+            (bounds.centroid(), 0.5 * bounds.extent().length())
+        };
+        let extent = SceneExtent {
+            shapes: &scene.geometry.shapes,
+            center,
+            radius,
+        };
+        let lights = scene
+            .lights
+            .iter()
+            .map(|l| LightInfo {
+                kind: match l {
+                    Light::Point(_) => "point",
+                    Light::Spot(_) => "spot",
+                    Light::Directional(_) => "directional",
+                    Light::Area(_) => "area",
+                    Light::Constant(_) => "constant",
+                },
+                power: l.power(&extent),
+            })
+            .collect();
+        Self {
+            shapes: scene.geometry.shapes.len(),
+            triangles: scene
+                .geometry
+                .shapes
+                .iter()
+                .map(|s| match s {
+                    Shape::Mesh(m) => m.triangle_count(),
+                    _ => 0,
+                })
+                .sum(),
+            materials: scene.materials.len(),
+            emitters: scene.lights.len(),
+            width: scene.camera.width,
+            height: scene.camera.height,
+            fov_degrees: scene.camera.fov_degrees(),
+            thin_lens: scene.camera.aperture_radius > 0.0,
+            samples_per_pixel: scene.samples_per_pixel,
+            filter: match scene.filter {
+                Filter::Box => "box".into(),
+                Filter::Gaussian { stddev } => format!("gaussian (stddev {stddev})"),
+            },
+            max_depth: scene.integrator.max_depth,
+            lights,
+            warnings: scene.warnings.clone(),
+        }
+    }
+}

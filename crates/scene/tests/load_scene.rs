@@ -1,0 +1,102 @@
+//! Loading whole scenes: the bundled Cornell box, and errors.
+
+use std::path::{Path, PathBuf};
+
+use scotopia_render::math::Vec3;
+use scotopia_scene::load_scene;
+use scotopia_scene::mitsuba::Parameters;
+
+fn scenes() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
+}
+
+#[test]
+fn cornell_box_loads() {
+    let mut params = Parameters::new();
+    params.insert("res".into(), "32".into());
+    let s = load_scene(&scenes().join("cornell-box.xml"), &params).unwrap();
+    assert_eq!(s.geometry.shapes.len(), 8);
+    assert_eq!(s.lights.len(), 1);
+    assert_eq!(s.shape_light.iter().filter(|l| l.is_some()).count(), 1);
+    assert_eq!(
+        (s.camera.width, s.camera.height, s.samples_per_pixel),
+        (32, 32, 64)
+    );
+    assert_eq!(s.integrator.max_depth, 8);
+    // The film's pixel_format is Mitsuba's business: one warning, named.
+    assert!(
+        s.warnings.iter().any(|w| w.contains("pixel_format")),
+        "{:?}",
+        s.warnings
+    );
+    // The light faces down, into the box.
+    let ray = s.camera.generate_ray([16.0, 16.0], [0.5, 0.5]);
+    let hit = s
+        .geometry
+        .intersect(&ray)
+        .expect("the centre ray hits the box");
+    assert!(hit.t > 0.0);
+    let light_shape = s.shape_light.iter().position(|l| l.is_some()).unwrap();
+    let down = scotopia_render::math::Ray::new(Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.0));
+    let h = s.geometry.intersect(&down).unwrap();
+    assert_eq!(h.shape as usize, light_shape);
+    let surface = s.geometry.shapes[light_shape].surface(&h, &down);
+    assert!(surface.n_geometric.y < -0.99, "{:?}", surface.n_geometric);
+}
+
+#[test]
+fn load_errors_name_the_place() {
+    let dir = std::env::temp_dir().join(format!("scotopia-load-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let cases = [
+        (
+            r#"<shape type="sphere"><ref id="nope"/></shape>"#,
+            "no <bsdf id=\"nope\">",
+        ),
+        (
+            r#"<shape type="teapot"/>"#,
+            "shape type 'teapot' is not supported",
+        ),
+        (
+            r#"<shape type="sphere"><float name="radius" value="-1"/></shape>"#,
+            "radius must be positive",
+        ),
+        (
+            r#"<bsdf type="roughconductor" id="m"><string name="distribution" value="beckmann"/></bsdf><shape type="sphere"><ref id="m"/></shape>"#,
+            "'beckmann' is not supported",
+        ),
+        (
+            r#"<shape type="sphere"><bsdf type="conductor"><string name="material" value="Unobtainium"/></bsdf></shape>"#,
+            "unknown conductor 'Unobtainium'",
+        ),
+        (
+            r#"<shape type="sphere"><bsdf type="dielectric"><string name="int_ior" value="glass"/></bsdf></shape>"#,
+            "unknown index of refraction 'glass'",
+        ),
+        (r#"<emitter type="point"/>"#, "missing 'intensity'"),
+        (
+            r#"<shape type="sphere"><emitter type="area"><rgb name="radiance" value="-1, 0, 0"/></emitter></shape>"#,
+            "outside the srgb gamut",
+        ),
+    ];
+    let sensor = r#"<sensor type="perspective"><float name="fov" value="40"/></sensor>"#;
+    for (body, needle) in cases {
+        let f = dir.join("s.xml");
+        std::fs::write(
+            &f,
+            format!("<scene version=\"3.0.0\">\n{sensor}\n{body}\n</scene>"),
+        )
+        .unwrap();
+        let e = load_scene(&f, &Parameters::new()).unwrap_err().to_string();
+        assert!(
+            e.contains(needle) && e.contains("s.xml:3:"),
+            "{body}\n→ {e}"
+        );
+    }
+    let f = dir.join("nosensor.xml");
+    std::fs::write(&f, "<scene version=\"3.0.0\"/>").unwrap();
+    assert!(load_scene(&f, &Parameters::new())
+        .unwrap_err()
+        .to_string()
+        .contains("no <sensor>"));
+}

@@ -1,0 +1,55 @@
+//! `scotopia info` for Python: `scene_info(path, params=None)`.
+
+use std::collections::HashMap;
+use std::path::PathBuf;
+
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use scotopia_scene::{load_scene, SceneInfo};
+
+/// Loads a Mitsuba 3 XML scene and returns what `scotopia info --json`
+/// prints, as a dict. `params` sets `$name` parameters.
+#[pyfunction]
+#[pyo3(signature = (path, params = None))]
+fn scene_info<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    params: Option<HashMap<String, String>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let scene = load_scene(&path, &params.unwrap_or_default())
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let i = SceneInfo::of(&scene);
+    let d = PyDict::new(py);
+    d.set_item("shapes", i.shapes)?;
+    d.set_item("triangles", i.triangles)?;
+    d.set_item("materials", i.materials)?;
+    d.set_item("emitters", i.emitters)?;
+    let camera = PyDict::new(py);
+    camera.set_item("fov_degrees", [i.fov_degrees.0, i.fov_degrees.1])?;
+    camera.set_item("thin_lens", i.thin_lens)?;
+    d.set_item("camera", camera)?;
+    let film = PyDict::new(py);
+    film.set_item("width", i.width)?;
+    film.set_item("height", i.height)?;
+    film.set_item("filter", &i.filter)?;
+    d.set_item("film", film)?;
+    d.set_item("samples_per_pixel", i.samples_per_pixel)?;
+    d.set_item("max_depth", i.max_depth)?;
+    let lights = PyList::empty(py);
+    for l in &i.lights {
+        let ld = PyDict::new(py);
+        ld.set_item("type", l.kind)?;
+        ld.set_item("watts", l.power.watts)?;
+        ld.set_item("lumens", l.power.lumens)?;
+        lights.append(ld)?;
+    }
+    d.set_item("lights", lights)?;
+    d.set_item("warnings", &i.warnings)?;
+    Ok(d)
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(scene_info, m)?)?;
+    Ok(())
+}

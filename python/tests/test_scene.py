@@ -1,0 +1,23 @@
+"""Scene loading from Python, and the bundled Cornell box against Mitsuba's view of it."""
+from pathlib import Path
+
+import pytest
+
+import scotopia
+
+SCENES = Path(__file__).resolve().parents[2] / "scenes"
+
+
+def test_scene_info_of_the_cornell_box():
+    info = scotopia.scene_info(SCENES / "cornell-box.xml", {"res": "40"})
+    assert info["shapes"] == 8 and info["triangles"] == 24
+    assert info["film"]["width"] == 40
+    assert info["lights"][0]["type"] == "area" and info["lights"][0]["lumens"] > 0
+    assert any("pixel_format" in w for w in info["warnings"])
+
+
+def test_scene_errors_are_value_errors(tmp_path):
+    bad = tmp_path / "bad.xml"
+    bad.write_text('<scene version="3.0.0">\n<shape type="teapot"/>\n</scene>')
+    with pytest.raises(ValueError, match=r"bad.xml:2:1: <shape>: shape type 'teapot'"):
+        scotopia.scene_info(bad)
