@@ -5,6 +5,7 @@
 mod build;
 mod info;
 pub mod materials;
+pub mod mesh;
 pub mod mitsuba;
 
 pub use build::load_scene;

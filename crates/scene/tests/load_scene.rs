@@ -100,3 +100,41 @@ fn load_errors_name_the_place() {
         .to_string()
         .contains("no <sensor>"));
 }
+
+#[test]
+fn obj_meshes_load_with_mitsuba_conventions() {
+    let dir = std::env::temp_dir().join(format!("scotopia-obj-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("quad.obj"),
+        "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3 4/4\n",
+    )
+    .unwrap();
+    std::fs::write(dir.join("broken.obj"), "v 0 0 0\nf 1 2 3\n").unwrap();
+    let scene = |shape: &str| {
+        format!(
+            "<scene version=\"3.0.0\">\n<sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/></sensor>\n{shape}\n</scene>"
+        )
+    };
+    let f = dir.join("s.xml");
+    std::fs::write(&f, scene(r#"<shape type="obj"><string name="filename" value="quad.obj"/><transform name="to_world"><translate z="2"/></transform></shape>"#)).unwrap();
+    let s = load_scene(&f, &Parameters::new()).unwrap();
+    let scotopia_render::geometry::Shape::Mesh(m) = &s.geometry.shapes[0] else {
+        panic!("a mesh")
+    };
+    assert_eq!(m.triangle_count(), 2);
+    assert_eq!(m.positions[0], Vec3::new(-1.0, -1.0, 2.0));
+    // Texture v is flipped, as Mitsuba does for OBJ.
+    assert_eq!(m.uvs.as_ref().unwrap()[0], [0.0, 1.0]);
+    std::fs::write(
+        &f,
+        scene(r#"<shape type="obj"><string name="filename" value="broken.obj"/></shape>"#),
+    )
+    .unwrap();
+    let e = load_scene(&f, &Parameters::new()).unwrap_err().to_string();
+    assert!(
+        e.contains("s.xml:3:1: <shape>")
+            && e.contains("broken.obj:2: vertex index 2 is out of range"),
+        "{e}"
+    );
+}

@@ -49,3 +49,12 @@ proptest! {
         check(&String::from_utf8_lossy(&bytes), "mutated");
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    #[test]
+    fn obj_reader_never_panics(text in "([vtnf/ 0-9.e-]{0,20}\n){0,12}") {
+        let _ = scotopia_scene::mesh::parse_obj(&text, "fuzz.obj");
+    }
+}

@@ -4,7 +4,8 @@ use scotopia_render::geometry::{Planar, PlanarKind, Shape, Sphere, TriangleMesh}
 use scotopia_render::math::{Transform, Vec3};
 
 use super::Builder;
-use crate::mitsuba::{Node, Props, SceneError};
+use crate::mesh::read_obj;
+use crate::mitsuba::{resolve, Node, Props, SceneError};
 
 pub fn build_shape(b: &mut Builder, node: &Node) -> Result<Shape, SceneError> {
     let kind = node.require("type")?;
@@ -51,11 +52,39 @@ pub fn build_shape(b: &mut Builder, node: &Node) -> Result<Shape, SceneError> {
         ))),
         "disk" => Shape::Planar(Box::new(Planar::new(PlanarKind::Disk, flipped(to_world)))),
         "cube" => Shape::Mesh(cube(&to_world, flip).map_err(|e| node.error(e.to_string()))?),
-        "obj" | "ply" => {
-            return Err(node.error(format!(
-                "'{kind}' meshes are not readable yet (next step of issue 3)"
-            )));
+        "obj" => {
+            let file = p
+                .string("filename")?
+                .ok_or_else(|| node.error("missing <string name=\"filename\">"))?;
+            let mut data =
+                read_obj(&resolve(&node.dir, file)).map_err(|e| node.error(e.to_string()))?;
+            // Mitsuba flips OBJ texture coordinates by default (v → 1 − v).
+            if p.boolean("flip_tex_coords", true)? {
+                if let Some(uvs) = data.uvs.as_mut() {
+                    uvs.iter_mut().for_each(|t| t[1] = 1.0 - t[1]);
+                }
+            }
+            if p.boolean("face_normals", false)? {
+                data.normals = None;
+            }
+            if flip {
+                data.indices.iter_mut().for_each(|t| t.swap(1, 2));
+                if let Some(n) = data.normals.as_mut() {
+                    n.iter_mut().for_each(|v| *v = -*v);
+                }
+            }
+            Shape::Mesh(
+                TriangleMesh::new(
+                    data.positions,
+                    data.normals,
+                    data.uvs,
+                    data.indices,
+                    &to_world,
+                )
+                .map_err(|e| node.error(format!("{file}: {e}")))?,
+            )
         }
+        "ply" => return Err(node.error("'ply' meshes are not readable yet (next step of issue 3)")),
         other => return Err(node.error(format!("shape type '{other}' is not supported"))),
     };
     b.report_unused(&p);

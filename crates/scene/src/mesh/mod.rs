@@ -1,0 +1,26 @@
+//! Mesh files: Wavefront OBJ and PLY, read into plain vertex and index
+//! arrays. Errors name the file and line (the byte offset for binary PLY).
+
+mod obj;
+
+pub use obj::{parse_obj, read_obj};
+
+use scotopia_render::math::Vec3;
+
+/// A triangle mesh as read from a file, in object space.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct MeshData {
+    pub positions: Vec<Vec3>,
+    pub normals: Option<Vec<Vec3>>,
+    pub uvs: Option<Vec<[f32; 2]>>,
+    pub indices: Vec<[u32; 3]>,
+}
+
+/// A mesh file that cannot be read.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{file}:{line}: {message}")]
+pub struct MeshError {
+    pub file: String,
+    pub line: usize,
+    pub message: String,
+}
