@@ -102,7 +102,7 @@ fn load_errors_name_the_place() {
 }
 
 #[test]
-fn obj_meshes_load_with_mitsuba_conventions() {
+fn obj_and_ply_meshes_load_with_mitsuba_conventions() {
     let dir = std::env::temp_dir().join(format!("scotopia-obj-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(
@@ -111,6 +111,11 @@ fn obj_meshes_load_with_mitsuba_conventions() {
     )
     .unwrap();
     std::fs::write(dir.join("broken.obj"), "v 0 0 0\nf 1 2 3\n").unwrap();
+    std::fs::write(
+        dir.join("tri.ply"),
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+    )
+    .unwrap();
     let scene = |shape: &str| {
         format!(
             "<scene version=\"3.0.0\">\n<sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/></sensor>\n{shape}\n</scene>"

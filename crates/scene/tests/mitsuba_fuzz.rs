@@ -58,3 +58,20 @@ proptest! {
         let _ = scotopia_scene::mesh::parse_obj(&text, "fuzz.obj");
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    #[test]
+    fn ply_reader_never_panics(tail in proptest::collection::vec(any::<u8>(), 0..200), ascii in any::<bool>()) {
+        let format = if ascii { "ascii" } else { "binary_little_endian" };
+        let header = format!(
+            "ply\nformat {format} 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+             element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+        );
+        let mut bytes = header.into_bytes();
+        bytes.extend_from_slice(&tail);
+        let _ = scotopia_scene::mesh::parse_ply(&bytes, "fuzz.ply");
+        let _ = scotopia_scene::mesh::parse_ply(&tail, "fuzz.ply");
+    }
+}

@@ -4,7 +4,7 @@ use scotopia_render::geometry::{Planar, PlanarKind, Shape, Sphere, TriangleMesh}
 use scotopia_render::math::{Transform, Vec3};
 
 use super::Builder;
-use crate::mesh::read_obj;
+use crate::mesh::{read_obj, read_ply};
 use crate::mitsuba::{resolve, Node, Props, SceneError};
 
 pub fn build_shape(b: &mut Builder, node: &Node) -> Result<Shape, SceneError> {
@@ -52,14 +52,19 @@ pub fn build_shape(b: &mut Builder, node: &Node) -> Result<Shape, SceneError> {
         ))),
         "disk" => Shape::Planar(Box::new(Planar::new(PlanarKind::Disk, flipped(to_world)))),
         "cube" => Shape::Mesh(cube(&to_world, flip).map_err(|e| node.error(e.to_string()))?),
-        "obj" => {
+        "obj" | "ply" => {
             let file = p
                 .string("filename")?
                 .ok_or_else(|| node.error("missing <string name=\"filename\">"))?;
-            let mut data =
-                read_obj(&resolve(&node.dir, file)).map_err(|e| node.error(e.to_string()))?;
-            // Mitsuba flips OBJ texture coordinates by default (v → 1 − v).
-            if p.boolean("flip_tex_coords", true)? {
+            let path = resolve(&node.dir, file);
+            let read = if kind == "obj" {
+                read_obj(&path)
+            } else {
+                read_ply(&path)
+            };
+            let mut data = read.map_err(|e| node.error(e.to_string()))?;
+            // Mitsuba flips texture v by default for OBJ, not for PLY.
+            if p.boolean("flip_tex_coords", kind == "obj")? {
                 if let Some(uvs) = data.uvs.as_mut() {
                     uvs.iter_mut().for_each(|t| t[1] = 1.0 - t[1]);
                 }
@@ -84,7 +89,6 @@ pub fn build_shape(b: &mut Builder, node: &Node) -> Result<Shape, SceneError> {
                 .map_err(|e| node.error(format!("{file}: {e}")))?,
             )
         }
-        "ply" => return Err(node.error("'ply' meshes are not readable yet (next step of issue 3)")),
         other => return Err(node.error(format!("shape type '{other}' is not supported"))),
     };
     b.report_unused(&p);

@@ -2,8 +2,10 @@
 //! arrays. Errors name the file and line (the byte offset for binary PLY).
 
 mod obj;
+mod ply;
 
 pub use obj::{parse_obj, read_obj};
+pub use ply::{parse_ply, read_ply};
 
 use scotopia_render::math::Vec3;
 
