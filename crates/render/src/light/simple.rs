@@ -6,6 +6,19 @@ use super::{spectral_power, LightSample, Power};
 use crate::math::{Frame, Vec3};
 use crate::sampling::warp::{square_to_uniform_sphere, UNIFORM_SPHERE_PDF};
 
+/// Unit direction, distance and squared distance from `p` to `position`;
+/// `None` when they coincide.
+#[inline]
+fn towards(position: Vec3, p: Vec3) -> Option<(Vec3, f32, f32)> {
+    let d = position - p;
+    let dist2 = d.length_squared();
+    if dist2 == 0.0 {
+        return None;
+    }
+    let dist = dist2.sqrt();
+    Some((d / dist, dist, dist2))
+}
+
 /// Isotropic point light of spectral intensity I.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PointLight {
@@ -19,14 +32,9 @@ impl PointLight {
         wl: &SampledWavelengths<K>,
         p: Vec3,
     ) -> Option<LightSample<K>> {
-        let d = self.position - p;
-        let dist2 = d.length_squared();
-        if dist2 == 0.0 {
-            return None;
-        }
-        let dist = dist2.sqrt();
+        let (wi, dist, dist2) = towards(self.position, p)?;
         Some(LightSample {
-            wi: d / dist,
+            wi,
             distance: dist,
             radiance: self.intensity.sample(wl) / dist2,
             pdf: 1.0,
@@ -87,13 +95,7 @@ impl SpotLight {
         wl: &SampledWavelengths<K>,
         p: Vec3,
     ) -> Option<LightSample<K>> {
-        let d = self.position - p;
-        let dist2 = d.length_squared();
-        if dist2 == 0.0 {
-            return None;
-        }
-        let dist = dist2.sqrt();
-        let wi = d / dist;
+        let (wi, dist, dist2) = towards(self.position, p)?;
         let f = self.falloff((-wi).dot(self.frame.n));
         if f == 0.0 {
             return None;
