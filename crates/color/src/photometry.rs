@@ -46,10 +46,9 @@ pub fn xyz_to_xy([x, y, z]: [f64; 3]) -> Option<[f64; 2]> {
     (sum > 0.0).then(|| [x / sum, y / sum])
 }
 
-/// ∫ S(λ)·{x̄, ȳ, z̄, V′}(λ) dλ over 360–830 nm (no efficacy factor), by the
-/// trapezoid rule on the 1 nm grid merged with the spectrum's own tabulated
-/// wavelengths, so narrow emission lines are integrated, not skipped.
-pub fn integrate_observers(s: &Spectrum) -> [f64; 4] {
+/// The wavelengths at which to integrate `s` over 360–830 nm: the 1 nm grid
+/// merged with the spectrum's own tabulated wavelengths (trapezoid nodes).
+pub fn integration_nodes(s: &Spectrum) -> Vec<f32> {
     let mut nodes: Vec<f32> = (LAMBDA_MIN as u32..=LAMBDA_MAX as u32)
         .map(|l| l as f32)
         .collect();
@@ -63,6 +62,14 @@ pub fn integrate_observers(s: &Spectrum) -> [f64; 4] {
         nodes.sort_by(f32::total_cmp);
         nodes.dedup();
     }
+    nodes
+}
+
+/// ∫ S(λ)·{x̄, ȳ, z̄, V′}(λ) dλ over 360–830 nm (no efficacy factor), by the
+/// trapezoid rule on the 1 nm grid merged with the spectrum's own tabulated
+/// wavelengths, so narrow emission lines are integrated, not skipped.
+pub fn integrate_observers(s: &Spectrum) -> [f64; 4] {
+    let nodes = integration_nodes(s);
     let integrand = |l: f32| {
         let o = cie::observers(l);
         let v = s.eval(l) as f64;

@@ -110,7 +110,12 @@ impl RoughDielectric {
     ) -> SampledSpectrum<K> {
         let eta = self.ior.eta(wl);
         let ggx = self.ggx();
-        let v = SampledSpectrum::from_fn(|k| lobe(&ggx, wi, wo, eta[k], mode).value);
+        // One lobe evaluation serves the cluster unless the index varies.
+        let v = if self.ior.dispersive() {
+            SampledSpectrum::from_fn(|k| lobe(&ggx, wi, wo, eta[k], mode).value)
+        } else {
+            SampledSpectrum::splat(lobe(&ggx, wi, wo, eta[0], mode).value)
+        };
         v * self.tint(wl, wi.z * wo.z > 0.0)
     }
 
@@ -153,14 +158,15 @@ impl RoughDielectric {
             return None;
         }
         let dispersive = self.ior.dispersive() && !reflection;
-        let value = SampledSpectrum::from_fn(|k| {
-            if k == 0 || !dispersive {
-                lobe(&ggx, wi, wo, eta[k], mode).value
-            } else {
-                // Collapsed away: the other wavelengths leave the cluster.
-                0.0
-            }
-        });
+        let value = if !self.ior.dispersive() {
+            SampledSpectrum::splat(first.value)
+        } else if reflection {
+            // Same direction for all; each wavelength has its own Fresnel term.
+            SampledSpectrum::from_fn(|k| lobe(&ggx, wi, wo, eta[k], mode).value)
+        } else {
+            // Refraction collapses the cluster to its first wavelength.
+            SampledSpectrum::from_fn(|k| if k == 0 { first.value } else { 0.0 })
+        };
         Some(BsdfSample {
             wo,
             weight: value * self.tint(wl, reflection) / first.pdf,

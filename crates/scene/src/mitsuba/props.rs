@@ -76,11 +76,7 @@ impl<'a> Props<'a> {
     }
 
     fn number(&self, n: &Node) -> Result<f32, SceneError> {
-        let v = parse_floats(n, n.require("value")?)?;
-        match v.as_slice() {
-            [x] => Ok(*x),
-            _ => Err(n.error("expected one number")),
-        }
+        self.one(n, n.require("value")?)
     }
 
     pub fn float(&self, name: &str, default: f32) -> Result<f32, SceneError> {
