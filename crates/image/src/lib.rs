@@ -1,8 +1,11 @@
-//! Images in and out of scotopia: PNG writing (atomic), spectrum plots. The
+//! Images in and out of scotopia: PNG writing (atomic), PNG/JPEG/EXR
+//! reading for textures, spectrum plots. The
 //! XYZV′ image type and OpenEXR I/O arrive with the renderer.
 
 pub mod plot;
 pub mod png_out;
+pub mod read;
 
 pub use plot::{display_colour, plot_spectrum};
 pub use png_out::{write_png_rgb8, ImageError};
+pub use read::{read_rgb, Encoding, RgbImage};

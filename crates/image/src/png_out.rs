@@ -5,7 +5,7 @@ use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
-/// Errors writing images.
+/// Errors reading or writing images.
 #[derive(Debug, thiserror::Error)]
 pub enum ImageError {
     /// (The I/O error is part of the message, not a separate cause, so
@@ -14,6 +14,8 @@ pub enum ImageError {
     Io { path: String, cause: std::io::Error },
     #[error("{path}: PNG encoding failed: {message}")]
     Png { path: String, message: String },
+    #[error("{path}: cannot read the image: {message}")]
+    Read { path: String, message: String },
     #[error("{0}")]
     Invalid(String),
 }

@@ -10,3 +10,4 @@ pub mod light;
 pub mod math;
 pub mod sampling;
 pub mod scene;
+pub mod texture;

@@ -8,12 +8,16 @@ use common::{chi2_directions, Rng};
 use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
 use scotopia_render::bsdf::{
     diffuse_fresnel_reflectance, fresnel_dielectric, Bsdf, Conductor, Dielectric, Diffuse, Ior,
-    Plastic, RoughDielectric, ThinDielectric, Transport,
+    Plastic, RoughDielectric, RoughPlastic, ThinDielectric, Transport,
 };
 use scotopia_render::math::Vec3;
+use scotopia_render::texture::Texture;
+
+/// Texture coordinates of every query (the BSDFs here are untextured).
+const UV: [f32; 2] = [0.5, 0.5];
 
 /// Significance per test, Bonferroni-corrected over the chi-square cases.
-const ALPHA: f64 = 0.01 / 18.0;
+const ALPHA: f64 = 0.01 / 21.0;
 
 fn wl() -> SampledWavelengths<4> {
     SampledWavelengths::sample_uniform(0.37)
@@ -26,7 +30,7 @@ fn dir(theta_deg: f32, phi_deg: f32) -> Vec3 {
 
 fn diffuse() -> Bsdf {
     Bsdf::Diffuse(Diffuse {
-        reflectance: Spectrum::Constant(0.7),
+        reflectance: Texture::constant(0.7),
     })
 }
 
@@ -35,7 +39,7 @@ fn rough_conductor(alpha: f32) -> Bsdf {
     Bsdf::Conductor(Conductor {
         eta: Spectrum::Constant(0.27),
         k: Spectrum::Constant(3.4),
-        specular_reflectance: Spectrum::Constant(1.0),
+        specular_reflectance: Texture::constant(1.0),
         alpha,
     })
 }
@@ -51,9 +55,19 @@ fn rough_glass(alpha: f32) -> Bsdf {
     Bsdf::RoughDielectric(RoughDielectric {
         ior: glass(Spectrum::Constant(1.5)),
         alpha,
-        specular_reflectance: Spectrum::Constant(1.0),
-        specular_transmittance: Spectrum::Constant(1.0),
+        specular_reflectance: Texture::constant(1.0),
+        specular_transmittance: Texture::constant(1.0),
     })
+}
+
+fn rough_plastic(alpha: f32, nonlinear: bool) -> RoughPlastic {
+    RoughPlastic::new(
+        Texture::constant(0.6),
+        Texture::constant(1.0),
+        1.49,
+        alpha,
+        nonlinear,
+    )
 }
 
 fn sampling_cases() -> Vec<(&'static str, Bsdf, Vec3)> {
@@ -85,6 +99,11 @@ fn sampling_cases() -> Vec<(&'static str, Bsdf, Vec3)> {
             rough_glass(0.5),
             -dir(theta, 300.0),
         ));
+        cases.push((
+            "rough plastic α 0.3",
+            Bsdf::RoughPlastic(rough_plastic(0.3, false)),
+            dir(theta, 120.0),
+        ));
     }
     cases
 }
@@ -92,7 +111,7 @@ fn sampling_cases() -> Vec<(&'static str, Bsdf, Vec3)> {
 #[test]
 fn sampling_matches_pdf_chi_square() {
     let w = wl();
-    assert_eq!(sampling_cases().len(), 18);
+    assert_eq!(sampling_cases().len(), 21);
     for (i, (name, bsdf, wi)) in sampling_cases().into_iter().enumerate() {
         let mut rng = Rng(100 + i as u64);
         let p = chi2_directions(
@@ -100,7 +119,7 @@ fn sampling_matches_pdf_chi_square() {
             &mut rng,
             |r| {
                 let (u1, u2) = (r.next(), r.pair());
-                bsdf.sample(&w, wi, u1, u2, Transport::Radiance)
+                bsdf.sample(&w, UV, wi, u1, u2, Transport::Radiance)
                     .map(|s| s.wo)
             },
             |wo| bsdf.pdf(&w, wi, wo) as f64,
@@ -120,7 +139,7 @@ fn a_wrong_pdf_is_caught() {
         200_000,
         &mut Rng(7),
         |r| {
-            b.sample(&w, wi, 0.5, r.pair(), Transport::Radiance)
+            b.sample(&w, UV, wi, 0.5, r.pair(), Transport::Radiance)
                 .map(|s| s.wo)
         },
         |wo| {
@@ -140,10 +159,12 @@ fn weights_are_eval_over_pdf() {
     let mut rng = Rng(3);
     for (name, bsdf, wi) in sampling_cases() {
         for _ in 0..200 {
-            let Some(s) = bsdf.sample(&w, wi, rng.next(), rng.pair(), Transport::Radiance) else {
+            let Some(s) = bsdf.sample(&w, UV, wi, rng.next(), rng.pair(), Transport::Radiance)
+            else {
                 continue;
             };
-            let expected = bsdf.eval(&w, wi, s.wo, Transport::Radiance) / bsdf.pdf(&w, wi, s.wo);
+            let expected =
+                bsdf.eval(&w, UV, wi, s.wo, Transport::Radiance) / bsdf.pdf(&w, wi, s.wo);
             for k in 0..4 {
                 assert!(
                     (s.weight[k] - expected[k]).abs() <= 1e-3 * expected[k].max(1.0),
@@ -162,15 +183,20 @@ fn weights_are_eval_over_pdf() {
 fn reciprocity() {
     let w = wl();
     let mut rng = Rng(4);
-    for bsdf in [diffuse(), rough_conductor(0.3), rough_conductor(0.05)] {
+    for bsdf in [
+        diffuse(),
+        rough_conductor(0.3),
+        rough_conductor(0.05),
+        Bsdf::RoughPlastic(rough_plastic(0.2, true)),
+    ] {
         for _ in 0..500 {
             let (a, b) = (
                 dir(85.0 * rng.next(), 360.0 * rng.next()),
                 dir(85.0 * rng.next(), 360.0 * rng.next()),
             );
             // f(a, b) = f(b, a), with the cosines eval includes divided out.
-            let fab = bsdf.eval(&w, a, b, Transport::Radiance) / b.z;
-            let fba = bsdf.eval(&w, b, a, Transport::Radiance) / a.z;
+            let fab = bsdf.eval(&w, UV, a, b, Transport::Radiance) / b.z;
+            let fba = bsdf.eval(&w, UV, b, a, Transport::Radiance) / a.z;
             for k in 0..4 {
                 assert!(
                     (fab[k] - fba[k]).abs() <= 1e-4 * fab[k].max(1e-3),
@@ -192,7 +218,7 @@ fn albedo_is_at_most_one() {
         for _ in 0..n {
             // Importance: radiance leaving glass gains 1/η² legitimately.
             let v = bsdf
-                .sample(&w, wi, rng.next(), rng.pair(), Transport::Importance)
+                .sample(&w, UV, wi, rng.next(), rng.pair(), Transport::Importance)
                 .map_or(0.0, |s| s.weight[0] as f64);
             sum += v;
             sum2 += v * v;
@@ -206,7 +232,7 @@ fn albedo_is_at_most_one() {
     }
     // The Lambertian albedo is exactly its reflectance.
     let s = diffuse()
-        .sample(&w, dir(30.0, 0.0), 0.5, [0.3, 0.6], Transport::Radiance)
+        .sample(&w, UV, dir(30.0, 0.0), 0.5, [0.3, 0.6], Transport::Radiance)
         .unwrap();
     assert_eq!(s.weight, SampledSpectrum::splat(0.7));
 }
@@ -216,8 +242,8 @@ fn smooth_dielectric_splits_by_fresnel_and_obeys_snell() {
     let w = wl();
     let d = Dielectric {
         ior: glass(Spectrum::Constant(1.5)),
-        specular_reflectance: Spectrum::Constant(1.0),
-        specular_transmittance: Spectrum::Constant(1.0),
+        specular_reflectance: Texture::constant(1.0),
+        specular_transmittance: Texture::constant(1.0),
     };
     let wi = dir(50.0, 120.0);
     let (f, _, _) = fresnel_dielectric(wi.z, 1.5);
@@ -225,7 +251,9 @@ fn smooth_dielectric_splits_by_fresnel_and_obeys_snell() {
     let n = 100_000;
     let (mut reflected, mut energy) = (0usize, 0.0f64);
     for _ in 0..n {
-        let s = d.sample(&w, wi, rng.next(), Transport::Importance).unwrap();
+        let s = d
+            .sample(&w, UV, wi, rng.next(), Transport::Importance)
+            .unwrap();
         assert!(s.delta && !s.collapse);
         if s.wo.z > 0.0 {
             reflected += 1;
@@ -245,11 +273,13 @@ fn smooth_dielectric_splits_by_fresnel_and_obeys_snell() {
     // Importance transport through a lossless interface conserves energy.
     assert!((energy / n as f64 - 1.0).abs() < 1e-6);
     // Radiance is scaled by 1/η² on entering.
-    let s = d.sample(&w, wi, 0.9999, Transport::Radiance).unwrap();
+    let s = d.sample(&w, UV, wi, 0.9999, Transport::Radiance).unwrap();
     assert!(s.wo.z < 0.0 && (s.weight[0] - 1.0 / (1.5 * 1.5)).abs() < 1e-5);
     // From inside beyond the critical angle: total internal reflection.
     let inside = -dir(60.0, 0.0);
-    let s = d.sample(&w, inside, 0.9999, Transport::Radiance).unwrap();
+    let s = d
+        .sample(&w, UV, inside, 0.9999, Transport::Radiance)
+        .unwrap();
     assert!(s.wo.z < 0.0 && (s.weight[0] - 1.0).abs() < 1e-6 && s.wo.z == inside.z);
 }
 
@@ -262,11 +292,11 @@ fn dispersive_refraction_collapses_the_cluster() {
     );
     let d = Dielectric {
         ior: glass(eta),
-        specular_reflectance: Spectrum::Constant(1.0),
-        specular_transmittance: Spectrum::Constant(1.0),
+        specular_reflectance: Texture::constant(1.0),
+        specular_transmittance: Texture::constant(1.0),
     };
     let wi = dir(45.0, 0.0);
-    let t = d.sample(&w, wi, 0.9999, Transport::Importance).unwrap();
+    let t = d.sample(&w, UV, wi, 0.9999, Transport::Importance).unwrap();
     assert!(
         t.collapse,
         "refraction through a dispersive index collapses"
@@ -274,7 +304,7 @@ fn dispersive_refraction_collapses_the_cluster() {
     // The direction is the first wavelength's (η at 450 nm ≈ 1.54375).
     let eta0 = 1.55 - 0.05 * (450.0 - 400.0) / 400.0;
     assert!(((1.0 - t.wo.z * t.wo.z).sqrt() - wi.x / eta0).abs() < 1e-5);
-    let r = d.sample(&w, wi, 0.0, Transport::Importance).unwrap();
+    let r = d.sample(&w, UV, wi, 0.0, Transport::Importance).unwrap();
     assert!(!r.collapse, "reflection is the same for every wavelength");
     // Each wavelength's reflection weight is its own F over the first one's.
     let f: Vec<f32> = w
@@ -292,13 +322,13 @@ fn thin_dielectric_sums_internal_reflections() {
     let w = wl();
     let d = ThinDielectric {
         ior: glass(Spectrum::Constant(1.5)),
-        specular_reflectance: Spectrum::Constant(1.0),
-        specular_transmittance: Spectrum::Constant(1.0),
+        specular_reflectance: Texture::constant(1.0),
+        specular_transmittance: Texture::constant(1.0),
     };
     // Normal incidence: R = 0.04, R' = 2R/(1 + R).
-    let s = d.sample(&w, Vec3::new(0.0, 0.0, 1.0), 0.0).unwrap();
+    let s = d.sample(&w, UV, Vec3::new(0.0, 0.0, 1.0), 0.0).unwrap();
     let expected = 2.0 * 0.04 / 1.04;
-    let t = d.sample(&w, Vec3::new(0.0, 0.0, 1.0), 0.5).unwrap();
+    let t = d.sample(&w, UV, Vec3::new(0.0, 0.0, 1.0), 0.5).unwrap();
     assert!(s.wo.z > 0.0 && t.wo == Vec3::new(0.0, 0.0, -1.0));
     assert!(
         (t.weight[0] - 1.0).abs() < 1e-6,
@@ -308,7 +338,7 @@ fn thin_dielectric_sums_internal_reflections() {
     let n = 200_000;
     let refl = (0..n)
         .filter(|_| {
-            d.sample(&w, Vec3::new(0.0, 0.0, 1.0), rng.next())
+            d.sample(&w, UV, Vec3::new(0.0, 0.0, 1.0), rng.next())
                 .unwrap()
                 .wo
                 .z
@@ -328,6 +358,7 @@ fn smooth_conductor_reflects_with_fresnel() {
     let s = b
         .sample(
             &w,
+            UV,
             Vec3::new(0.0, 0.0, 1.0),
             0.5,
             [0.5, 0.5],
@@ -339,6 +370,7 @@ fn smooth_conductor_reflects_with_fresnel() {
     assert_eq!(
         b.eval(
             &w,
+            UV,
             Vec3::new(0.0, 0.0, 1.0),
             Vec3::new(0.0, 0.0, 1.0),
             Transport::Radiance
@@ -349,8 +381,8 @@ fn smooth_conductor_reflects_with_fresnel() {
 
 fn plastic(nonlinear: bool) -> Plastic {
     Plastic::new(
-        Spectrum::Constant(0.6),
-        Spectrum::Constant(1.0),
+        Texture::constant(0.6),
+        Texture::constant(1.0),
         1.49,
         nonlinear,
     )
@@ -377,7 +409,8 @@ fn plastic_lobes_are_consistent_and_conserve_energy() {
             let wi = dir(theta, 20.0);
             let (n, mut spec, mut sum) = (100_000, 0usize, 0.0f64);
             for _ in 0..n {
-                let Some(s) = b.sample(&w, wi, rng.next(), rng.pair(), Transport::Radiance) else {
+                let Some(s) = b.sample(&w, UV, wi, rng.next(), rng.pair(), Transport::Radiance)
+                else {
                     continue;
                 };
                 sum += s.weight[0] as f64;
@@ -385,7 +418,7 @@ fn plastic_lobes_are_consistent_and_conserve_energy() {
                     spec += 1;
                     assert_eq!(s.wo, Vec3::new(-wi.x, -wi.y, wi.z));
                 } else {
-                    let e = b.eval(&w, wi, s.wo, Transport::Radiance) / b.pdf(&w, wi, s.wo);
+                    let e = b.eval(&w, UV, wi, s.wo, Transport::Radiance) / b.pdf(&w, wi, s.wo);
                     assert!((s.weight[0] - e[0]).abs() < 1e-4 * e[0].max(1.0));
                 }
             }
@@ -409,7 +442,7 @@ fn plastic_diffuse_part_matches_pdf_chi_square() {
         200_000,
         &mut Rng(10),
         |r| loop {
-            let s = b.sample(&w, wi, r.next(), r.pair(), Transport::Radiance)?;
+            let s = b.sample(&w, UV, wi, r.next(), r.pair(), Transport::Radiance)?;
             if !s.delta {
                 return Some(s.wo);
             }
@@ -417,4 +450,55 @@ fn plastic_diffuse_part_matches_pdf_chi_square() {
         |wo| b.pdf(&w, wi, wo) as f64 / p_diffuse,
     );
     assert!(pv > 0.01, "p = {pv}");
+}
+
+#[test]
+fn rough_plastic_tends_to_smooth_plastic() {
+    // A nearly smooth coating's internal albedo is the diffuse Fresnel
+    // reflectance of the inside, and its diffuse lobe the smooth model's.
+    let w = wl();
+    let rough = rough_plastic(1e-3, false);
+    let fdr = diffuse_fresnel_reflectance(1.0 / 1.49);
+    assert!(
+        (rough.internal_reflectance() - fdr).abs() < 5e-3,
+        "{} vs {fdr}",
+        rough.internal_reflectance()
+    );
+    let smooth = plastic(false);
+    for (ti, to) in [(10.0, 30.0), (50.0, 70.0), (75.0, 5.0)] {
+        let (wi, wo) = (dir(ti, 0.0), dir(to, 100.0));
+        let a = rough.eval(&w, UV, wi, wo)[0];
+        let b = smooth.eval(&w, UV, wi, wo)[0];
+        assert!((a - b).abs() < 0.01 * b, "θ {ti}/{to}: {a} vs {b}");
+    }
+}
+
+#[test]
+fn rough_plastic_conserves_energy_at_grazing_angles() {
+    // White substrate, nonlinear off: the worst case for energy.
+    let w = wl();
+    let b = Bsdf::RoughPlastic(RoughPlastic::new(
+        Texture::constant(1.0),
+        Texture::constant(1.0),
+        1.5,
+        0.5,
+        false,
+    ));
+    for theta in [0.0, 60.0, 85.0] {
+        let wi = dir(theta, 0.0);
+        let mut rng = Rng(12);
+        let n = 100_000;
+        let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+        for _ in 0..n {
+            let v = b
+                .sample(&w, UV, wi, rng.next(), rng.pair(), Transport::Radiance)
+                .map_or(0.0, |s| s.weight[0] as f64);
+            sum += v;
+            sum2 += v * v;
+        }
+        let mean = sum / n as f64;
+        let se = ((sum2 / n as f64 - mean * mean).max(0.0) / n as f64).sqrt();
+        assert!(mean - 4.0 * se <= 1.0, "θ {theta}: albedo {mean} ± {se}");
+        assert!(mean > 0.5, "θ {theta}: albedo {mean}");
+    }
 }

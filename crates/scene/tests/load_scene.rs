@@ -143,3 +143,34 @@ fn obj_and_ply_meshes_load_with_mitsuba_conventions() {
         "{e}"
     );
 }
+
+#[test]
+fn focal_length_sets_the_diagonal_field_as_in_mitsuba() {
+    let dir = std::env::temp_dir().join(format!("scotopia-focal-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let f = dir.join("focal.xml");
+    std::fs::write(
+        &f,
+        r#"<scene version="3.0.0"><sensor type="perspective"><string name="focal_length" value="35mm"/>
+<film type="hdrfilm"><integer name="width" value="64"/><integer name="height" value="48"/></film></sensor></scene>"#,
+    )
+    .unwrap();
+    let s = load_scene(&f, &Parameters::new()).unwrap();
+    // Mitsuba 3.9.1 reports x_fov = 52.6225° for this sensor.
+    let ray = s.camera.generate_ray([64.0, 24.0], [0.5, 0.5]);
+    let centre = s.camera.generate_ray([32.0, 24.0], [0.5, 0.5]);
+    let half = ray
+        .d
+        .normalize()
+        .dot(centre.d.normalize())
+        .acos()
+        .to_degrees();
+    assert!((2.0 * half - 52.6225).abs() < 1e-3, "{}", 2.0 * half);
+    std::fs::write(
+        &f,
+        r#"<scene version="3.0.0"><sensor type="perspective"><string name="focal_length" value="wide"/></sensor></scene>"#,
+    )
+    .unwrap();
+    let e = load_scene(&f, &Parameters::new()).unwrap_err().to_string();
+    assert!(e.contains("focal_length 'wide'"), "{e}");
+}

@@ -174,9 +174,76 @@ pub fn rgb_to_spectrum(
     }
 }
 
+/// Jakob & Hanika 2019 coefficients and scale of one texel: the spectrum is
+/// `scale · S(poly(coeffs))`, times the space's normalised illuminant for
+/// the illuminant kind (which the caller applies once per texture). A
+/// reflectance is clamped to [0, 1]³ (a texture may exceed it by rounding
+/// or by an EXR's range); emission is scaled as in `rgb_to_spectrum`.
+/// Non-finite or negative components count as 0.
+pub fn jakob2019_texel(
+    rgb: [f32; 3],
+    space: RgbSpace,
+    kind: SpectrumKind,
+) -> Result<([f32; 3], f32), ColorError> {
+    let rgb = rgb.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 });
+    let m = rgb.iter().copied().fold(0.0f32, f32::max);
+    if m == 0.0 {
+        return Ok(([0.0; 3], 0.0));
+    }
+    match kind {
+        SpectrumKind::Reflectance => Ok((
+            jakob2019::coefficients(rgb.map(|v| v.min(1.0)), space)?,
+            1.0,
+        )),
+        SpectrumKind::Unbounded | SpectrumKind::Illuminant => {
+            let scale = 2.0 * m;
+            Ok((
+                jakob2019::coefficients(rgb.map(|v| v / scale), space)?,
+                scale,
+            ))
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn texels_match_rgb_to_spectrum() {
+        let space = RgbSpace::Srgb;
+        for (rgb, kind) in [
+            ([0.2, 0.5, 0.7], SpectrumKind::Reflectance),
+            ([3.0, 0.5, 0.1], SpectrumKind::Unbounded),
+            ([0.9, 0.9, 0.2], SpectrumKind::Illuminant),
+        ] {
+            let (coeffs, scale) = jakob2019_texel(rgb, space, kind).unwrap();
+            let s = rgb_to_spectrum(rgb, space, UpsampleMethod::Jakob2019, kind).unwrap();
+            let illuminant = &space.def().illuminant_normalised;
+            for l in (360..=830).step_by(10) {
+                let l = l as f32;
+                let mut v = scale * RgbSigmoid::reflectance(&coeffs, l);
+                if kind == SpectrumKind::Illuminant {
+                    v *= illuminant.eval(l);
+                }
+                assert!(
+                    (v - s.eval(l)).abs() <= 1e-6 * s.eval(l).max(1.0),
+                    "{rgb:?} {l}"
+                );
+            }
+        }
+        assert_eq!(
+            jakob2019_texel([0.0; 3], space, SpectrumKind::Reflectance).unwrap(),
+            ([0.0; 3], 0.0)
+        );
+        // Out-of-range reflectance is clamped, not an error.
+        let (c, s) =
+            jakob2019_texel([1.5, -0.2, f32::NAN], space, SpectrumKind::Reflectance).unwrap();
+        assert_eq!(
+            (c, s),
+            jakob2019_texel([1.0, 0.0, 0.0], space, SpectrumKind::Reflectance).unwrap()
+        );
+    }
 
     #[test]
     fn names_parse() {

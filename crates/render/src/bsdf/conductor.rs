@@ -5,6 +5,7 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
 
 use super::{fresnel_conductor, reflect, reflect_about, BsdfSample, Ggx};
 use crate::math::Vec3;
+use crate::texture::Texture;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Conductor {
@@ -13,7 +14,7 @@ pub struct Conductor {
     /// Imaginary part (absorption).
     pub k: Spectrum,
     /// A scale on the reflectance (Mitsuba's `specular_reflectance`).
-    pub specular_reflectance: Spectrum,
+    pub specular_reflectance: Texture,
     /// GGX roughness; 0 is a perfect mirror.
     pub alpha: f32,
 }
@@ -22,11 +23,12 @@ impl Conductor {
     fn fresnel<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
+        uv: [f32; 2],
         cos_i: f32,
     ) -> SampledSpectrum<K> {
         let (eta, k) = (self.eta.sample(wl), self.k.sample(wl));
         let f = SampledSpectrum::from_fn(|i| fresnel_conductor(cos_i, eta[i], k[i]));
-        f * self.specular_reflectance.sample(wl)
+        f * self.specular_reflectance.eval(wl, uv)
     }
 
     fn ggx(&self) -> Ggx {
@@ -36,6 +38,7 @@ impl Conductor {
     pub fn eval<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
+        uv: [f32; 2],
         wi: Vec3,
         wo: Vec3,
     ) -> SampledSpectrum<K> {
@@ -46,7 +49,7 @@ impl Conductor {
         let ggx = self.ggx();
         // f·cos θ_o = F D G / (4 cos θ_i).
         let v = ggx.d(m) * ggx.g(wi, wo, m) / (4.0 * wi.z);
-        self.fresnel(wl, wi.dot(m)) * v
+        self.fresnel(wl, uv, wi.dot(m)) * v
     }
 
     pub fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
@@ -61,6 +64,7 @@ impl Conductor {
     pub fn sample<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
+        uv: [f32; 2],
         wi: Vec3,
         u: [f32; 2],
     ) -> Option<BsdfSample<K>> {
@@ -70,7 +74,7 @@ impl Conductor {
         if self.alpha == 0.0 {
             return Some(BsdfSample {
                 wo: reflect(wi),
-                weight: self.fresnel(wl, wi.z),
+                weight: self.fresnel(wl, uv, wi.z),
                 pdf: 1.0,
                 delta: true,
                 collapse: false,
@@ -89,7 +93,7 @@ impl Conductor {
         // eval/pdf = F G₁(wo) for visible-normal sampling (Heitz 2018, eq. 19).
         Some(BsdfSample {
             wo,
-            weight: self.fresnel(wl, wi.dot(m)) * ggx.g1(wo, m),
+            weight: self.fresnel(wl, uv, wi.dot(m)) * ggx.g1(wo, m),
             pdf,
             delta: false,
             collapse: false,

@@ -7,6 +7,7 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
 
 use super::{fresnel_dielectric, reflect, BsdfSample, Transport};
 use crate::math::Vec3;
+use crate::texture::Texture;
 
 /// η(λ) = interior / exterior index per wavelength, and whether it varies.
 #[derive(Debug, Clone, PartialEq)]
@@ -33,8 +34,8 @@ impl Ior {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Dielectric {
     pub ior: Ior,
-    pub specular_reflectance: Spectrum,
-    pub specular_transmittance: Spectrum,
+    pub specular_reflectance: Texture,
+    pub specular_transmittance: Texture,
 }
 
 /// Chooses reflection with probability F of the first wavelength; each
@@ -52,6 +53,7 @@ impl Dielectric {
     pub fn sample<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
+        uv: [f32; 2],
         wi: Vec3,
         u: f32,
         mode: Transport,
@@ -73,7 +75,7 @@ impl Dielectric {
         if reflected {
             return Some(BsdfSample {
                 wo: reflect(wi),
-                weight: weight * self.specular_reflectance.sample(wl),
+                weight: weight * self.specular_reflectance.eval(wl, uv),
                 pdf: 1.0,
                 delta: true,
                 collapse: false,
@@ -90,7 +92,7 @@ impl Dielectric {
         };
         Some(BsdfSample {
             wo,
-            weight: weight * self.specular_transmittance.sample(wl) * scale,
+            weight: weight * self.specular_transmittance.eval(wl, uv) * scale,
             pdf: 1.0,
             delta: true,
             collapse: self.ior.dispersive(),
@@ -104,14 +106,15 @@ impl Dielectric {
 #[derive(Debug, Clone, PartialEq)]
 pub struct ThinDielectric {
     pub ior: Ior,
-    pub specular_reflectance: Spectrum,
-    pub specular_transmittance: Spectrum,
+    pub specular_reflectance: Texture,
+    pub specular_transmittance: Texture,
 }
 
 impl ThinDielectric {
     pub fn sample<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
+        uv: [f32; 2],
         wi: Vec3,
         u: f32,
     ) -> Option<BsdfSample<K>> {
@@ -133,7 +136,7 @@ impl ThinDielectric {
         Some(if reflected {
             BsdfSample {
                 wo: reflect(wi),
-                weight: weight * self.specular_reflectance.sample(wl),
+                weight: weight * self.specular_reflectance.eval(wl, uv),
                 pdf: 1.0,
                 delta: true,
                 collapse: false,
@@ -141,7 +144,7 @@ impl ThinDielectric {
         } else {
             BsdfSample {
                 wo: -wi,
-                weight: weight * self.specular_transmittance.sample(wl),
+                weight: weight * self.specular_transmittance.eval(wl, uv),
                 pdf: 1.0,
                 delta: true,
                 collapse: false,

@@ -2,29 +2,31 @@
 
 use std::f32::consts::FRAC_1_PI;
 
-use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
+use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::BsdfSample;
 use crate::math::Vec3;
 use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
+use crate::texture::Texture;
 
 /// f = ρ/π on the side the normal points to.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Diffuse {
-    pub reflectance: Spectrum,
+    pub reflectance: Texture,
 }
 
 impl Diffuse {
     pub fn eval<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
+        uv: [f32; 2],
         wi: Vec3,
         wo: Vec3,
     ) -> SampledSpectrum<K> {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return SampledSpectrum::splat(0.0);
         }
-        self.reflectance.sample(wl) * (FRAC_1_PI * wo.z)
+        self.reflectance.eval(wl, uv) * (FRAC_1_PI * wo.z)
     }
 
     pub fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
@@ -37,6 +39,7 @@ impl Diffuse {
     pub fn sample<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
+        uv: [f32; 2],
         wi: Vec3,
         u: [f32; 2],
     ) -> Option<BsdfSample<K>> {
@@ -51,7 +54,7 @@ impl Diffuse {
         Some(BsdfSample {
             wo,
             // (ρ/π)·cos θ / (cos θ/π) = ρ.
-            weight: self.reflectance.sample(wl),
+            weight: self.reflectance.eval(wl, uv),
             pdf,
             delta: false,
             collapse: false,

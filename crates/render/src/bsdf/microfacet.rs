@@ -5,6 +5,7 @@
 
 use std::f32::consts::PI;
 
+use super::{fresnel_dielectric, reflect_about};
 use crate::math::Vec3;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -79,6 +80,30 @@ impl Ggx {
         let nh = t1 * p1 + t2 * p2 + vh * (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt();
         // Unstretch.
         Vec3::new(a * nh.x, a * nh.y, nh.z.max(1e-6)).normalize()
+    }
+}
+
+impl Ggx {
+    /// Directional albedo of microfacet reflection off a dielectric of
+    /// relative index `eta`, ∫ F D G / (4 cos θ_i) dω_o at incidence
+    /// cosine `cos_i`: the mean of F(wi·m) G₁(wo, m) over visible normals m
+    /// (the sampling weight of Heitz 2018, eq. 19), on an n×n grid of
+    /// stratified midpoints.
+    pub fn dielectric_albedo(&self, cos_i: f32, eta: f32, n: usize) -> f32 {
+        let c = cos_i.clamp(1e-6, 1.0);
+        let wi = Vec3::new((1.0 - c * c).max(0.0).sqrt(), 0.0, c);
+        let mut sum = 0.0f64;
+        for i in 0..n {
+            for j in 0..n {
+                let u = [(i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32];
+                let m = self.sample_visible(wi, u);
+                let wo = reflect_about(wi, m);
+                if wo.z > 0.0 {
+                    sum += (fresnel_dielectric(wi.dot(m), eta).0 * self.g1(wo, m)) as f64;
+                }
+            }
+        }
+        (sum / (n * n) as f64) as f32
     }
 }
 

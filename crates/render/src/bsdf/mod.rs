@@ -5,7 +5,8 @@
 //! (z = normal) and both point away from the surface — `wi` towards where
 //! the path came from, `wo` the sampled continuation. `eval` returns
 //! f(wi, wo)·|cos θ_o| (the cosine included), `sample` returns the weight
-//! eval/pdf, so delta lobes need no infinite values.
+//! eval/pdf, so delta lobes need no infinite values. `uv` are the hit's
+//! texture coordinates, where textured parameters are looked up.
 
 mod conductor;
 mod dielectric;
@@ -14,6 +15,7 @@ mod fresnel;
 mod microfacet;
 mod plastic;
 mod rough_dielectric;
+mod rough_plastic;
 
 pub use conductor::Conductor;
 pub use dielectric::{Dielectric, Ior, ThinDielectric};
@@ -22,6 +24,7 @@ pub use fresnel::{fresnel_conductor, fresnel_dielectric};
 pub use microfacet::Ggx;
 pub use plastic::{diffuse_fresnel_reflectance, Plastic};
 pub use rough_dielectric::RoughDielectric;
+pub use rough_plastic::RoughPlastic;
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
@@ -59,6 +62,7 @@ pub enum Bsdf {
     ThinDielectric(ThinDielectric),
     RoughDielectric(RoughDielectric),
     Plastic(Plastic),
+    RoughPlastic(RoughPlastic),
     /// The inner BSDF on both sides (Mitsuba's `twosided`).
     TwoSided(Box<Bsdf>),
 }
@@ -80,19 +84,21 @@ impl Bsdf {
     pub fn eval<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
+        uv: [f32; 2],
         wi: Vec3,
         wo: Vec3,
         mode: Transport,
     ) -> SampledSpectrum<K> {
         match self {
-            Bsdf::Diffuse(b) => b.eval(wl, wi, wo),
-            Bsdf::Conductor(b) => b.eval(wl, wi, wo),
+            Bsdf::Diffuse(b) => b.eval(wl, uv, wi, wo),
+            Bsdf::Conductor(b) => b.eval(wl, uv, wi, wo),
             Bsdf::Dielectric(_) | Bsdf::ThinDielectric(_) => SampledSpectrum::splat(0.0),
-            Bsdf::RoughDielectric(b) => b.eval(wl, wi, wo, mode),
-            Bsdf::Plastic(b) => b.eval(wl, wi, wo),
+            Bsdf::RoughDielectric(b) => b.eval(wl, uv, wi, wo, mode),
+            Bsdf::Plastic(b) => b.eval(wl, uv, wi, wo),
+            Bsdf::RoughPlastic(b) => b.eval(wl, uv, wi, wo),
             Bsdf::TwoSided(inner) => {
                 let (wi, wo) = two_sided(wi, wo);
-                inner.eval(wl, wi, wo, mode)
+                inner.eval(wl, uv, wi, wo, mode)
             }
         }
     }
@@ -106,6 +112,7 @@ impl Bsdf {
             Bsdf::Dielectric(_) | Bsdf::ThinDielectric(_) => 0.0,
             Bsdf::RoughDielectric(b) => b.pdf(wl, wi, wo),
             Bsdf::Plastic(b) => b.pdf(wi, wo),
+            Bsdf::RoughPlastic(b) => b.pdf(wi, wo),
             Bsdf::TwoSided(inner) => {
                 let (wi, wo) = two_sided(wi, wo);
                 inner.pdf(wl, wi, wo)
@@ -117,18 +124,20 @@ impl Bsdf {
     pub fn sample<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
+        uv: [f32; 2],
         wi: Vec3,
         u_lobe: f32,
         u: [f32; 2],
         mode: Transport,
     ) -> Option<BsdfSample<K>> {
         match self {
-            Bsdf::Diffuse(b) => b.sample(wl, wi, u),
-            Bsdf::Conductor(b) => b.sample(wl, wi, u),
-            Bsdf::Dielectric(b) => b.sample(wl, wi, u_lobe, mode),
-            Bsdf::ThinDielectric(b) => b.sample(wl, wi, u_lobe),
-            Bsdf::RoughDielectric(b) => b.sample(wl, wi, u_lobe, u, mode),
-            Bsdf::Plastic(b) => b.sample(wl, wi, u_lobe, u),
+            Bsdf::Diffuse(b) => b.sample(wl, uv, wi, u),
+            Bsdf::Conductor(b) => b.sample(wl, uv, wi, u),
+            Bsdf::Dielectric(b) => b.sample(wl, uv, wi, u_lobe, mode),
+            Bsdf::ThinDielectric(b) => b.sample(wl, uv, wi, u_lobe),
+            Bsdf::RoughDielectric(b) => b.sample(wl, uv, wi, u_lobe, u, mode),
+            Bsdf::Plastic(b) => b.sample(wl, uv, wi, u_lobe, u),
+            Bsdf::RoughPlastic(b) => b.sample(wl, uv, wi, u_lobe, u),
             Bsdf::TwoSided(inner) => {
                 let flip = wi.z < 0.0;
                 let wi = if flip {
@@ -136,7 +145,7 @@ impl Bsdf {
                 } else {
                     wi
                 };
-                let mut s = inner.sample(wl, wi, u_lobe, u, mode)?;
+                let mut s = inner.sample(wl, uv, wi, u_lobe, u, mode)?;
                 if flip {
                     s.wo.z = -s.wo.z;
                 }
@@ -151,7 +160,7 @@ impl Bsdf {
             Bsdf::Diffuse(_) => false,
             Bsdf::Conductor(c) => c.alpha == 0.0,
             Bsdf::Dielectric(_) | Bsdf::ThinDielectric(_) => true,
-            Bsdf::RoughDielectric(_) | Bsdf::Plastic(_) => false,
+            Bsdf::RoughDielectric(_) | Bsdf::Plastic(_) | Bsdf::RoughPlastic(_) => false,
             Bsdf::TwoSided(inner) => inner.is_delta(),
         }
     }

@@ -7,16 +7,17 @@
 
 use std::f32::consts::FRAC_1_PI;
 
-use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
+use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::{fresnel_dielectric, reflect, BsdfSample};
 use crate::math::Vec3;
 use crate::sampling::warp::square_to_cosine_hemisphere;
+use crate::texture::Texture;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Plastic {
-    pub diffuse_reflectance: Spectrum,
-    pub specular_reflectance: Spectrum,
+    pub diffuse_reflectance: Texture,
+    pub specular_reflectance: Texture,
     /// η_interior / η_exterior of the coating.
     pub eta: f32,
     /// Mitsuba's `nonlinear`: internal scattering darkens and saturates ρ.
@@ -43,19 +44,13 @@ pub fn diffuse_fresnel_reflectance(eta: f32) -> f32 {
 
 impl Plastic {
     pub fn new(
-        diffuse_reflectance: Spectrum,
-        specular_reflectance: Spectrum,
+        diffuse_reflectance: Texture,
+        specular_reflectance: Texture,
         eta: f32,
         nonlinear: bool,
     ) -> Self {
-        // Mean reflectances over the visible range set the lobe choice.
-        let mean = |s: &Spectrum| {
-            (0..=47)
-                .map(|i| s.eval(360.0 + 10.0 * i as f32))
-                .sum::<f32>()
-                / 48.0
-        };
-        let (d, s) = (mean(&diffuse_reflectance), mean(&specular_reflectance));
+        // Mean reflectances set the lobe choice.
+        let (d, s) = (diffuse_reflectance.mean(), specular_reflectance.mean());
         Self {
             fdr_internal: diffuse_fresnel_reflectance(1.0 / eta),
             specular_weight: if d + s > 0.0 { s / (d + s) } else { 0.5 },
@@ -80,6 +75,7 @@ impl Plastic {
     pub fn eval<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
+        uv: [f32; 2],
         wi: Vec3,
         wo: Vec3,
     ) -> SampledSpectrum<K> {
@@ -88,7 +84,7 @@ impl Plastic {
         }
         let f_i = fresnel_dielectric(wi.z, self.eta).0;
         let f_o = fresnel_dielectric(wo.z, self.eta).0;
-        let rho = self.diffuse_reflectance.sample(wl);
+        let rho = self.diffuse_reflectance.eval(wl, uv);
         let denominator = if self.nonlinear {
             SampledSpectrum::splat(1.0) - rho * self.fdr_internal
         } else {
@@ -109,6 +105,7 @@ impl Plastic {
     pub fn sample<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
+        uv: [f32; 2],
         wi: Vec3,
         u_lobe: f32,
         u: [f32; 2],
@@ -121,7 +118,7 @@ impl Plastic {
         if u_lobe < p_spec {
             return Some(BsdfSample {
                 wo: reflect(wi),
-                weight: self.specular_reflectance.sample(wl) * (f_i / p_spec),
+                weight: self.specular_reflectance.eval(wl, uv) * (f_i / p_spec),
                 pdf: p_spec,
                 delta: true,
                 collapse: false,
@@ -134,7 +131,7 @@ impl Plastic {
         }
         Some(BsdfSample {
             wo,
-            weight: self.eval(wl, wi, wo) / pdf,
+            weight: self.eval(wl, uv, wi, wo) / pdf,
             pdf,
             delta: false,
             collapse: false,

@@ -5,18 +5,19 @@
 //! sampling refracts the first wavelength and collapses the cluster, and
 //! `eval` uses each wavelength's own half-vector.
 
-use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
+use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::dielectric::Ior;
 use super::{fresnel_dielectric, reflect_about, BsdfSample, Ggx, Transport};
 use crate::math::Vec3;
+use crate::texture::Texture;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct RoughDielectric {
     pub ior: Ior,
     pub alpha: f32,
-    pub specular_reflectance: Spectrum,
-    pub specular_transmittance: Spectrum,
+    pub specular_reflectance: Texture,
+    pub specular_transmittance: Texture,
 }
 
 /// The lobe value f·|cos θ_o| and its sampling density for one wavelength
@@ -92,18 +93,20 @@ impl RoughDielectric {
     fn tint<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
+        uv: [f32; 2],
         reflection: bool,
     ) -> SampledSpectrum<K> {
         if reflection {
-            self.specular_reflectance.sample(wl)
+            self.specular_reflectance.eval(wl, uv)
         } else {
-            self.specular_transmittance.sample(wl)
+            self.specular_transmittance.eval(wl, uv)
         }
     }
 
     pub fn eval<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
+        uv: [f32; 2],
         wi: Vec3,
         wo: Vec3,
         mode: Transport,
@@ -116,7 +119,7 @@ impl RoughDielectric {
         } else {
             SampledSpectrum::splat(lobe(&ggx, wi, wo, eta[0], mode).value)
         };
-        v * self.tint(wl, wi.z * wo.z > 0.0)
+        v * self.tint(wl, uv, wi.z * wo.z > 0.0)
     }
 
     /// Density for the first wavelength (the one sampling uses).
@@ -128,6 +131,7 @@ impl RoughDielectric {
     pub fn sample<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
+        uv: [f32; 2],
         wi: Vec3,
         u_lobe: f32,
         u: [f32; 2],
@@ -169,7 +173,7 @@ impl RoughDielectric {
         };
         Some(BsdfSample {
             wo,
-            weight: value * self.tint(wl, reflection) / first.pdf,
+            weight: value * self.tint(wl, uv, reflection) / first.pdf,
             pdf: first.pdf,
             delta: false,
             collapse: dispersive,

@@ -2,7 +2,8 @@
 
 use scotopia_color::Spectrum;
 use scotopia_render::bsdf::{
-    Bsdf, Conductor, Dielectric, Diffuse, Ior, Plastic, RoughDielectric, ThinDielectric,
+    Bsdf, Conductor, Dielectric, Diffuse, Ior, Plastic, RoughDielectric, RoughPlastic,
+    ThinDielectric,
 };
 
 use super::ior::read_ior;
@@ -13,14 +14,9 @@ use crate::mitsuba::{Node, Props, SceneError, Usage};
 pub fn build_bsdf(b: &mut Builder, node: &Node) -> Result<Bsdf, SceneError> {
     let kind = node.require("type")?;
     let p = Props::new(node);
-    let spec =
-        |p: &Props, name: &str, usage: Usage, default: f32| -> Result<Spectrum, SceneError> {
-            Ok(p.spectrum(name, usage)?
-                .unwrap_or(Spectrum::Constant(default)))
-        };
     let bsdf = match kind {
         "diffuse" => Bsdf::Diffuse(Diffuse {
-            reflectance: spec(&p, "reflectance", Usage::Reflectance, 0.5)?,
+            reflectance: b.texture(&p, "reflectance", Usage::Reflectance, 0.5)?,
         }),
         "conductor" | "roughconductor" => {
             let alpha = if kind == "roughconductor" {
@@ -52,7 +48,12 @@ pub fn build_bsdf(b: &mut Builder, node: &Node) -> Result<Bsdf, SceneError> {
             Bsdf::Conductor(Conductor {
                 eta,
                 k,
-                specular_reflectance: spec(&p, "specular_reflectance", Usage::Reflectance, 1.0)?,
+                specular_reflectance: b.texture(
+                    &p,
+                    "specular_reflectance",
+                    Usage::Reflectance,
+                    1.0,
+                )?,
                 alpha,
             })
         }
@@ -61,8 +62,8 @@ pub fn build_bsdf(b: &mut Builder, node: &Node) -> Result<Bsdf, SceneError> {
                 interior: read_ior(&p, "int_ior", "bk7")?,
                 exterior: read_ior(&p, "ext_ior", "air")?,
             };
-            let sr = spec(&p, "specular_reflectance", Usage::Reflectance, 1.0)?;
-            let st = spec(&p, "specular_transmittance", Usage::Reflectance, 1.0)?;
+            let sr = b.texture(&p, "specular_reflectance", Usage::Reflectance, 1.0)?;
+            let st = b.texture(&p, "specular_transmittance", Usage::Reflectance, 1.0)?;
             match kind {
                 "dielectric" => Bsdf::Dielectric(Dielectric {
                     ior,
@@ -82,16 +83,25 @@ pub fn build_bsdf(b: &mut Builder, node: &Node) -> Result<Bsdf, SceneError> {
                 }),
             }
         }
-        "plastic" => {
+        "plastic" | "roughplastic" => {
             // The coating model takes one index: the interior over exterior at 550 nm.
             let int = read_ior(&p, "int_ior", "polypropylene")?.eval(550.0);
             let ext = read_ior(&p, "ext_ior", "air")?.eval(550.0);
-            Bsdf::Plastic(Plastic::new(
-                spec(&p, "diffuse_reflectance", Usage::Reflectance, 0.5)?,
-                spec(&p, "specular_reflectance", Usage::Reflectance, 1.0)?,
-                int / ext,
-                p.boolean("nonlinear", false)?,
-            ))
+            let diffuse = b.texture(&p, "diffuse_reflectance", Usage::Reflectance, 0.5)?;
+            let specular = b.texture(&p, "specular_reflectance", Usage::Reflectance, 1.0)?;
+            let nonlinear = p.boolean("nonlinear", false)?;
+            if kind == "plastic" {
+                Bsdf::Plastic(Plastic::new(diffuse, specular, int / ext, nonlinear))
+            } else {
+                let alpha = roughness(b, &p, node)?;
+                Bsdf::RoughPlastic(RoughPlastic::new(
+                    diffuse,
+                    specular,
+                    int / ext,
+                    alpha,
+                    nonlinear,
+                ))
+            }
         }
         "twosided" => {
             let inner: Vec<&Node> = node

@@ -7,15 +7,17 @@ mod emitter;
 mod ior;
 mod sensor;
 mod shape;
+mod texture;
 
 use std::collections::HashMap;
 use std::path::Path;
 
-use scotopia_color::Spectrum;
+use scotopia_color::{Spectrum, SpectrumKind};
 use scotopia_render::accel::Aggregate;
 use scotopia_render::bsdf::{Bsdf, Diffuse};
 use scotopia_render::light::{AreaLight, Light};
 use scotopia_render::scene::{IntegratorSettings, Scene};
+use scotopia_render::texture::Texture;
 
 use crate::mitsuba::{parse_file, Node, Parameters, Props, SceneError, Usage};
 
@@ -23,6 +25,9 @@ use crate::mitsuba::{parse_file, Node, Parameters, Props, SceneError, Usage};
 pub struct Builder {
     warnings: Vec<String>,
     named_bsdfs: HashMap<String, Node>,
+    named_textures: HashMap<String, Node>,
+    /// Textures built from top-level definitions, by id and use.
+    textures: HashMap<(String, SpectrumKind), Texture>,
 }
 
 impl Builder {
@@ -41,6 +46,39 @@ impl Builder {
                 n,
                 format!("property '{name}' is not used by scotopia; ignored"),
             );
+        }
+    }
+
+    /// Parameter `name` as a texture: a nested `<texture>`, a `<ref>` to a
+    /// top-level one, or a constant spectrum (`default` when absent).
+    pub(crate) fn texture(
+        &mut self,
+        p: &Props,
+        name: &str,
+        usage: Usage,
+        default: f32,
+    ) -> Result<Texture, SceneError> {
+        match p.get(name) {
+            Some(n) if n.tag == "texture" => texture::build_texture(self, n, usage),
+            Some(n) if n.tag == "ref" => {
+                let id = n.require("id")?;
+                let key = (id.to_string(), texture::spectrum_kind(usage));
+                if let Some(t) = self.textures.get(&key) {
+                    return Ok(t.clone());
+                }
+                let target = self
+                    .named_textures
+                    .get(id)
+                    .cloned()
+                    .ok_or_else(|| n.error(format!("no <texture id=\"{id}\"> is defined")))?;
+                let t = texture::build_texture(self, &target, usage)?;
+                self.textures.insert(key, t.clone());
+                Ok(t)
+            }
+            _ => Ok(Texture::Constant(
+                p.spectrum(name, usage)?
+                    .unwrap_or(Spectrum::Constant(default)),
+            )),
         }
     }
 
@@ -65,6 +103,8 @@ pub fn load_scene(path: &Path, params: &Parameters) -> Result<Scene, SceneError>
     let mut b = Builder {
         warnings: Vec::new(),
         named_bsdfs: HashMap::new(),
+        named_textures: HashMap::new(),
+        textures: HashMap::new(),
     };
     if let Some(v) = root.attr("version") {
         if !v.starts_with('3') {
@@ -74,9 +114,13 @@ pub fn load_scene(path: &Path, params: &Parameters) -> Result<Scene, SceneError>
             );
         }
     }
-    for n in root.children.iter().filter(|n| n.tag == "bsdf") {
+    for n in &root.children {
         if let Some(id) = n.attr("id") {
-            b.named_bsdfs.insert(id.to_string(), n.clone());
+            match n.tag.as_str() {
+                "bsdf" => b.named_bsdfs.insert(id.to_string(), n.clone()),
+                "texture" => b.named_textures.insert(id.to_string(), n.clone()),
+                _ => None,
+            };
         }
     }
 
@@ -147,7 +191,7 @@ pub fn load_scene(path: &Path, params: &Parameters) -> Result<Scene, SceneError>
                     }
                     None => {
                         materials.push(Bsdf::Diffuse(Diffuse {
-                            reflectance: Spectrum::Constant(0.5),
+                            reflectance: Texture::constant(0.5),
                         }));
                         (materials.len() - 1) as u32
                     }
@@ -172,7 +216,11 @@ pub fn load_scene(path: &Path, params: &Parameters) -> Result<Scene, SceneError>
             }
             "emitter" => lights.push(emitter::build_emitter(&mut b, n)?),
             "texture" => {
-                return Err(n.error("textures are not supported yet (next step of issue 3)"))
+                // Built on use (by ref), once per use (reflectance or emission).
+                n.require("type")?;
+                if n.attr("id").is_none() {
+                    b.warn(n, "a top-level texture without an id is never used".into());
+                }
             }
             other => b.warn(n, format!("<{other}> is not used by scotopia; ignored")),
         }

@@ -20,13 +20,7 @@ pub fn build_sensor(b: &mut Builder, node: &Node) -> Result<Sensor, SceneError> 
         )));
     }
     let p = Props::new(node);
-    let fov = p.float("fov", f32::NAN)?;
-    if fov.is_nan() {
-        return Err(node.error("missing <float name=\"fov\">"));
-    }
-    let axis_name = p.string("fov_axis")?.unwrap_or("x");
-    let axis = FovAxis::from_name(axis_name)
-        .ok_or_else(|| node.error(format!("unknown fov_axis '{axis_name}'")))?;
+    let (fov, axis) = field_of_view(&p, node)?;
     let near = p.float("near_clip", 1e-2)?;
     let far = p.float("far_clip", 1e4)?;
     let to_world = p.transform("to_world")?;
@@ -85,6 +79,35 @@ pub fn build_sensor(b: &mut Builder, node: &Node) -> Result<Sensor, SceneError> 
         filter,
         spp,
     })
+}
+
+/// `fov` along `fov_axis`, or Mitsuba's `focal_length` ("50mm" by default)
+/// of a 36 × 24 mm film, which sets the field along the diagonal.
+fn field_of_view(p: &Props, node: &Node) -> Result<(f32, FovAxis), SceneError> {
+    let fov = p.float("fov", f32::NAN)?;
+    let focal = p.string("focal_length")?;
+    if !fov.is_nan() {
+        if focal.is_some() {
+            return Err(node.error("give either 'fov' or 'focal_length', not both"));
+        }
+        let axis_name = p.string("fov_axis")?.unwrap_or("x");
+        let axis = FovAxis::from_name(axis_name)
+            .ok_or_else(|| node.error(format!("unknown fov_axis '{axis_name}'")))?;
+        return Ok((fov, axis));
+    }
+    let text = focal.unwrap_or("50mm");
+    let mm = text
+        .trim()
+        .trim_end_matches("mm")
+        .parse::<f32>()
+        .ok()
+        .filter(|f| f.is_finite() && *f > 0.0)
+        .ok_or_else(|| node.error(format!("focal_length '{text}' is not like '50mm'")))?;
+    let diagonal = (36.0f32 * 36.0 + 24.0 * 24.0).sqrt();
+    Ok((
+        2.0 * (diagonal / (2.0 * mm)).atan().to_degrees(),
+        FovAxis::Diagonal,
+    ))
 }
 
 fn positive(node: &Node, v: i64) -> Result<u32, SceneError> {

@@ -27,8 +27,8 @@ pub enum Usage {
     Emission,
 }
 
-/// The property tags.
-const PROPERTY_TAGS: [&str; 9] = [
+/// The property tags (a `<texture>` nested under a parameter's name is one).
+const PROPERTY_TAGS: [&str; 10] = [
     "float",
     "integer",
     "boolean",
@@ -38,7 +38,20 @@ const PROPERTY_TAGS: [&str; 9] = [
     "point",
     "vector",
     "transform",
+    "texture",
 ];
+
+/// Whether `c` sets a named parameter: a property tag, or a `<ref name="…">`
+/// to a top-level object (a shape's unnamed `<ref>` to its BSDF is not).
+fn is_property(c: &Node, name: Option<&str>) -> bool {
+    let named = match name {
+        Some(want) => c.attr("name") == Some(want),
+        None => true,
+    };
+    named
+        && (PROPERTY_TAGS.contains(&c.tag.as_str())
+            || (c.tag == "ref" && c.attr("name").is_some_and(|n| n != "bsdf")))
+}
 
 /// Read access to an object's properties.
 pub struct Props<'a> {
@@ -56,10 +69,11 @@ impl<'a> Props<'a> {
 
     /// The property child named `name`.
     pub fn get(&self, name: &str) -> Option<&'a Node> {
-        let n =
-            self.node.children.iter().find(|c| {
-                PROPERTY_TAGS.contains(&c.tag.as_str()) && c.attr("name") == Some(name)
-            })?;
+        let n = self
+            .node
+            .children
+            .iter()
+            .find(|c| is_property(c, Some(name)))?;
         self.used.borrow_mut().push(n.attr("name").unwrap_or(""));
         Some(n)
     }
@@ -70,7 +84,7 @@ impl<'a> Props<'a> {
         self.node
             .children
             .iter()
-            .filter(|c| PROPERTY_TAGS.contains(&c.tag.as_str()))
+            .filter(|c| is_property(c, None))
             .filter(|c| !used.contains(&c.attr("name").unwrap_or("")))
             .collect()
     }
@@ -176,6 +190,11 @@ impl<'a> Props<'a> {
                     .map_err(|e| n.error(e.to_string()))?
             }
             "spectrum" => read_spectrum(n)?,
+            "texture" | "ref" => {
+                return Err(n.error(format!(
+                    "'{name}' cannot be a texture here: give a <spectrum>, <rgb> or <float>"
+                )))
+            }
             other => {
                 return Err(n.error(format!(
                     "'{name}' must be a spectrum, <rgb> or <float>, not <{other}>"

@@ -1,0 +1,302 @@
+//! Mitsuba 3's `bitmap` texture. Each texel's RGB becomes a Jakob & Hanika
+//! 2019 sigmoid spectrum when the image is loaded, so a lookup costs a few
+//! multiplications per wavelength. Bilinear filtering blends the four
+//! texels' *spectra* (Mitsuba blends their sigmoid coefficients, which is
+//! not linear in reflectance); v = 0 is the image's top row, as in Mitsuba.
+
+use std::sync::Arc;
+
+use rayon::prelude::*;
+use scotopia_color::spectrum::{normalised_lambda, sigmoid};
+use scotopia_color::upsample::jakob2019_texel;
+use scotopia_color::Tabulated;
+use scotopia_color::{ColorError, RgbSpace, SampledSpectrum, SampledWavelengths, SpectrumKind};
+
+use super::UvTransform;
+
+/// How texels are reconstructed between their centres.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Filter {
+    Nearest,
+    Bilinear,
+}
+
+/// What lies outside [0, 1)².
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Wrap {
+    Repeat,
+    Mirror,
+    Clamp,
+}
+
+impl Wrap {
+    /// Texel index `i` folded into 0..n.
+    #[inline]
+    fn index(self, i: i64, n: usize) -> usize {
+        let n = n as i64;
+        (match self {
+            Wrap::Repeat => i.rem_euclid(n),
+            Wrap::Clamp => i.clamp(0, n - 1),
+            Wrap::Mirror => {
+                let m = i.rem_euclid(2 * n);
+                if m >= n {
+                    2 * n - 1 - m
+                } else {
+                    m
+                }
+            }
+        }) as usize
+    }
+}
+
+/// One texel: `scale · S(c₀t² + c₁t + c₂)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Texel {
+    coeffs: [f32; 3],
+    scale: f32,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Bitmap {
+    width: usize,
+    height: usize,
+    /// Row-major, top row first.
+    texels: Vec<Texel>,
+    /// The colour space's white for emission textures.
+    illuminant: Option<Arc<Tabulated>>,
+    mean: f32,
+    pub filter: Filter,
+    pub wrap: Wrap,
+    pub to_uv: UvTransform,
+}
+
+impl Bitmap {
+    /// Upsamples linear `rgb` (row-major, top row first) in `space` for use
+    /// as `kind`. Reflectances are clamped to [0, 1].
+    pub fn from_rgb(
+        width: usize,
+        height: usize,
+        rgb: &[[f32; 3]],
+        space: RgbSpace,
+        kind: SpectrumKind,
+    ) -> Result<Self, ColorError> {
+        if width == 0 || height == 0 || rgb.len() != width * height {
+            return Err(ColorError::OutOfRange(format!(
+                "a {width}×{height} bitmap needs {} texels, got {}",
+                width * height,
+                rgb.len()
+            )));
+        }
+        let texels = rgb
+            .par_iter()
+            .map(|&c| {
+                jakob2019_texel(c, space, kind).map(|(coeffs, scale)| Texel { coeffs, scale })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let clamp = |v: f32| {
+            let v = if v.is_finite() { v.max(0.0) } else { 0.0 };
+            if kind == SpectrumKind::Reflectance {
+                v.min(1.0)
+            } else {
+                v
+            }
+        };
+        let sum: f64 = rgb
+            .iter()
+            .map(|c| c.iter().map(|&v| clamp(v) as f64).sum::<f64>() / 3.0)
+            .sum();
+        Ok(Self {
+            width,
+            height,
+            texels,
+            illuminant: (kind == SpectrumKind::Illuminant)
+                .then(|| space.def().illuminant_normalised.clone()),
+            mean: (sum / rgb.len() as f64) as f32,
+            filter: Filter::Bilinear,
+            wrap: Wrap::Repeat,
+            to_uv: UvTransform::default(),
+        })
+    }
+
+    pub fn width(&self) -> usize {
+        self.width
+    }
+
+    pub fn height(&self) -> usize {
+        self.height
+    }
+
+    /// Mean of the texels' RGB components (≈ the mean spectral value).
+    pub fn mean(&self) -> f32 {
+        self.mean
+    }
+
+    /// Texel (x, y)'s spectrum on `wl`, given the wavelengths' normalised
+    /// positions `t` and the illuminant's values there.
+    #[inline]
+    fn texel<const K: usize>(
+        &self,
+        x: usize,
+        y: usize,
+        t: &[f32; K],
+        white: &[f32; K],
+    ) -> SampledSpectrum<K> {
+        let Texel { coeffs: c, scale } = self.texels[y * self.width + x];
+        SampledSpectrum::from_fn(|i| scale * white[i] * sigmoid((c[0] * t[i] + c[1]) * t[i] + c[2]))
+    }
+
+    /// The illuminant (or 1) and normalised wavelength per sample of `wl`.
+    #[inline]
+    fn prepare<const K: usize>(&self, wl: &SampledWavelengths<K>) -> ([f32; K], [f32; K]) {
+        let t = wl.lambdas().map(normalised_lambda);
+        let white = match &self.illuminant {
+            Some(ill) => wl.lambdas().map(|l| ill.eval(l)),
+            None => [1.0; K],
+        };
+        (t, white)
+    }
+
+    /// Texel (x, y)'s spectrum on `wl`, unfiltered (for environment maps).
+    pub fn texel_value<const K: usize>(
+        &self,
+        x: usize,
+        y: usize,
+        wl: &SampledWavelengths<K>,
+    ) -> SampledSpectrum<K> {
+        let (t, white) = self.prepare(wl);
+        self.texel(x.min(self.width - 1), y.min(self.height - 1), &t, &white)
+    }
+
+    /// The filtered value at texture coordinates `uv`.
+    pub fn eval<const K: usize>(
+        &self,
+        wl: &SampledWavelengths<K>,
+        uv: [f32; 2],
+    ) -> SampledSpectrum<K> {
+        let [u, v] = self.to_uv.apply(uv);
+        let (w, h) = (self.width, self.height);
+        let (t, white) = self.prepare(wl);
+        match self.filter {
+            Filter::Nearest => {
+                let x = self.wrap.index((u * w as f32).floor() as i64, w);
+                let y = self.wrap.index((v * h as f32).floor() as i64, h);
+                self.texel(x, y, &t, &white)
+            }
+            Filter::Bilinear => {
+                // Texel centres sit at half-integers.
+                let (px, py) = (u * w as f32 - 0.5, v * h as f32 - 0.5);
+                let (fx, fy) = (px.floor(), py.floor());
+                let (ax, ay) = (px - fx, py - fy);
+                let (x0, y0) = (fx as i64, fy as i64);
+                let (x1, y1) = (self.wrap.index(x0 + 1, w), self.wrap.index(y0 + 1, h));
+                let (x0, y0) = (self.wrap.index(x0, w), self.wrap.index(y0, h));
+                let top = self.texel(x0, y0, &t, &white) * (1.0 - ax)
+                    + self.texel(x1, y0, &t, &white) * ax;
+                let bottom = self.texel(x0, y1, &t, &white) * (1.0 - ax)
+                    + self.texel(x1, y1, &t, &white) * ax;
+                top * (1.0 - ay) + bottom * ay
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use scotopia_color::{rgb_to_spectrum, UpsampleMethod};
+
+    fn wl() -> SampledWavelengths<4> {
+        SampledWavelengths::new([450.0, 520.0, 600.0, 680.0], [1.0; 4])
+    }
+
+    fn two_by_two() -> Bitmap {
+        let rgb = [
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.5, 0.5, 0.5],
+        ];
+        Bitmap::from_rgb(2, 2, &rgb, RgbSpace::Srgb, SpectrumKind::Reflectance).unwrap()
+    }
+
+    fn reference(rgb: [f32; 3]) -> SampledSpectrum<4> {
+        rgb_to_spectrum(
+            rgb,
+            RgbSpace::Srgb,
+            UpsampleMethod::Jakob2019,
+            SpectrumKind::Reflectance,
+        )
+        .unwrap()
+        .sample(&wl())
+    }
+
+    fn close(a: SampledSpectrum<4>, b: SampledSpectrum<4>) {
+        for i in 0..4 {
+            assert!((a[i] - b[i]).abs() < 1e-5, "{a:?} vs {b:?}");
+        }
+    }
+
+    #[test]
+    fn texel_centres_return_their_own_spectrum() {
+        let b = two_by_two();
+        // Top-left texel centre is (0.25, 0.25); v grows downwards.
+        close(b.eval(&wl(), [0.25, 0.25]), reference([1.0, 0.0, 0.0]));
+        close(b.eval(&wl(), [0.75, 0.25]), reference([0.0, 1.0, 0.0]));
+        close(b.eval(&wl(), [0.25, 0.75]), reference([0.0, 0.0, 1.0]));
+        // Repeat: one period away is the same.
+        close(b.eval(&wl(), [1.25, -0.75]), reference([1.0, 0.0, 0.0]));
+    }
+
+    #[test]
+    fn bilinear_blends_spectra_linearly() {
+        let b = two_by_two();
+        let mid = b.eval(&wl(), [0.5, 0.25]);
+        let want = (reference([1.0, 0.0, 0.0]) + reference([0.0, 1.0, 0.0])) * 0.5;
+        close(mid, want);
+    }
+
+    #[test]
+    fn wrap_modes_fold_indices() {
+        assert_eq!(Wrap::Repeat.index(-1, 4), 3);
+        assert_eq!(Wrap::Clamp.index(-1, 4), 0);
+        assert_eq!(Wrap::Clamp.index(9, 4), 3);
+        assert_eq!(Wrap::Mirror.index(-1, 4), 0);
+        assert_eq!(Wrap::Mirror.index(4, 4), 3);
+        assert_eq!(Wrap::Mirror.index(8, 4), 0);
+        assert_eq!(
+            Wrap::Repeat.index(i64::MIN, 3),
+            i64::MIN.rem_euclid(3) as usize
+        );
+    }
+
+    #[test]
+    fn nearest_and_mean() {
+        let mut b = two_by_two();
+        b.filter = Filter::Nearest;
+        close(b.eval(&wl(), [0.99, 0.01]), reference([0.0, 1.0, 0.0]));
+        assert!((b.mean() - (1.0 + 1.0 + 1.0 + 1.5) / 12.0).abs() < 1e-6);
+        assert!(Bitmap::from_rgb(
+            2,
+            2,
+            &[[0.0; 3]; 3],
+            RgbSpace::Srgb,
+            SpectrumKind::Reflectance
+        )
+        .is_err());
+    }
+
+    #[test]
+    fn emission_texels_carry_the_illuminant() {
+        let rgb = [[2.0, 2.0, 2.0]];
+        let b = Bitmap::from_rgb(1, 1, &rgb, RgbSpace::Srgb, SpectrumKind::Illuminant).unwrap();
+        let want = rgb_to_spectrum(
+            rgb[0],
+            RgbSpace::Srgb,
+            UpsampleMethod::Jakob2019,
+            SpectrumKind::Illuminant,
+        )
+        .unwrap()
+        .sample(&wl());
+        close(b.eval(&wl(), [0.3, 0.8]) * 0.1, want * 0.1);
+    }
+}

@@ -1,0 +1,80 @@
+//! Textures: spectral values that vary over a surface, looked up by the
+//! hit's (u, v) and evaluated on the path's wavelength cluster. A constant
+//! spectrum is the common case; `bitmap` and `checkerboard` follow
+//! Mitsuba 3's plugins of the same names.
+
+mod bitmap;
+mod checkerboard;
+mod uv;
+
+use std::sync::Arc;
+
+pub use bitmap::{Bitmap, Filter, Wrap};
+pub use checkerboard::Checkerboard;
+pub use uv::UvTransform;
+
+use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
+
+/// The closed set of textures.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Texture {
+    /// The same spectrum everywhere.
+    Constant(Spectrum),
+    /// An RGB image, upsampled per texel.
+    Bitmap(Arc<Bitmap>),
+    /// Two textures alternating on a unit checkerboard in (u, v).
+    Checkerboard(Arc<Checkerboard>),
+}
+
+impl From<Spectrum> for Texture {
+    fn from(s: Spectrum) -> Self {
+        Texture::Constant(s)
+    }
+}
+
+impl Texture {
+    /// A constant texture of value `v` at every wavelength.
+    pub fn constant(v: f32) -> Self {
+        Texture::Constant(Spectrum::Constant(v))
+    }
+
+    /// The value at texture coordinates `uv` on the cluster `wl`.
+    #[inline]
+    pub fn eval<const K: usize>(
+        &self,
+        wl: &SampledWavelengths<K>,
+        uv: [f32; 2],
+    ) -> SampledSpectrum<K> {
+        match self {
+            Texture::Constant(s) => s.sample(wl),
+            Texture::Bitmap(b) => b.eval(wl, uv),
+            Texture::Checkerboard(c) => {
+                if c.first_at(uv) {
+                    c.color0.eval(wl, uv)
+                } else {
+                    c.color1.eval(wl, uv)
+                }
+            }
+        }
+    }
+
+    /// The mean value over the surface and the visible range: what a BSDF
+    /// uses to share its samples between lobes.
+    pub fn mean(&self) -> f32 {
+        match self {
+            Texture::Constant(s) => {
+                (0..=47)
+                    .map(|i| s.eval(360.0 + 10.0 * i as f32))
+                    .sum::<f32>()
+                    / 48.0
+            }
+            Texture::Bitmap(b) => b.mean(),
+            Texture::Checkerboard(c) => 0.5 * (c.color0.mean() + c.color1.mean()),
+        }
+    }
+
+    /// Whether the value depends on (u, v).
+    pub fn is_varying(&self) -> bool {
+        !matches!(self, Texture::Constant(_))
+    }
+}
