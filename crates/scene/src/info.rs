@@ -52,6 +52,7 @@ impl SceneInfo {
                     Light::Directional(_) => "directional",
                     Light::Area(_) => "area",
                     Light::Constant(_) => "constant",
+                    Light::EnvMap(_) => "envmap",
                 },
                 power: l.power(&extent),
             })

@@ -171,3 +171,46 @@ fn texture_errors_name_the_place() {
         }
     }
 }
+
+#[test]
+fn envmap_from_exr_with_scale_and_rotation() {
+    // 4×2 EXR: a bright upper half (sky), a dark lower half.
+    let mut px = vec![];
+    for y in 0..2 {
+        for _ in 0..4 {
+            px.extend_from_slice(if y == 0 {
+                &[1.0, 1.0, 1.0]
+            } else {
+                &[0.1, 0.1, 0.1]
+            });
+        }
+    }
+    image::Rgb32FImage::from_raw(4, 2, px)
+        .unwrap()
+        .save(dir().join("sky.exr"))
+        .unwrap();
+    let f = write_scene(
+        "envmap",
+        r#"<emitter type="envmap"><string name="filename" value="sky.exr"/><float name="scale" value="3"/>
+  <transform name="to_world"><rotate x="1" angle="90"/></transform></emitter>"#,
+    );
+    let s = load_scene(&f, &Parameters::new()).unwrap();
+    let scotopia_render::light::Light::EnvMap(env) = &s.lights[0] else {
+        panic!("an envmap")
+    };
+    assert_eq!(env.scale, 3.0);
+    // Rotated 90° about x, the map's +y (its top row, the sky) is +z.
+    let w = wl();
+    let up = env.radiance(&w, scotopia_render::math::Vec3::new(0.0, 0.0, 1.0));
+    let down = env.radiance(&w, scotopia_render::math::Vec3::new(0.0, 0.0, -1.0));
+    assert!((up[1] / down[1] - 10.0).abs() < 1e-3, "{up:?} {down:?}");
+    let f = write_scene(
+        "envmap-missing",
+        r#"<emitter type="envmap"><string name="filename" value="nope.exr"/></emitter>"#,
+    );
+    let e = load_scene(&f, &Parameters::new()).unwrap_err().to_string();
+    assert!(
+        e.contains("nope.exr") && e.contains("envmap-missing.xml:3:"),
+        "{e}"
+    );
+}

@@ -9,7 +9,7 @@ mod triangle;
 
 pub use mesh::TriangleMesh;
 pub use planar::{Planar, PlanarKind};
-pub use sample::{AreaCdf, SurfacePoint};
+pub use sample::SurfacePoint;
 pub use sphere::Sphere;
 pub use triangle::{intersect_triangle, RayShear, TriangleHit};
 

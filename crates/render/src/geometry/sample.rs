@@ -2,6 +2,7 @@
 
 use super::{PlanarKind, Shape};
 use crate::math::Vec3;
+use crate::sampling::distribution::Distribution1D;
 use crate::sampling::warp::{square_to_disk_concentric, square_to_uniform_sphere};
 
 /// A point on a surface and its unit normal.
@@ -11,64 +12,18 @@ pub struct SurfacePoint {
     pub n: Vec3,
 }
 
-/// Cumulative triangle areas of a mesh, for choosing a triangle by area.
-#[derive(Debug, Clone, PartialEq)]
-pub struct AreaCdf {
-    cdf: Vec<f32>,
-    pub total: f32,
-}
-
-impl AreaCdf {
-    pub fn new(areas: impl Iterator<Item = f32>) -> Self {
-        let mut total = 0.0f64;
-        let mut cdf: Vec<f32> = areas
-            .map(|a| {
-                total += a as f64;
-                total as f32
-            })
-            .collect();
-        if total > 0.0 {
-            for c in &mut cdf {
-                *c /= total as f32;
-            }
-        }
-        Self {
-            cdf,
-            total: total as f32,
-        }
-    }
-
-    /// The index whose CDF interval holds `u`, and `u` rescaled into it.
-    pub fn sample(&self, u: f32) -> (usize, f32) {
-        let i = self
-            .cdf
-            .partition_point(|&c| c <= u)
-            .min(self.cdf.len() - 1);
-        let lo = if i == 0 { 0.0 } else { self.cdf[i - 1] };
-        let width = self.cdf[i] - lo;
-        (
-            i,
-            if width > 0.0 {
-                ((u - lo) / width).clamp(0.0, 1.0 - f32::EPSILON)
-            } else {
-                0.5
-            },
-        )
-    }
-}
-
 impl Shape {
     /// A point uniformly distributed over the shape's area (density 1/area).
     /// `cdf` is the mesh's triangle-area table (ignored for other shapes).
     pub fn sample_area(
         &self,
-        cdf: Option<&AreaCdf>,
+        cdf: Option<&Distribution1D>,
         u_select: f32,
         u: [f32; 2],
     ) -> Option<SurfacePoint> {
         match self {
             Shape::Mesh(m) => {
-                let (face, _) = cdf?.sample(u_select);
+                let (face, _, _) = cdf?.sample_discrete(u_select)?;
                 let (a, b, c) = m.vertices(face);
                 // Uniform barycentrics (the square-root parameterisation).
                 let s = u[0].sqrt();

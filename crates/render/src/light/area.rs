@@ -4,8 +4,9 @@
 use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
 
 use super::{spectral_power, LightSample, Power};
-use crate::geometry::{AreaCdf, Shape};
+use crate::geometry::Shape;
 use crate::math::Vec3;
+use crate::sampling::distribution::Distribution1D;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct AreaLight {
@@ -13,15 +14,15 @@ pub struct AreaLight {
     pub shape: u32,
     pub radiance: Spectrum,
     /// Triangle areas of a mesh emitter.
-    cdf: Option<AreaCdf>,
+    cdf: Option<Distribution1D>,
     area: f32,
 }
 
 impl AreaLight {
     pub fn new(shape_index: u32, shape: &Shape, radiance: Spectrum) -> Self {
         let cdf = match shape {
-            Shape::Mesh(m) => Some(AreaCdf::new(
-                (0..m.triangle_count()).map(|f| m.face_area(f)),
+            Shape::Mesh(m) => Some(Distribution1D::new(
+                (0..m.triangle_count()).map(|f| m.face_area(f)).collect(),
             )),
             _ => None,
         };

@@ -1,5 +1,5 @@
-//! Lights: point, spot, directional, area (on any shape) and a constant
-//! environment. Each samples an incident direction at a point, evaluates
+//! Lights: point, spot, directional, area (on any shape), a constant
+//! environment and an environment map. Each samples an incident direction at a point, evaluates
 //! the density of directions found by BSDF sampling (for MIS), and reports
 //! its total power, so that lights can be chosen in proportion to it.
 //!
@@ -8,10 +8,12 @@
 //! (W·sr⁻¹·nm⁻¹); directional lights spectral irradiance (W·m⁻²·nm⁻¹).
 
 mod area;
+mod envmap;
 mod power;
 mod simple;
 
 pub use area::AreaLight;
+pub use envmap::EnvMapLight;
 pub use power::{spectral_power, Power};
 pub use simple::{ConstantLight, DirectionalLight, PointLight, SpotLight};
 
@@ -42,6 +44,7 @@ pub enum Light {
     Directional(DirectionalLight),
     Area(AreaLight),
     Constant(ConstantLight),
+    EnvMap(Box<EnvMapLight>),
 }
 
 /// The scene facts lights need: the shapes (for area lights) and the
@@ -70,6 +73,7 @@ impl Light {
             Light::Directional(l) => l.sample_li(wl),
             Light::Area(l) => l.sample_li(scene.shapes, wl, p, u_select, u),
             Light::Constant(l) => l.sample_li(wl, u),
+            Light::EnvMap(l) => l.sample_li(wl, u),
         }
     }
 
@@ -81,6 +85,35 @@ impl Light {
         )
     }
 
+    /// Whether the light lies at infinity and is seen by escaping rays.
+    pub fn is_infinite(&self) -> bool {
+        matches!(self, Light::Constant(_) | Light::EnvMap(_))
+    }
+
+    /// Radiance an escaping ray finds in world direction `d` (zero for
+    /// lights not at infinity).
+    pub fn radiance_at_infinity<const K: usize>(
+        &self,
+        wl: &SampledWavelengths<K>,
+        d: Vec3,
+    ) -> SampledSpectrum<K> {
+        match self {
+            Light::Constant(l) => l.radiance.sample(wl),
+            Light::EnvMap(l) => l.radiance(wl, d),
+            _ => SampledSpectrum::splat(0.0),
+        }
+    }
+
+    /// Density per solid angle of `sample_li` choosing the direction `d` to
+    /// a light at infinity (zero for other lights).
+    pub fn pdf_li_at_infinity(&self, d: Vec3) -> f32 {
+        match self {
+            Light::Constant(l) => l.pdf_li(),
+            Light::EnvMap(l) => l.pdf_li(d),
+            _ => 0.0,
+        }
+    }
+
     /// Total emitted power.
     pub fn power(&self, scene: &SceneExtent) -> Power {
         match self {
@@ -89,6 +122,7 @@ impl Light {
             Light::Directional(l) => l.power(scene.radius),
             Light::Area(l) => l.power(),
             Light::Constant(l) => l.power(scene.radius),
+            Light::EnvMap(l) => l.power(scene.radius),
         }
     }
 }

@@ -1,3 +1,4 @@
 //! Sample warping.
 
+pub mod distribution;
 pub mod warp;

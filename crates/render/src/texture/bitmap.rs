@@ -167,6 +167,22 @@ impl Bitmap {
         self.texel(x.min(self.width - 1), y.min(self.height - 1), &t, &white)
     }
 
+    /// The blend of texels (xs[i], ys[j]) with weights `a` along x and y,
+    /// texel by texel in spectrum.
+    pub fn bilinear<const K: usize>(
+        &self,
+        wl: &SampledWavelengths<K>,
+        xs: [usize; 2],
+        ys: [usize; 2],
+        [ax, ay]: [f32; 2],
+    ) -> SampledSpectrum<K> {
+        let (t, white) = self.prepare(wl);
+        let row = |y| {
+            self.texel(xs[0], y, &t, &white) * (1.0 - ax) + self.texel(xs[1], y, &t, &white) * ax
+        };
+        row(ys[0]) * (1.0 - ay) + row(ys[1]) * ay
+    }
+
     /// The filtered value at texture coordinates `uv`.
     pub fn eval<const K: usize>(
         &self,
@@ -175,26 +191,20 @@ impl Bitmap {
     ) -> SampledSpectrum<K> {
         let [u, v] = self.to_uv.apply(uv);
         let (w, h) = (self.width, self.height);
-        let (t, white) = self.prepare(wl);
         match self.filter {
             Filter::Nearest => {
                 let x = self.wrap.index((u * w as f32).floor() as i64, w);
                 let y = self.wrap.index((v * h as f32).floor() as i64, h);
-                self.texel(x, y, &t, &white)
+                self.texel_value(x, y, wl)
             }
             Filter::Bilinear => {
                 // Texel centres sit at half-integers.
                 let (px, py) = (u * w as f32 - 0.5, v * h as f32 - 0.5);
                 let (fx, fy) = (px.floor(), py.floor());
-                let (ax, ay) = (px - fx, py - fy);
                 let (x0, y0) = (fx as i64, fy as i64);
-                let (x1, y1) = (self.wrap.index(x0 + 1, w), self.wrap.index(y0 + 1, h));
-                let (x0, y0) = (self.wrap.index(x0, w), self.wrap.index(y0, h));
-                let top = self.texel(x0, y0, &t, &white) * (1.0 - ax)
-                    + self.texel(x1, y0, &t, &white) * ax;
-                let bottom = self.texel(x0, y1, &t, &white) * (1.0 - ax)
-                    + self.texel(x1, y1, &t, &white) * ax;
-                top * (1.0 - ay) + bottom * ay
+                let xs = [self.wrap.index(x0, w), self.wrap.index(x0 + 1, w)];
+                let ys = [self.wrap.index(y0, h), self.wrap.index(y0 + 1, h)];
+                self.bilinear(wl, xs, ys, [px - fx, py - fy])
             }
         }
     }

@@ -159,8 +159,14 @@ pub fn chi2_directions(
             }
         }
     }
+    chi2_p_value(&observed, &expected)
+}
+
+/// Pearson's chi-square p-value of `observed` counts against `expected`
+/// ones, pooling the bins that expect fewer than 5.
+pub fn chi2_p_value(observed: &[f64], expected: &[f64]) -> f64 {
     let (mut chi2, mut dof, mut pool_o, mut pool_e) = (0.0, 0usize, 0.0, 0.0);
-    for (o, e) in observed.iter().zip(&expected) {
+    for (o, e) in observed.iter().zip(expected) {
         if *e < 5.0 {
             pool_o += o;
             pool_e += e;

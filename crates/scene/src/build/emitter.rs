@@ -1,11 +1,14 @@
 //! `<emitter>` elements other than area lights (which belong to shapes).
 
-use scotopia_color::Spectrum;
-use scotopia_render::light::{ConstantLight, DirectionalLight, Light, PointLight, SpotLight};
+use scotopia_color::{RgbSpace, Spectrum};
+use scotopia_image::read_rgb;
+use scotopia_render::light::{
+    ConstantLight, DirectionalLight, EnvMapLight, Light, PointLight, SpotLight,
+};
 use scotopia_render::math::Vec3;
 
 use super::Builder;
-use crate::mitsuba::{Node, Props, SceneError, Usage};
+use crate::mitsuba::{resolve, Node, Props, SceneError, Usage};
 
 pub fn build_emitter(b: &mut Builder, node: &Node) -> Result<Light, SceneError> {
     let kind = node.require("type")?;
@@ -51,8 +54,27 @@ pub fn build_emitter(b: &mut Builder, node: &Node) -> Result<Light, SceneError> 
         "constant" => Light::Constant(ConstantLight {
             radiance: required("radiance")?,
         }),
+        "envmap" => {
+            let file = p
+                .string("filename")?
+                .ok_or_else(|| node.error("an envmap needs a 'filename'"))?;
+            let image = read_rgb(&resolve(&node.dir, file))
+                .map_err(|e| node.error(e.to_string()))?
+                .into_linear();
+            let scale = p.float("scale", 1.0)?;
+            let env = EnvMapLight::new(
+                image.width,
+                image.height,
+                &image.pixels,
+                RgbSpace::Srgb,
+                scale,
+                p.transform("to_world")?,
+            )
+            .map_err(|e| node.error(e.to_string()))?;
+            Light::EnvMap(Box::new(env))
+        }
         "area" => return Err(node.error("an area emitter must be nested in a <shape>")),
-        other => return Err(node.error(format!("emitter type '{other}' is not supported yet"))),
+        other => return Err(node.error(format!("emitter type '{other}' is not supported (area, point, spot, directional, constant, envmap)"))),
     };
     b.report_unused(&p);
     Ok(light)
