@@ -174,3 +174,35 @@ fn focal_length_sets_the_diagonal_field_as_in_mitsuba() {
     let e = load_scene(&f, &Parameters::new()).unwrap_err().to_string();
     assert!(e.contains("focal_length 'wide'"), "{e}");
 }
+
+#[test]
+fn bundled_scenes_load_without_warnings() {
+    use scotopia_color::photometry::spectrum_to_xyzv;
+    use scotopia_render::light::Light;
+    // (file, shapes, lights)
+    for (name, shapes, lights) in [
+        ("night-street.xml", 18, 5),
+        ("prism.xml", 8, 2),
+        ("material-showcase.xml", 5, 2),
+    ] {
+        let s = load_scene(&scenes().join(name), &Parameters::new()).unwrap();
+        assert_eq!(s.geometry.shapes.len(), shapes, "{name}");
+        assert_eq!(s.lights.len(), lights, "{name}");
+        assert!(s.warnings.is_empty(), "{name}: {:?}", s.warnings);
+    }
+    // The street's lamps are at their stated absolute levels (the
+    // `luminance` extension): 15 000 cd/m² sodium, 13 000 cd/m² LED.
+    let s = load_scene(&scenes().join("night-street.xml"), &Parameters::new()).unwrap();
+    let levels: Vec<f64> = s
+        .lights
+        .iter()
+        .filter_map(|l| match l {
+            Light::Area(a) => Some(spectrum_to_xyzv(&a.radiance).y),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(levels.len(), 3);
+    for (y, want) in levels.iter().zip([15000.0, 15000.0, 13000.0]) {
+        assert!((y - want).abs() < 1e-3 * want, "{levels:?}");
+    }
+}

@@ -75,3 +75,33 @@ proptest! {
         let _ = scotopia_scene::mesh::parse_ply(&tail, "fuzz.ply");
     }
 }
+
+/// The bundled material showcase (textures, an envmap, rough materials)
+/// with the sky's path made absolute, for mutating the whole loader.
+fn showcase() -> String {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let text = std::fs::read_to_string(dir.join("material-showcase.xml")).unwrap();
+    text.replace(
+        "textures/showcase-sky.png",
+        &dir.join("textures/showcase-sky.png").display().to_string(),
+    )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    #[test]
+    fn mutated_scenes_never_panic_the_builder(cuts in proptest::collection::vec((0usize..6000, 0usize..8, "[<>/=\"$ a-z0-9.,-]{0,4}"), 1..4)) {
+        let mut bytes = showcase().into_bytes();
+        for (at, len, insert) in cuts {
+            let at = at.min(bytes.len());
+            let end = (at + len).min(bytes.len());
+            bytes.splice(at..end, insert.bytes());
+        }
+        let dir = std::env::temp_dir().join(format!("scotopia-fuzz-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("build.xml");
+        std::fs::write(&path, &bytes).unwrap();
+        let _ = scotopia_scene::load_scene(&path, &Parameters::new());
+    }
+}

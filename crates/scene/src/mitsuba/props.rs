@@ -6,6 +6,7 @@
 use std::cell::RefCell;
 use std::path::Path;
 
+use scotopia_color::photometry::{integrate_observers, spectrum_to_xyzv};
 use scotopia_color::{
     cie, io, rgb_to_spectrum, RgbSpace, Spectrum, SpectrumKind, Tabulated, UpsampleMethod,
 };
@@ -223,14 +224,52 @@ fn check_reflectance(n: &Node, s: &Spectrum) -> Result<(), SceneError> {
 /// `<spectrum>`: `value="0.5"`, `value="400:0.1, 500:0.3"`, `filename`,
 /// `type="blackbody"` (with `temperature`), or `type` = any CIE illuminant
 /// name (`d65` as in Mitsuba; `a`, `d50`, `f11`, … are scotopia's extension).
+/// `<float name="scale">` multiplies any spectrum (as Mitsuba's `d65`);
+/// scotopia's extension `<float name="luminance" value="Y"/>` instead scales
+/// the spectrum so that 683 ∫ S ȳ dλ = Y: cd/m² for a radiance, cd for an
+/// intensity, lx for an irradiance — the absolute level of a lamp whose
+/// spectrum is known only in relative units.
 pub fn read_spectrum(n: &Node) -> Result<Spectrum, SceneError> {
+    let s = read_spectrum_shape(n)?;
+    let props = Props::new(n);
+    let scale = props.float("scale", f32::NAN)?;
+    let target = props.float("luminance", f32::NAN)?;
+    if !scale.is_nan() {
+        if !target.is_nan() {
+            return Err(n.error("give 'scale' or 'luminance', not both"));
+        }
+        if !(scale.is_finite() && scale >= 0.0) {
+            return Err(n.error(format!("scale must be non-negative, got {scale}")));
+        }
+        return Ok(s.scaled(scale));
+    }
+    if target.is_nan() {
+        return Ok(s);
+    }
+    if !(target.is_finite() && target >= 0.0) {
+        return Err(n.error(format!("luminance must be non-negative, got {target}")));
+    }
+    let y = spectrum_to_xyzv(&s).y;
+    if !(y > 0.0) {
+        return Err(n.error("the spectrum has no luminance to scale to 'luminance'"));
+    }
+    Ok(s.scaled((target as f64 / y) as f32))
+}
+
+/// The spectrum's shape, before any `luminance` scaling.
+fn read_spectrum_shape(n: &Node) -> Result<Spectrum, SceneError> {
     if let Some(t) = n.attr("type") {
         if t == "blackbody" {
             let props = Props::new(n);
             let k = props.float("temperature", f32::NAN)?;
             return Spectrum::blackbody(k).map_err(|e| n.error(e.to_string()));
         }
-        return cie::illuminant(t).map_err(|e| n.error(e.to_string()));
+        // Normalised as Mitsuba's `d65`: unit luminance-weighted mean, so
+        // an emitter of this spectrum is as bright as a constant radiance 1.
+        let s = cie::illuminant(t).map_err(|e| n.error(e.to_string()))?;
+        let y = integrate_observers(&s)[1];
+        let y_unit = integrate_observers(&Spectrum::Constant(1.0))[1];
+        return Ok(s.scaled((y_unit / y) as f32));
     }
     if let Some(file) = n.attr("filename") {
         let path = resolve(&n.dir, file);
