@@ -250,7 +250,7 @@ pub fn read_spectrum(n: &Node) -> Result<Spectrum, SceneError> {
         return Err(n.error(format!("luminance must be non-negative, got {target}")));
     }
     let y = spectrum_to_xyzv(&s).y;
-    if !(y > 0.0) {
+    if y.is_nan() || y <= 0.0 {
         return Err(n.error("the spectrum has no luminance to scale to 'luminance'"));
     }
     Ok(s.scaled((target as f64 / y) as f32))
