@@ -75,6 +75,15 @@ fn load_errors_name_the_place() {
         ),
         (r#"<emitter type="point"/>"#, "missing 'intensity'"),
         (
+            r#"<emitter type="constant"><spectrum name="radiance" value="0"><float name="luminance" value="1"/></spectrum></emitter>"#,
+            "no luminance to scale",
+        ),
+        (
+            r#"<emitter type="constant"><spectrum name="radiance" type="d65"><float name="luminance" value="1"/><float name="scale" value="2"/></spectrum></emitter>"#,
+            "not both",
+        ),
+        (r#"<emitter type="envmap"/>"#, "needs a 'filename'"),
+        (
             r#"<shape type="sphere"><emitter type="area"><rgb name="radiance" value="-1, 0, 0"/></emitter></shape>"#,
             "outside the srgb gamut",
         ),
