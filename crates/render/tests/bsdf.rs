@@ -502,3 +502,42 @@ fn rough_plastic_conserves_energy_at_grazing_angles() {
         assert!(mean > 0.5, "θ {theta}: albedo {mean}");
     }
 }
+
+#[test]
+fn reciprocity_of_coated_and_refracting_bsdfs() {
+    let w = wl();
+    let mut rng = Rng(14);
+    // Plastic and rough plastic: f(a, b) = f(b, a) on the outside.
+    for bsdf in [
+        Bsdf::Plastic(plastic(true)),
+        Bsdf::RoughPlastic(rough_plastic(0.3, false)),
+    ] {
+        for _ in 0..300 {
+            let (a, b) = (
+                dir(85.0 * rng.next(), 360.0 * rng.next()),
+                dir(85.0 * rng.next(), 360.0 * rng.next()),
+            );
+            let fab = bsdf.eval(&w, UV, a, b, Transport::Importance)[0] / b.z;
+            let fba = bsdf.eval(&w, UV, b, a, Transport::Importance)[0] / a.z;
+            assert!((fab - fba).abs() <= 1e-4 * fab.max(1e-3), "{fab} {fba}");
+        }
+    }
+    // Rough glass: f(a, b)/η_b² = f(b, a)/η_a² (Veach 1997, eq. 5.14), for
+    // the physical BSDF (the importance mode's, without the camera path's
+    // 1/η² radiance scaling), both in reflection and across the surface.
+    let eta = 1.5f32;
+    let b = rough_glass(0.4);
+    let side = |v: Vec3| if v.z > 0.0 { 1.0 } else { eta };
+    let mut checked = 0;
+    for _ in 0..2000 {
+        let a = dir(80.0 * rng.next(), 360.0 * rng.next());
+        let c = dir(80.0 * rng.next(), 360.0 * rng.next());
+        let c = if rng.next() < 0.5 { -c } else { c };
+        let fac = b.eval(&w, UV, a, c, Transport::Importance)[0] / c.z.abs();
+        let fca = b.eval(&w, UV, c, a, Transport::Importance)[0] / a.z.abs();
+        let (l, r) = (fac / side(c).powi(2), fca / side(a).powi(2));
+        assert!((l - r).abs() <= 1e-3 * l.max(1e-3), "{a:?} {c:?}: {l} {r}");
+        checked += (l > 1e-3) as usize;
+    }
+    assert!(checked > 200, "too few non-zero pairs: {checked}");
+}
