@@ -192,15 +192,15 @@ fn total_spectrum(texels: &Bitmap, scale: f32) -> Spectrum {
         .into_par_iter()
         .map(|y| {
             let mut row = vec![0.0f64; n];
-            for chunk in lambdas.chunks(4).enumerate() {
-                let (c, ls) = chunk;
+            for (c, ls) in lambdas.chunks(4).enumerate() {
                 let mut l4 = [ls[0]; 4];
                 l4[..ls.len()].copy_from_slice(ls);
                 let wl = SampledWavelengths::new(l4, [1.0; 4]);
+                let (t, white) = texels.prepare(&wl);
                 for x in 0..w {
-                    let v = texels.texel_value(x, y, &wl);
-                    for (k, _) in ls.iter().enumerate() {
-                        row[c * 4 + k] += v[k] as f64;
+                    let v = texels.texel(x, y, &t, &white);
+                    for (r, v) in row[c * 4..c * 4 + ls.len()].iter_mut().zip(v.0) {
+                        *r += v as f64;
                     }
                 }
             }

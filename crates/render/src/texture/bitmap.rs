@@ -134,7 +134,7 @@ impl Bitmap {
     /// Texel (x, y)'s spectrum on `wl`, given the wavelengths' normalised
     /// positions `t` and the illuminant's values there.
     #[inline]
-    fn texel<const K: usize>(
+    pub(crate) fn texel<const K: usize>(
         &self,
         x: usize,
         y: usize,
@@ -147,7 +147,10 @@ impl Bitmap {
 
     /// The illuminant (or 1) and normalised wavelength per sample of `wl`.
     #[inline]
-    fn prepare<const K: usize>(&self, wl: &SampledWavelengths<K>) -> ([f32; K], [f32; K]) {
+    pub(crate) fn prepare<const K: usize>(
+        &self,
+        wl: &SampledWavelengths<K>,
+    ) -> ([f32; K], [f32; K]) {
         let t = wl.lambdas().map(normalised_lambda);
         let white = match &self.illuminant {
             Some(ill) => wl.lambdas().map(|l| ill.eval(l)),
