@@ -75,6 +75,10 @@ fn load_errors_name_the_place() {
         ),
         (r#"<emitter type="point"/>"#, "missing 'intensity'"),
         (
+            r#"<bsdf type="twosided" id="m"><ref id="m"/></bsdf><shape type="sphere"><ref id="m"/></shape>"#,
+            "'m' refers to itself",
+        ),
+        (
             r#"<emitter type="constant"><spectrum name="radiance" value="0"><float name="luminance" value="1"/></spectrum></emitter>"#,
             "no luminance to scale",
         ),

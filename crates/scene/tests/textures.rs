@@ -144,6 +144,10 @@ fn texture_errors_name_the_place() {
             "no <texture id=\"missing\">",
         ),
         (
+            r#"<texture type="checkerboard" id="loop"><ref name="color0" id="loop"/></texture><shape type="sphere"><bsdf type="diffuse"><ref name="reflectance" id="loop"/></bsdf></shape>"#,
+            "'loop' refers to itself",
+        ),
+        (
             r#"<shape type="sphere"><bsdf type="diffuse"><texture type="noise" name="reflectance"/></bsdf></shape>"#,
             "texture type 'noise' is not supported",
         ),

@@ -1,7 +1,8 @@
 //! Lights: point, spot, directional, area (on any shape), a constant
-//! environment and an environment map. Each samples an incident direction at a point, evaluates
-//! the density of directions found by BSDF sampling (for MIS), and reports
-//! its total power, so that lights can be chosen in proportion to it.
+//! environment and an environment map. Each samples an incident direction
+//! at a point, evaluates the density of directions found by BSDF sampling
+//! (for MIS), and reports its total power, so that lights can be chosen in
+//! proportion to it.
 //!
 //! Units: area and environment emitters give spectral radiance
 //! (W·sr⁻¹·m⁻²·nm⁻¹); point and spot lights spectral intensity

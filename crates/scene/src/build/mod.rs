@@ -28,6 +28,8 @@ pub struct Builder {
     named_textures: HashMap<String, Node>,
     /// Textures built from top-level definitions, by id and use.
     textures: HashMap<(String, SpectrumKind), Texture>,
+    /// Ids being built through references, to refuse cycles.
+    resolving: Vec<String>,
 }
 
 impl Builder {
@@ -71,7 +73,7 @@ impl Builder {
                     .get(id)
                     .cloned()
                     .ok_or_else(|| n.error(format!("no <texture id=\"{id}\"> is defined")))?;
-                let t = texture::build_texture(self, &target, usage)?;
+                let t = self.resolve(n, id, |b| texture::build_texture(b, &target, usage))?;
                 self.textures.insert(key, t.clone());
                 Ok(t)
             }
@@ -80,6 +82,23 @@ impl Builder {
                     .unwrap_or(Spectrum::Constant(default)),
             )),
         }
+    }
+
+    /// Builds the object `id` that `at` refers to, refusing a reference
+    /// cycle (which would recurse without end).
+    fn resolve<T>(
+        &mut self,
+        at: &Node,
+        id: &str,
+        build: impl FnOnce(&mut Self) -> Result<T, SceneError>,
+    ) -> Result<T, SceneError> {
+        if self.resolving.iter().any(|r| r == id) {
+            return Err(at.error(format!("'{id}' refers to itself through <ref>")));
+        }
+        self.resolving.push(id.to_string());
+        let built = build(self);
+        self.resolving.pop();
+        built
     }
 
     /// A nested `<bsdf>` or a `<ref id>` to a top-level one.
@@ -91,7 +110,7 @@ impl Builder {
                 .get(id)
                 .cloned()
                 .ok_or_else(|| node.error(format!("no <bsdf id=\"{id}\"> is defined")))?;
-            return bsdf::build_bsdf(self, &target);
+            return self.resolve(node, id, |b| bsdf::build_bsdf(b, &target));
         }
         bsdf::build_bsdf(self, node)
     }
@@ -105,6 +124,7 @@ pub fn load_scene(path: &Path, params: &Parameters) -> Result<Scene, SceneError>
         named_bsdfs: HashMap::new(),
         named_textures: HashMap::new(),
         textures: HashMap::new(),
+        resolving: Vec::new(),
     };
     if let Some(v) = root.attr("version") {
         if !v.starts_with('3') {
