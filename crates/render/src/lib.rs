@@ -11,3 +11,4 @@ pub mod math;
 pub mod sampling;
 pub mod scene;
 pub mod texture;
+pub mod wavelength;

@@ -18,7 +18,7 @@ pub use envmap::EnvMapLight;
 pub use power::{spectral_power, Power};
 pub use simple::{ConstantLight, DirectionalLight, PointLight, SpotLight};
 
-use scotopia_color::{SampledSpectrum, SampledWavelengths};
+use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
 
 use crate::geometry::Shape;
 use crate::math::Vec3;
@@ -112,6 +112,20 @@ impl Light {
             Light::Constant(l) => l.pdf_li(),
             Light::EnvMap(l) => l.pdf_li(d),
             _ => 0.0,
+        }
+    }
+
+    /// The spectral shape of the light's emission (its radiance, intensity,
+    /// irradiance, or for a map the radiance integrated over directions):
+    /// what wavelengths are drawn from for it.
+    pub fn spectrum(&self) -> &Spectrum {
+        match self {
+            Light::Point(l) => &l.intensity,
+            Light::Spot(l) => &l.intensity,
+            Light::Directional(l) => &l.irradiance,
+            Light::Area(l) => &l.radiance,
+            Light::Constant(l) => &l.radiance,
+            Light::EnvMap(l) => l.total_spectrum(),
         }
     }
 

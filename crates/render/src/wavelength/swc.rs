@@ -1,0 +1,72 @@
+//! Stratified wavelength clusters (Evans & McCool 1999, Graphics Interface,
+//! pp. 42–49): the cluster is drawn from one light's spectrum, chosen by
+//! radiant power, and weighed by the mixture density of all lights.
+
+use scotopia_color::SampledWavelengths;
+
+use super::{sample_visible, visible_pdf, SpectralPdf};
+use crate::light::{Light, SceneExtent};
+use crate::sampling::distribution::Distribution1D;
+
+/// Share of clusters drawn from the visible density instead of a light,
+/// so p(λ) > 0 wherever the image can have energy (reflected RGB
+/// emitters, environment maps, fluorescence); scotopia's choice.
+pub const DEFENSIVE_SHARE: f32 = 0.1;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Swc {
+    /// Spectral densities of the lights with power.
+    pdfs: Vec<SpectralPdf>,
+    /// Choice among `pdfs`, by radiant power.
+    choice: Distribution1D,
+    /// Probability of drawing from the visible density instead.
+    defensive: f32,
+}
+
+impl Swc {
+    pub fn new(lights: &[Light], scene: &SceneExtent) -> Self {
+        let (pdfs, power): (Vec<SpectralPdf>, Vec<f32>) = lights
+            .iter()
+            .filter_map(|l| {
+                let watts = l.power(scene).watts as f32;
+                (watts > 0.0 && watts.is_finite())
+                    .then(|| SpectralPdf::new(l.spectrum()).map(|p| (p, watts)))
+                    .flatten()
+            })
+            .unzip();
+        Self {
+            defensive: if pdfs.is_empty() {
+                1.0
+            } else {
+                DEFENSIVE_SHARE
+            },
+            choice: Distribution1D::new(power),
+            pdfs,
+        }
+    }
+
+    /// The mixture density the estimator divides by.
+    pub fn pdf(&self, lambda: f32) -> f32 {
+        let lights: f32 = self
+            .pdfs
+            .iter()
+            .enumerate()
+            .map(|(i, p)| self.choice.probability(i) * p.pdf(lambda))
+            .sum();
+        (1.0 - self.defensive) * lights + self.defensive * visible_pdf(lambda)
+    }
+
+    pub fn sample<const K: usize>(&self, u_choice: f32, u: f32) -> SampledWavelengths<K> {
+        let strata = |k: usize| (k as f32 + u) / K as f32;
+        let lambda: [f32; K] = if u_choice < self.defensive {
+            std::array::from_fn(|k| sample_visible(strata(k)))
+        } else {
+            let v = (u_choice - self.defensive) / (1.0 - self.defensive);
+            match self.choice.sample_discrete(v) {
+                Some((i, _, _)) => std::array::from_fn(|k| self.pdfs[i].sample(strata(k))),
+                None => std::array::from_fn(|k| sample_visible(strata(k))),
+            }
+        };
+        SampledWavelengths::new(lambda, lambda.map(|l| self.pdf(l)))
+    }
+}
