@@ -1,4 +1,5 @@
 //! Sample warping.
 
 pub mod distribution;
+pub mod sobol;
 pub mod warp;
