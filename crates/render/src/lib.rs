@@ -5,6 +5,7 @@
 pub mod accel;
 pub mod bsdf;
 pub mod camera;
+pub mod film;
 pub mod geometry;
 pub mod light;
 pub mod math;

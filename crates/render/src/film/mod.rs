@@ -1,0 +1,62 @@
+//! The film: per pixel, the running sums of the X, Y, Z, V′ estimates of
+//! its camera samples (absolute: Y in cd/m², V′ in scotopic cd/m²), and
+//! how many there were. Each sample belongs to one pixel (see `filter`).
+
+mod filter;
+
+pub use filter::FilterSampler;
+
+/// Accumulated estimates of one pixel.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PixelSum {
+    pub xyzv: [f64; 4],
+    pub samples: u32,
+}
+
+impl PixelSum {
+    #[inline]
+    pub fn add(&mut self, xyzv: [f32; 4]) {
+        for (s, v) in self.xyzv.iter_mut().zip(xyzv) {
+            *s += v as f64;
+        }
+        self.samples += 1;
+    }
+
+    /// The pixel's mean X, Y, Z, V′ (zero before any sample).
+    pub fn mean(&self) -> [f32; 4] {
+        if self.samples == 0 {
+            return [0.0; 4];
+        }
+        self.xyzv.map(|v| (v / self.samples as f64) as f32)
+    }
+}
+
+/// A width × height image of pixel sums, row-major, top row first.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Film {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<PixelSum>,
+}
+
+impl Film {
+    pub fn new(width: u32, height: u32) -> Self {
+        Self {
+            width,
+            height,
+            pixels: vec![PixelSum::default(); width as usize * height as usize],
+        }
+    }
+
+    /// Means as a row-major H × W × 4 array of X, Y, Z, V′.
+    pub fn xyzv(&self) -> Vec<[f32; 4]> {
+        self.pixels.iter().map(PixelSum::mean).collect()
+    }
+
+    /// The smallest and largest sample count over pixels.
+    pub fn sample_range(&self) -> (u32, u32) {
+        self.pixels.iter().fold((u32::MAX, 0), |(lo, hi), p| {
+            (lo.min(p.samples), hi.max(p.samples))
+        })
+    }
+}
