@@ -7,6 +7,7 @@ pub mod bsdf;
 pub mod camera;
 pub mod film;
 pub mod geometry;
+pub mod integrator;
 pub mod light;
 pub mod math;
 pub mod sampling;

@@ -1,0 +1,224 @@
+//! Rendering a scene onto the film: the per-scene state the integrator
+//! needs (`Renderer`), and the parallel driver that runs samples pixel by
+//! pixel until the requested count or time is reached, or it is cancelled.
+
+mod path;
+
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+use rayon::prelude::*;
+
+use crate::film::{Film, FilterSampler, PixelSum};
+use crate::light::{Light, SceneExtent};
+use crate::math::Vec3;
+use crate::sampling::distribution::Distribution1D;
+use crate::sampling::sobol::Sampler;
+use crate::scene::Scene;
+use crate::wavelength::{WavelengthSampler, WavelengthStrategy};
+
+/// Cluster sizes K the renderer is compiled for.
+pub const CLUSTER_SIZES: [usize; 5] = [1, 2, 4, 8, 16];
+
+/// What to render, beyond the scene.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RenderOptions {
+    /// Samples per pixel (the scene's when `None`).
+    pub spp: Option<u32>,
+    /// Stop after this long, even before `spp` is reached.
+    pub time_limit: Option<Duration>,
+    pub seed: u32,
+    pub strategy: WavelengthStrategy,
+    /// Wavelengths per path, one of `CLUSTER_SIZES`.
+    pub cluster: usize,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        Self {
+            spp: None,
+            time_limit: None,
+            seed: 0,
+            strategy: WavelengthStrategy::Swc,
+            cluster: 4,
+        }
+    }
+}
+
+/// A finished (or interrupted) render.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rendered {
+    pub film: Film,
+    /// Samples per pixel completed on every pixel.
+    pub spp: u32,
+    /// Samples whose estimate was NaN or infinite, dropped.
+    pub nonfinite: u64,
+    pub elapsed: Duration,
+    /// Stopped by `cancel` rather than by `spp` or time.
+    pub cancelled: bool,
+}
+
+/// Errors in the options.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RenderError {
+    #[error("cluster size {0} is not supported (use one of 1, 2, 4, 8, 16)")]
+    Cluster(usize),
+    #[error("samples per pixel must be positive")]
+    Spp,
+}
+
+/// Per-scene state shared by all samples.
+pub struct Renderer<'a> {
+    pub scene: &'a Scene,
+    /// Light choice for next-event estimation, by radiant power.
+    pub light_choice: Distribution1D,
+    pub wavelengths: WavelengthSampler,
+    pub filter: FilterSampler,
+    center: Vec3,
+    radius: f32,
+    infinite: Vec<usize>,
+}
+
+impl<'a> Renderer<'a> {
+    pub fn new(scene: &'a Scene, strategy: WavelengthStrategy) -> Self {
+        let bounds = scene.geometry.bounds();
+        let (center, radius) = if bounds.is_empty() {
+            (Vec3::ZERO, 1.0)
+        } else {
+            (
+                bounds.centroid(),
+                (0.5 * bounds.extent().length()).max(1e-3),
+            )
+        };
+        let extent = SceneExtent {
+            shapes: &scene.geometry.shapes,
+            center,
+            radius,
+        };
+        let power: Vec<f32> = scene
+            .lights
+            .iter()
+            .map(|l| l.power(&extent).watts as f32)
+            .collect();
+        Self {
+            light_choice: Distribution1D::new(power),
+            wavelengths: WavelengthSampler::new(strategy, &scene.lights, &extent),
+            filter: FilterSampler::new(scene.filter),
+            infinite: (0..scene.lights.len())
+                .filter(|&i| scene.lights[i].is_infinite())
+                .collect(),
+            scene,
+            center,
+            radius,
+        }
+    }
+
+    /// The scene facts lights need.
+    pub fn extent(&self) -> SceneExtent<'_> {
+        SceneExtent {
+            shapes: &self.scene.geometry.shapes,
+            center: self.center,
+            radius: self.radius,
+        }
+    }
+
+    /// Lights at infinity with their indices.
+    fn infinite_lights(&self) -> impl Iterator<Item = (usize, &Light)> {
+        self.infinite.iter().map(|&i| (i, &self.scene.lights[i]))
+    }
+
+    /// Adds samples `first..first + count` to every pixel of `rows`
+    /// (row-major pixel sums of the whole film), returning dropped ones.
+    fn pass<const K: usize>(
+        &self,
+        seed: u32,
+        pixels: &mut [PixelSum],
+        first: u32,
+        count: u32,
+    ) -> u64 {
+        let width = self.scene.camera.width as usize;
+        pixels
+            .par_chunks_mut(width)
+            .enumerate()
+            .map(|(y, row)| {
+                let mut sampler = Sampler::new(seed);
+                let mut dropped = 0;
+                for (x, px) in row.iter_mut().enumerate() {
+                    for i in first..first + count {
+                        match self.sample_pixel::<K>(&mut sampler, [x as u32, y as u32], i) {
+                            Some(e) => px.add(e),
+                            None => dropped += 1,
+                        }
+                    }
+                }
+                dropped
+            })
+            .sum()
+    }
+}
+
+/// Renders `scene`. `progress(done, total)` is called after each pass
+/// (samples per pixel); setting `cancel` stops after the current pass.
+pub fn render(
+    scene: &Scene,
+    options: &RenderOptions,
+    cancel: &AtomicBool,
+    progress: &(dyn Fn(u32, u32) + Sync),
+) -> Result<Rendered, RenderError> {
+    match options.cluster {
+        1 => render_k::<1>(scene, options, cancel, progress),
+        2 => render_k::<2>(scene, options, cancel, progress),
+        4 => render_k::<4>(scene, options, cancel, progress),
+        8 => render_k::<8>(scene, options, cancel, progress),
+        16 => render_k::<16>(scene, options, cancel, progress),
+        k => Err(RenderError::Cluster(k)),
+    }
+}
+
+fn render_k<const K: usize>(
+    scene: &Scene,
+    options: &RenderOptions,
+    cancel: &AtomicBool,
+    progress: &(dyn Fn(u32, u32) + Sync),
+) -> Result<Rendered, RenderError> {
+    // A time limit alone renders until the time is spent.
+    let total = match (options.spp, options.time_limit) {
+        (Some(n), _) => n,
+        (None, Some(_)) => u32::MAX,
+        (None, None) => scene.samples_per_pixel,
+    };
+    if total == 0 {
+        return Err(RenderError::Spp);
+    }
+    let start = Instant::now();
+    let renderer = Renderer::new(scene, options.strategy);
+    let mut film = Film::new(scene.camera.width, scene.camera.height);
+    let dropped = AtomicU64::new(0);
+    let mut done = 0;
+    let mut cancelled = false;
+    // Passes grow from 1 spp so that progress, time limits and Ctrl-C are
+    // honoured early, to at most 16 spp per pass.
+    let mut step = 1;
+    while done < total {
+        if cancel.load(Ordering::Relaxed) {
+            cancelled = true;
+            break;
+        }
+        if options.time_limit.is_some_and(|t| start.elapsed() >= t) {
+            break;
+        }
+        let count = step.min(total - done);
+        let d = renderer.pass::<K>(options.seed, &mut film.pixels, done, count);
+        dropped.fetch_add(d, Ordering::Relaxed);
+        done += count;
+        step = (step * 2).min(16);
+        progress(done, total);
+    }
+    Ok(Rendered {
+        film,
+        spp: done,
+        nonfinite: dropped.into_inner(),
+        elapsed: start.elapsed(),
+        cancelled,
+    })
+}
