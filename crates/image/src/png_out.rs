@@ -14,13 +14,16 @@ pub enum ImageError {
     Io { path: String, cause: std::io::Error },
     #[error("{path}: PNG encoding failed: {message}")]
     Png { path: String, message: String },
+    #[error("{path}: OpenEXR: {message}")]
+    Exr { path: String, message: String },
     #[error("{path}: cannot read the image: {message}")]
     Read { path: String, message: String },
     #[error("{0}")]
     Invalid(String),
 }
 
-fn tmp_path(path: &Path) -> PathBuf {
+/// A temporary file beside `path`, renamed over it when complete.
+pub(crate) fn tmp_path(path: &Path) -> PathBuf {
     let mut name = path
         .file_name()
         .map(|n| n.to_os_string())

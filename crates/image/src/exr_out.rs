@@ -1,0 +1,157 @@
+//! OpenEXR output: named 32-bit float channels with header attributes,
+//! written atomically (a temporary file renamed over the target).
+
+use std::path::Path;
+
+use exr::prelude::*;
+use std::result::Result;
+
+use crate::png_out::tmp_path;
+use crate::ImageError;
+
+/// A header attribute's value.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Meta {
+    Text(String),
+    F32(f32),
+    I32(i32),
+}
+
+/// Writes `channels` (name, row-major values, top row first) of a
+/// `width` × `height` image with `metadata` in the header.
+pub fn write_exr(
+    path: &Path,
+    width: usize,
+    height: usize,
+    channels: Vec<(String, Vec<f32>)>,
+    metadata: &[(&str, Meta)],
+) -> Result<(), ImageError> {
+    let fail = |message: String| ImageError::Exr {
+        path: path.display().to_string(),
+        message,
+    };
+    if let Some((name, _)) = channels.iter().find(|(_, v)| v.len() != width * height) {
+        return Err(fail(format!(
+            "channel {name} does not have {width}×{height} values"
+        )));
+    }
+    let list: SmallVec<[AnyChannel<FlatSamples>; 4]> = channels
+        .into_iter()
+        .map(|(name, values)| AnyChannel::new(name.as_str(), FlatSamples::F32(values)))
+        .collect();
+    let mut attributes = LayerAttributes::default();
+    for (key, value) in metadata {
+        let v = match value {
+            Meta::Text(t) => AttributeValue::Text(Text::new_or_panic(sanitise(t))),
+            Meta::F32(f) => AttributeValue::F32(*f),
+            Meta::I32(i) => AttributeValue::I32(*i),
+        };
+        attributes
+            .other
+            .insert(Text::new_or_panic(sanitise(key)), v);
+    }
+    let layer = Layer::new(
+        (width, height),
+        attributes,
+        Encoding::SMALL_LOSSLESS,
+        AnyChannels::sort(list),
+    );
+    let tmp = tmp_path(path);
+    let result = Image::from_layer(layer)
+        .write()
+        .to_file(&tmp)
+        .map_err(|e| fail(e.to_string()))
+        .and_then(|()| {
+            std::fs::rename(&tmp, path).map_err(|cause| ImageError::Io {
+                path: path.display().to_string(),
+                cause,
+            })
+        });
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+/// EXR text is 8-bit: characters outside Latin-1 become '?'.
+fn sanitise(s: &str) -> String {
+    s.chars()
+        .map(|c| if (c as u32) < 256 { c } else { '?' })
+        .collect()
+}
+
+/// Reads every channel of the first layer as f32, with the header's
+/// other attributes as text (for tests and tools).
+pub fn read_exr(
+    path: &Path,
+) -> Result<(usize, usize, Vec<(String, Vec<f32>)>, Vec<(String, String)>), ImageError> {
+    let fail = |message: String| ImageError::Exr {
+        path: path.display().to_string(),
+        message,
+    };
+    let image = read_all_flat_layers_from_file(path).map_err(|e| fail(e.to_string()))?;
+    let layer = image
+        .layer_data
+        .first()
+        .ok_or_else(|| fail("no layers".into()))?;
+    let (w, h) = (layer.size.width(), layer.size.height());
+    let channels = layer
+        .channel_data
+        .list
+        .iter()
+        .map(|c| (c.name.to_string(), c.sample_data.values_as_f32().collect()))
+        .collect();
+    let meta = layer
+        .attributes
+        .other
+        .iter()
+        .map(|(k, v)| {
+            let v = match v {
+                AttributeValue::Text(t) => t.to_string(),
+                AttributeValue::F32(f) => f.to_string(),
+                AttributeValue::I32(i) => i.to_string(),
+                other => format!("{other:?}"),
+            };
+            (k.to_string(), v)
+        })
+        .collect();
+    Ok((w, h, channels, meta))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn channels_and_metadata_round_trip() {
+        let dir = std::env::temp_dir().join(format!("scotopia-exr-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("t.exr");
+        let chan = |s: f32| (0..6).map(|i| i as f32 * s).collect::<Vec<f32>>();
+        write_exr(
+            &path,
+            3,
+            2,
+            vec![
+                ("X".into(), chan(1.0)),
+                ("Y".into(), chan(2.0)),
+                ("V".into(), chan(0.5)),
+            ],
+            &[
+                ("spp", Meta::I32(16)),
+                ("fovX", Meta::F32(40.0)),
+                ("scene", Meta::Text("a.xml".into())),
+            ],
+        )
+        .unwrap();
+        let (w, h, channels, meta) = read_exr(&path).unwrap();
+        assert_eq!((w, h), (3, 2));
+        let y = channels.iter().find(|c| c.0 == "Y").unwrap();
+        assert_eq!(y.1, chan(2.0));
+        assert!(meta.contains(&("spp".into(), "16".into())));
+        assert!(meta.contains(&("scene".into(), "a.xml".into())));
+        // No temporary file is left behind.
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1);
+        assert!(write_exr(&path, 3, 2, vec![("X".into(), vec![0.0; 5])], &[]).is_err());
+    }
+}
