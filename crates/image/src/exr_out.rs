@@ -115,7 +115,12 @@ pub fn read_exr(
             (k.to_string(), v)
         })
         .collect();
-    Ok((w, h, channels, meta))
+    Ok(ExrImage {
+        width: w,
+        height: h,
+        channels,
+        metadata: meta,
+    })
 }
 
 #[cfg(test)]
@@ -144,7 +149,12 @@ mod tests {
             ],
         )
         .unwrap();
-        let (w, h, channels, meta) = read_exr(&path).unwrap();
+        let ExrImage {
+            width: w,
+            height: h,
+            channels,
+            metadata: meta,
+        } = read_exr(&path).unwrap();
         assert_eq!((w, h), (3, 2));
         let y = channels.iter().find(|c| c.0 == "Y").unwrap();
         assert_eq!(y.1, chan(2.0));
