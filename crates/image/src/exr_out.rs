@@ -80,11 +80,18 @@ fn sanitise(s: &str) -> String {
         .collect()
 }
 
+/// An OpenEXR image read back: channels by name, header attributes as text.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExrImage {
+    pub width: usize,
+    pub height: usize,
+    pub channels: Vec<(String, Vec<f32>)>,
+    pub metadata: Vec<(String, String)>,
+}
+
 /// Reads every channel of the first layer as f32, with the header's
 /// other attributes as text (for tests and tools).
-pub fn read_exr(
-    path: &Path,
-) -> Result<(usize, usize, Vec<(String, Vec<f32>)>, Vec<(String, String)>), ImageError> {
+pub fn read_exr(path: &Path) -> Result<ExrImage, ImageError> {
     let fail = |message: String| ImageError::Exr {
         path: path.display().to_string(),
         message,
