@@ -2,6 +2,7 @@
 //! library, and prints or writes the result.
 
 mod info;
+mod render;
 mod spectrum;
 
 use std::process::ExitCode;
@@ -24,6 +25,9 @@ enum Command {
     /// Load a Mitsuba 3 XML scene and print what it holds: shapes,
     /// triangles, materials, emitters and their power, camera, film, warnings.
     Info(info::Args),
+    /// Render a scene to an OpenEXR of absolute X, Y, Z (cd/m²) and V′
+    /// (scotopic cd/m²), with a spectral path tracer.
+    Render(render::Args),
 }
 
 /// Writes `text` to standard output; a closed pipe (`| head`) is not an error.
@@ -40,6 +44,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Spectrum(args) => spectrum::run(args),
         Command::Info(args) => info::run(args),
+        Command::Render(args) => render::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,179 @@
+//! `scotopia render`: a scene to an X, Y, Z, V′ OpenEXR in absolute units.
+
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::Duration;
+
+use anyhow::{bail, Context, Result};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use scotopia_image::{preview_srgb8, write_png_rgb8};
+use scotopia_render::integrator::{render, RenderOptions, CLUSTER_SIZES};
+use scotopia_render::output::{render_metadata, write_xyzv_exr};
+use scotopia_render::wavelength::WavelengthStrategy;
+use scotopia_scene::load_scene;
+
+use crate::info::parameters;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The scene (Mitsuba 3 XML).
+    scene: PathBuf,
+    /// The output: a 32-bit float OpenEXR with channels X, Y, Z (cd/m²) and
+    /// V (scotopic cd/m²).
+    #[arg(short, long, value_name = "OUT.exr")]
+    output: PathBuf,
+    /// Set a scene parameter, overriding its <default> (repeatable).
+    #[arg(short = 'D', value_name = "NAME=VALUE")]
+    define: Vec<String>,
+    /// Samples per pixel (default: the scene's sampler).
+    #[arg(long)]
+    spp: Option<u32>,
+    /// Render for this many seconds (with --spp: whichever ends first).
+    #[arg(long, value_name = "SECONDS")]
+    time: Option<f64>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Seed of the sample sequence: the same seed gives the same image.
+    #[arg(long, default_value_t = 0)]
+    seed: u32,
+    /// How paths choose wavelengths: swc (stratified clusters from the
+    /// lights' spectra), hero (rotated hero wavelengths), single.
+    #[arg(long, default_value = "swc", value_name = "swc|hero|single")]
+    wavelengths: String,
+    /// Wavelengths per path: 1, 2, 4, 8 or 16.
+    #[arg(long, default_value_t = 4, value_name = "K")]
+    cluster: usize,
+    /// Also write a quick auto-exposed sRGB preview.
+    #[arg(long, value_name = "OUT.png")]
+    preview: Option<PathBuf>,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let strategy = WavelengthStrategy::from_name(&args.wavelengths).with_context(|| {
+        format!(
+            "--wavelengths {}: use swc, hero or single",
+            args.wavelengths
+        )
+    })?;
+    if !CLUSTER_SIZES.contains(&args.cluster) {
+        bail!("--cluster {}: use one of 1, 2, 4, 8, 16", args.cluster);
+    }
+    let time_limit = match args.time {
+        Some(t) if t.is_finite() && t > 0.0 => Some(Duration::from_secs_f64(t)),
+        Some(t) => bail!("--time {t}: must be a positive number of seconds"),
+        None => None,
+    };
+    if args.spp == Some(0) {
+        bail!("--spp must be positive");
+    }
+    let scene = load_scene(&args.scene, &parameters(&args.define)?)?;
+    for w in &scene.warnings {
+        eprintln!("scotopia: warning: {w}");
+    }
+    let options = RenderOptions {
+        spp: args.spp,
+        time_limit,
+        seed: args.seed,
+        strategy,
+        cluster: args.cluster,
+    };
+
+    // Ctrl-C or SIGTERM: finish the current pass, write, exit non-zero.
+    let cancel = Arc::new(AtomicBool::new(false));
+    {
+        let cancel = cancel.clone();
+        ctrlc::set_handler(move || cancel.store(true, Ordering::Relaxed))
+            .context("cannot install the Ctrl-C handler")?;
+    }
+
+    let total = options.spp.unwrap_or(if time_limit.is_some() {
+        0
+    } else {
+        scene.samples_per_pixel
+    });
+    let pixels = scene.camera.width as u64 * scene.camera.height as u64;
+    let bar = progress_bar(total as u64);
+    let started = std::time::Instant::now();
+    let terminal = std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let last_line = std::sync::atomic::AtomicU64::new(0);
+    let progress = |done: u32, _: u32| {
+        bar.set_position(done as u64);
+        let secs = started.elapsed().as_secs_f64();
+        let rate = done as f64 * pixels as f64 / secs.max(1e-9) * 1e-6;
+        bar.set_message(format!("{rate:.2} Msamples/s"));
+        // Without a terminal: a plain line every 10 seconds.
+        let tick = (secs / 10.0) as u64;
+        if !terminal && tick > last_line.swap(tick, Ordering::Relaxed) {
+            eprintln!("scotopia: {done} spp, {secs:.0} s, {rate:.2} Msamples/s");
+        }
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()
+        .context("cannot start the worker threads")?;
+    let rendered = pool.install(|| render(&scene, &options, &cancel, &progress))?;
+    bar.finish_and_clear();
+
+    let meta = render_metadata(
+        &scene,
+        &options,
+        &rendered,
+        &args.scene.display().to_string(),
+    );
+    write_xyzv_exr(&args.output, &rendered, &meta)?;
+    if let Some(png) = &args.preview {
+        let rgb = preview_srgb8(&rendered.film.xyzv());
+        write_png_rgb8(png, rendered.film.width, rendered.film.height, &rgb)?;
+    }
+    let secs = rendered.elapsed.as_secs_f64();
+    eprintln!(
+        "scotopia: {} spp in {secs:.1} s ({:.2} Msamples/s) → {}",
+        rendered.spp,
+        rendered.spp as f64 * pixels as f64 / secs.max(1e-9) * 1e-6,
+        args.output.display()
+    );
+    if rendered.nonfinite > 0 {
+        eprintln!(
+            "scotopia: warning: {} samples had NaN or infinite values and were dropped",
+            rendered.nonfinite
+        );
+    }
+    if rendered.cancelled {
+        bail!(
+            "interrupted: wrote the {} spp accumulated so far",
+            rendered.spp
+        );
+    }
+    Ok(())
+}
+
+/// A bar with elapsed time, ETA and throughput on a terminal (hidden
+/// elsewhere, where `run` prints plain lines instead).
+fn progress_bar(total: u64) -> ProgressBar {
+    if total == 0 {
+        // Time-limited: a spinner.
+        let bar = ProgressBar::new_spinner();
+        if !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+            bar.set_draw_target(ProgressDrawTarget::hidden());
+        }
+        bar.set_style(
+            ProgressStyle::with_template("{spinner} {elapsed} {pos} spp {msg}")
+                .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+        );
+        return bar;
+    }
+    let bar = ProgressBar::new(total);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{bar:40} {pos}/{len} spp  {elapsed} elapsed, {eta} left  {msg}",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    if !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        bar.set_draw_target(ProgressDrawTarget::hidden());
+    }
+    bar
+}

@@ -1,0 +1,59 @@
+//! Writing a render: the X, Y, Z, V′ OpenEXR with what a reader needs to
+//! know about how it was made.
+
+use std::path::Path;
+
+use scotopia_image::{write_exr, ImageError, Meta};
+
+use crate::integrator::{RenderOptions, Rendered};
+use crate::scene::Scene;
+
+/// Header attributes of a render: fields of view in degrees, samples per
+/// pixel actually completed, the wavelength strategy and K, the seed, the
+/// render time, the scene file, and the units.
+pub fn render_metadata(
+    scene: &Scene,
+    options: &RenderOptions,
+    rendered: &Rendered,
+    scene_file: &str,
+) -> Vec<(&'static str, Meta)> {
+    let (fov_x, fov_y) = scene.camera.fov_degrees();
+    vec![
+        ("fovHorizontalDegrees", Meta::F32(fov_x)),
+        ("fovVerticalDegrees", Meta::F32(fov_y)),
+        ("samplesPerPixel", Meta::I32(rendered.spp as i32)),
+        ("wavelengthStrategy", Meta::Text(options.strategy.name().into())),
+        ("clusterSize", Meta::I32(options.cluster as i32)),
+        ("seed", Meta::I32(options.seed as i32)),
+        ("renderSeconds", Meta::F32(rendered.elapsed.as_secs_f32())),
+        ("sceneFile", Meta::Text(scene_file.into())),
+        (
+            "units",
+            Meta::Text("X, Y, Z in cd/m2 (CIE 1931, Km = 683 lm/W); V in scotopic cd/m2 (CIE 1951, K'm = 1700 lm/W)".into()),
+        ),
+        ("interrupted", Meta::I32(rendered.cancelled as i32)),
+        ("renderer", Meta::Text(format!("scotopia {}", env!("CARGO_PKG_VERSION")))),
+    ]
+}
+
+/// Writes channels X, Y, Z, V (V′) of `rendered` to `path`, atomically.
+pub fn write_xyzv_exr(
+    path: &Path,
+    rendered: &Rendered,
+    metadata: &[(&str, Meta)],
+) -> Result<(), ImageError> {
+    let px = rendered.film.xyzv();
+    let channel = |c: usize| px.iter().map(|p| p[c]).collect::<Vec<f32>>();
+    write_exr(
+        path,
+        rendered.film.width as usize,
+        rendered.film.height as usize,
+        vec![
+            ("X".into(), channel(0)),
+            ("Y".into(), channel(1)),
+            ("Z".into(), channel(2)),
+            ("V".into(), channel(3)),
+        ],
+        metadata,
+    )
+}
