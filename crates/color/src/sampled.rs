@@ -54,6 +54,16 @@ impl<const K: usize> SampledWavelengths<K> {
         self.pdf[i]
     }
 
+    /// Rotates the cluster so member `first` comes first. Drawn uniformly at
+    /// the start of a path, it makes the member a dispersive event keeps a
+    /// uniform choice among the K, whose density is then the one stored,
+    /// even when the members were drawn from different strata.
+    pub fn rotate_to_front(&mut self, first: usize) {
+        let j = first % K.max(1);
+        self.lambda.rotate_left(j);
+        self.pdf.rotate_left(j);
+    }
+
     /// Keeps only the first wavelength (a dispersive event). Its density is
     /// divided by K so the cluster-average estimator (1/K)·Σ f/p stays
     /// unbiased with one term left.

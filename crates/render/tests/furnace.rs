@@ -8,7 +8,7 @@ use std::sync::atomic::AtomicBool;
 use scotopia_color::photometry::spectrum_to_xyzv;
 use scotopia_color::{cie, Spectrum, Tabulated};
 use scotopia_render::accel::Aggregate;
-use scotopia_render::bsdf::{Bsdf, Diffuse};
+use scotopia_render::bsdf::{Bsdf, Dielectric, Diffuse, Ior};
 use scotopia_render::camera::{Camera, FovAxis};
 use scotopia_render::geometry::{Shape, Sphere, TriangleMesh};
 use scotopia_render::integrator::{render, RenderOptions};
@@ -192,6 +192,44 @@ fn inside_an_emitting_enclosure_the_radiance_is_le_over_one_minus_rho() {
             strategy.name(),
             mean_and_se(&s, strategy, 128),
             xyzv(&want),
+            2e-3,
+        );
+    }
+}
+
+#[test]
+fn a_dispersive_glass_sphere_vanishes_under_a_uniform_sky() {
+    // A lossless dielectric in a uniform radiance field is invisible, even
+    // when it disperses: the collapsed cluster must stay unbiased (a
+    // survivor always drawn from the bluest stratum would tint it).
+    let sphere = Shape::Sphere(Sphere {
+        center: Vec3::ZERO,
+        radius: 1.0,
+    });
+    let cam = camera(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, 10.0);
+    let lights = vec![Light::Constant(ConstantLight { radiance: sky() })];
+    let mut s = scene(
+        cam,
+        vec![sphere],
+        Spectrum::Constant(1.0),
+        lights,
+        vec![None],
+    );
+    let dispersive =
+        Spectrum::tabulated(Tabulated::new(vec![360.0, 830.0], vec![1.75, 1.45]).unwrap());
+    s.materials = vec![Bsdf::Dielectric(Dielectric {
+        ior: Ior {
+            interior: dispersive,
+            exterior: Spectrum::Constant(1.0),
+        },
+        specular_reflectance: Texture::constant(1.0),
+        specular_transmittance: Texture::constant(1.0),
+    })];
+    for strategy in WavelengthStrategy::ALL {
+        check(
+            strategy.name(),
+            mean_and_se(&s, strategy, 256),
+            xyzv(&sky()),
             2e-3,
         );
     }

@@ -44,13 +44,19 @@ impl Renderer<'_> {
     ) -> Option<[f32; 4]> {
         sampler.start(pixel, index);
         let [fx, fy, u_choice, u_wl] = sampler.get_4d();
-        let lens = sampler.get_2d();
+        let [lx, ly, u_first, _] = sampler.get_4d();
+        let lens = [lx, ly];
         let offset = self.filter.sample([fx, fy]);
         let film = [
             pixel[0] as f32 + 0.5 + offset[0],
             pixel[1] as f32 + 0.5 + offset[1],
         ];
         let mut wl: SampledWavelengths<K> = self.wavelengths.sample(u_choice, u_wl);
+        if !wl.secondary_terminated() {
+            // Which member survives a dispersive refraction: uniform over
+            // the cluster (stratum 0 alone would bias towards the blue).
+            wl.rotate_to_front(((u_first * K as f32) as usize).min(K - 1));
+        }
         let ray = self.scene.camera.generate_ray(film, lens);
         let radiance = self.trace(sampler, &mut wl, ray);
         let e = estimate_xyzv(&radiance, &wl);
