@@ -240,7 +240,13 @@ fn one_or_two_threads_give_the_same_bits() {
     let cube = inward_cube();
     let light = Light::Area(AreaLight::new(0, &cube, Spectrum::Constant(0.1)));
     let cam = camera(Vec3::new(0.2, -0.1, 0.3), Vec3::new(0.5, 0.4, -1.0), 60.0);
-    let s = scene(cam, vec![cube], Spectrum::Constant(0.7), vec![light], vec![Some(0)]);
+    let s = scene(
+        cam,
+        vec![cube],
+        Spectrum::Constant(0.7),
+        vec![light],
+        vec![Some(0)],
+    );
     let options = RenderOptions {
         spp: Some(8),
         seed: 11,
@@ -255,7 +261,10 @@ fn one_or_two_threads_give_the_same_bits() {
     };
     assert_eq!(run(1).film, run(2).film);
     // A different seed is a different image.
-    let other = RenderOptions { seed: 12, ..options.clone() };
+    let other = RenderOptions {
+        seed: 12,
+        ..options.clone()
+    };
     let b = render(&s, &other, &AtomicBool::new(false), &|_, _| {}).unwrap();
     assert_ne!(run(1).film, b.film);
 }

@@ -1,0 +1,127 @@
+//! `scotopia render` end to end: the EXR and its metadata, bad options,
+//! and SIGTERM writing what was accumulated.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn scenes() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
+}
+
+fn out_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("scotopia-render-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn scotopia(args: &[&str]) -> (i32, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_scotopia"))
+        .args(args)
+        .output()
+        .expect("run scotopia");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn renders_an_exr_with_channels_and_metadata() {
+    let dir = out_dir("ok");
+    let exr = dir.join("c.exr");
+    let png = dir.join("c.png");
+    let scene = scenes().join("cornell-box.xml");
+    let (code, err) = scotopia(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-D",
+        "res=16",
+        "--spp",
+        "4",
+        "--wavelengths",
+        "hero",
+        "--cluster",
+        "8",
+        "--seed",
+        "5",
+        "-o",
+        exr.to_str().unwrap(),
+        "--preview",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let img = scotopia_image::read_exr(&exr).unwrap();
+    assert_eq!((img.width, img.height), (16, 16));
+    let names: Vec<&str> = img.channels.iter().map(|c| c.0.as_str()).collect();
+    assert_eq!(names, ["V", "X", "Y", "Z"]);
+    let meta = |k: &str| img.metadata.iter().find(|m| m.0 == k).map(|m| m.1.clone());
+    assert_eq!(meta("samplesPerPixel").as_deref(), Some("4"));
+    assert_eq!(meta("wavelengthStrategy").as_deref(), Some("hero"));
+    assert_eq!(meta("clusterSize").as_deref(), Some("8"));
+    assert_eq!(meta("seed").as_deref(), Some("5"));
+    assert!(meta("fovHorizontalDegrees").is_some() && meta("sceneFile").is_some());
+    // The Cornell box's light makes a bright image in absolute units.
+    let y = &img.channels.iter().find(|c| c.0 == "Y").unwrap().1;
+    assert!(y.iter().all(|v| v.is_finite()) && y.iter().sum::<f32>() > 0.0);
+    assert!(png.exists());
+}
+
+#[test]
+fn bad_options_are_clear_errors() {
+    let scene = scenes().join("cornell-box.xml");
+    let s = scene.to_str().unwrap();
+    for (args, needle) in [
+        (vec!["--wavelengths", "rgb"], "use swc, hero or single"),
+        (vec!["--cluster", "3"], "use one of 1, 2, 4, 8, 16"),
+        (vec!["--time=-1"], "positive number of seconds"),
+        (vec!["--spp", "0"], "--spp must be positive"),
+    ] {
+        let mut all = vec!["render", s, "-o", "/nonexistent/x.exr"];
+        all.extend(args);
+        let (code, err) = scotopia(&all);
+        assert_ne!(code, 0);
+        assert!(err.contains(needle), "{err}");
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn sigterm_writes_what_was_accumulated() {
+    let dir = out_dir("term");
+    let exr = dir.join("t.exr");
+    let scene = scenes().join("cornell-box.xml");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_scotopia"))
+        .args([
+            "render",
+            scene.to_str().unwrap(),
+            "-D",
+            "res=64",
+            "--spp",
+            "1000000",
+            "-o",
+            exr.to_str().unwrap(),
+        ])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let _ = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status();
+    let status = child.wait().unwrap();
+    assert!(!status.success());
+    let img = scotopia_image::read_exr(&exr).expect("the partial image is written");
+    let spp: u32 = img
+        .metadata
+        .iter()
+        .find(|m| m.0 == "samplesPerPixel")
+        .unwrap()
+        .1
+        .parse()
+        .unwrap();
+    assert!(spp > 0 && spp < 1_000_000, "{spp}");
+    assert!(img
+        .metadata
+        .iter()
+        .any(|m| m.0 == "interrupted" && m.1 == "1"));
+}
