@@ -6,7 +6,8 @@ The colour-science core: spectra (``Spectrum``), the CIE observers
 (``Spectrum.from_rgb``) and its accuracy (``round_trip``).
 
 ``spectrum(...)`` is the Python form of the ``scotopia spectrum`` command,
-``scene_info(path)`` of ``scotopia info``.
+``scene_info(path)`` of ``scotopia info``, ``render(path, ...)`` of
+``scotopia render`` (an H × W × 4 array of X, Y, Z, V′ and a metadata dict).
 """
 
 from ._scotopia import (  # noqa: F401
@@ -25,6 +26,7 @@ from ._scotopia import (  # noqa: F401
     oklab_to_xyz,
     oklch_to_oklab,
     planck,
+    render,
     rgb_to_xyz,
     rgb_to_xyz_matrix,
     round_trip,

@@ -3,6 +3,7 @@
 
 mod arrays;
 mod colour;
+mod render;
 mod report;
 mod scene;
 mod spectrum;
@@ -31,5 +32,6 @@ fn _scotopia(m: &Bound<'_, PyModule>) -> PyResult<()> {
     colour::register(m)?;
     report::register(m)?;
     scene::register(m)?;
+    render::register(m)?;
     Ok(())
 }

@@ -1,0 +1,82 @@
+//! `scotopia render` for Python: `render(path, ...)` returns the X, Y, Z,
+//! V′ image as an H × W × 4 float32 array and the metadata as a dict.
+
+use std::collections::HashMap;
+use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use std::time::Duration;
+
+use numpy::ndarray::Array3;
+use numpy::{IntoPyArray, PyArray3};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use scotopia_image::Meta;
+use scotopia_render::integrator::{render as render_scene, RenderOptions};
+use scotopia_render::output::{render_metadata, write_xyzv_exr};
+use scotopia_render::wavelength::WavelengthStrategy;
+use scotopia_scene::load_scene;
+
+/// Renders a Mitsuba 3 XML scene (the `scotopia render` verb). Returns
+/// `(image, metadata)`: image[y, x] = (X, Y, Z, V′) in cd/m² and scotopic
+/// cd/m². `output` also writes the OpenEXR. The GIL is released while
+/// rendering.
+#[pyfunction]
+#[pyo3(signature = (path, spp = None, time = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, output = None))]
+#[allow(clippy::too_many_arguments)]
+fn render<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    spp: Option<u32>,
+    time: Option<f64>,
+    seed: u32,
+    wavelengths: &str,
+    cluster: usize,
+    params: Option<HashMap<String, String>>,
+    output: Option<PathBuf>,
+) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
+    let err = |e: String| PyValueError::new_err(e);
+    let strategy = WavelengthStrategy::from_name(wavelengths).ok_or_else(|| {
+        err(format!(
+            "wavelengths '{wavelengths}': use swc, hero or single"
+        ))
+    })?;
+    let time_limit = match time {
+        Some(t) if t.is_finite() && t > 0.0 => Some(Duration::from_secs_f64(t)),
+        Some(t) => return Err(err(format!("time {t}: must be positive seconds"))),
+        None => None,
+    };
+    let scene = load_scene(&path, &params.unwrap_or_default()).map_err(|e| err(e.to_string()))?;
+    let options = RenderOptions {
+        spp,
+        time_limit,
+        seed,
+        strategy,
+        cluster,
+    };
+    let rendered = py
+        .detach(|| render_scene(&scene, &options, &AtomicBool::new(false), &|_, _| {}))
+        .map_err(|e| err(e.to_string()))?;
+    let meta = render_metadata(&scene, &options, &rendered, &path.display().to_string());
+    if let Some(out) = output {
+        write_xyzv_exr(&out, &rendered, &meta).map_err(|e| err(e.to_string()))?;
+    }
+    let (w, h) = (rendered.film.width as usize, rendered.film.height as usize);
+    let flat: Vec<f32> = rendered.film.xyzv().into_iter().flatten().collect();
+    let image = Array3::from_shape_vec((h, w, 4), flat).map_err(|e| err(e.to_string()))?;
+    let d = PyDict::new(py);
+    for (k, v) in meta {
+        match v {
+            Meta::Text(t) => d.set_item(k, t)?,
+            Meta::F32(f) => d.set_item(k, f)?,
+            Meta::I32(i) => d.set_item(k, i)?,
+        }
+    }
+    d.set_item("nonfiniteSamples", rendered.nonfinite)?;
+    Ok((image.into_pyarray(py), d))
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(render, m)?)?;
+    Ok(())
+}
