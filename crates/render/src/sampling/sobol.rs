@@ -47,19 +47,45 @@ const fn directions() -> [[u32; 32]; 4] {
 
 const DIRECTIONS: [[u32; 32]; 4] = directions();
 
+/// Per dimension and index byte, the XOR of the direction numbers of every
+/// 8-bit pattern: a coordinate is then four lookups, not a loop over bits
+/// (the shuffled indices of padded sampling use all 32).
+const fn byte_tables() -> [[[u32; 256]; 4]; 4] {
+    let mut t = [[[0u32; 256]; 4]; 4];
+    let mut d = 0;
+    while d < 4 {
+        let mut b = 0;
+        while b < 4 {
+            let mut pattern = 0;
+            while pattern < 256 {
+                let mut x = 0;
+                let mut bit = 0;
+                while bit < 8 {
+                    if (pattern >> bit) & 1 == 1 {
+                        x ^= DIRECTIONS[d][b * 8 + bit];
+                    }
+                    bit += 1;
+                }
+                t[d][b][pattern] = x;
+                pattern += 1;
+            }
+            b += 1;
+        }
+        d += 1;
+    }
+    t
+}
+
+static BYTE_TABLES: [[[u32; 256]; 4]; 4] = byte_tables();
+
 /// The `index`-th point's coordinate in Sobol dimension `dim` < 4, as 32 bits.
 #[inline]
-pub fn sobol(mut index: u32, dim: usize) -> u32 {
-    let mut x = 0;
-    let mut k = 0;
-    while index != 0 {
-        if index & 1 == 1 {
-            x ^= DIRECTIONS[dim][k];
-        }
-        index >>= 1;
-        k += 1;
-    }
-    x
+pub fn sobol(index: u32, dim: usize) -> u32 {
+    let t = &BYTE_TABLES[dim];
+    t[0][(index & 0xff) as usize]
+        ^ t[1][((index >> 8) & 0xff) as usize]
+        ^ t[2][((index >> 16) & 0xff) as usize]
+        ^ t[3][(index >> 24) as usize]
 }
 
 /// Laine & Karras's hash permutation as Burley 2020 (listing 3) improves it:
@@ -256,6 +282,21 @@ mod tests {
             worst = worst.max((sum / 256.0 - exact).abs());
         }
         assert!(worst < 0.005, "{worst}");
+    }
+
+    #[test]
+    fn byte_tables_match_the_bitwise_definition() {
+        for index in [0u32, 1, 2, 3, 255, 256, 0xdead_beef, u32::MAX] {
+            for dim in 0..4 {
+                let mut want = 0;
+                for k in 0..32 {
+                    if (index >> k) & 1 == 1 {
+                        want ^= DIRECTIONS[dim][k];
+                    }
+                }
+                assert_eq!(sobol(index, dim), want);
+            }
+        }
     }
 
     #[test]
