@@ -287,13 +287,12 @@ mod tests {
     #[test]
     fn byte_tables_match_the_bitwise_definition() {
         for index in [0u32, 1, 2, 3, 255, 256, 0xdead_beef, u32::MAX] {
-            for dim in 0..4 {
-                let mut want = 0;
-                for k in 0..32 {
-                    if (index >> k) & 1 == 1 {
-                        want ^= DIRECTIONS[dim][k];
-                    }
-                }
+            for (dim, dirs) in DIRECTIONS.iter().enumerate() {
+                let want = dirs
+                    .iter()
+                    .enumerate()
+                    .filter(|(k, _)| (index >> k) & 1 == 1)
+                    .fold(0, |x, (_, v)| x ^ v);
                 assert_eq!(sobol(index, dim), want);
             }
         }
