@@ -13,16 +13,17 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use scotopia_image::Meta;
 use scotopia_render::integrator::{render as render_scene, RenderOptions};
-use scotopia_render::output::{render_metadata, write_xyzv_exr};
+use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_exr};
 use scotopia_render::wavelength::WavelengthStrategy;
 use scotopia_scene::load_scene;
 
 /// Renders a Mitsuba 3 XML scene (the `scotopia render` verb). Returns
 /// `(image, metadata)`: image[y, x] = (X, Y, Z, V′) in cd/m² and scotopic
-/// cd/m². `output` also writes the OpenEXR. The GIL is released while
+/// cd/m². `output` also writes the OpenEXR, `spectral` the spectral
+/// OpenEXR (Fichet et al. 2021) with `bands` bands. The GIL is released while
 /// rendering.
 #[pyfunction]
-#[pyo3(signature = (path, spp = None, time = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, output = None))]
+#[pyo3(signature = (path, spp = None, time = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, output = None, spectral = None, bands = 47))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
@@ -34,6 +35,8 @@ fn render<'py>(
     cluster: usize,
     params: Option<HashMap<String, String>>,
     output: Option<PathBuf>,
+    spectral: Option<PathBuf>,
+    bands: usize,
 ) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
     let err = |e: String| PyValueError::new_err(e);
     let strategy = WavelengthStrategy::from_name(wavelengths).ok_or_else(|| {
@@ -53,6 +56,7 @@ fn render<'py>(
         seed,
         strategy,
         cluster,
+        bands: spectral.is_some().then_some(bands),
     };
     let rendered = py
         .detach(|| render_scene(&scene, &options, &AtomicBool::new(false), &|_, _| {}))
@@ -60,6 +64,9 @@ fn render<'py>(
     let meta = render_metadata(&scene, &options, &rendered, &path.display().to_string());
     if let Some(out) = output {
         write_xyzv_exr(&out, &rendered, &meta).map_err(|e| err(e.to_string()))?;
+    }
+    if let Some(out) = spectral {
+        write_spectral_exr(&out, &rendered, &meta).map_err(|e| err(e.to_string()))?;
     }
     let (w, h) = (rendered.film.width as usize, rendered.film.height as usize);
     let flat: Vec<f32> = rendered.film.xyzv().into_iter().flatten().collect();

@@ -125,3 +125,50 @@ fn sigterm_writes_what_was_accumulated() {
         .iter()
         .any(|m| m.0 == "interrupted" && m.1 == "1"));
 }
+
+#[test]
+fn spectral_exr_follows_fichet_2021_and_integrates_to_y() {
+    let dir = out_dir("spectral");
+    let (exr, spectral) = (dir.join("c.exr"), dir.join("s.exr"));
+    let scene = scenes().join("cornell-box.xml");
+    let (code, err) = scotopia(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-D",
+        "res=12",
+        "--spp",
+        "64",
+        "-o",
+        exr.to_str().unwrap(),
+        "--spectral",
+        spectral.to_str().unwrap(),
+        "--bands",
+        "94",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let s = scotopia_image::read_exr(&spectral).unwrap();
+    assert_eq!(s.channels.len(), 94);
+    assert!(
+        s.channels.iter().any(|c| c.0 == "S0.362,500000nm"),
+        "{:?}",
+        s.channels[0].0
+    );
+    assert!(s
+        .metadata
+        .iter()
+        .any(|m| m.0 == "emissiveUnits" && m.1 == "W.m^-2.sr^-1"));
+    // 683 Σ L_band ȳ(λ_band) Δλ reproduces the Y image (5 nm bands).
+    let xyz = scotopia_image::read_exr(&exr).unwrap();
+    let y = &xyz.channels.iter().find(|c| c.0 == "Y").unwrap().1;
+    let mean_y = y.iter().map(|v| *v as f64).sum::<f64>() / y.len() as f64;
+    let mut from_bands = 0.0;
+    for (name, values) in &s.channels {
+        let lambda: f64 = name[3..name.len() - 2].replace(',', ".").parse().unwrap();
+        let mean = values.iter().map(|v| *v as f64).sum::<f64>() / values.len() as f64;
+        from_bands += 683.0 * mean * scotopia_color::cie::xyz_bar(lambda as f32)[1] as f64 * 5.0;
+    }
+    assert!(
+        (from_bands / mean_y - 1.0).abs() < 0.01,
+        "{from_bands} vs {mean_y}"
+    );
+}

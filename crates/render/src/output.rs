@@ -57,3 +57,39 @@ pub fn write_xyzv_exr(
         metadata,
     )
 }
+
+/// The Fichet, Pacanowski & Wilkie 2021 channel name of an emissive band
+/// centred at `lambda` nm: `S0.550,000000nm` (a comma as decimal mark).
+pub fn spectral_channel_name(lambda: f32) -> String {
+    format!("S0.{}nm", format!("{lambda:.6}").replace('.', ","))
+}
+
+/// Writes the film's spectral bands as a spectral OpenEXR (Fichet et al.
+/// 2021, JCGT 10(3)): one `S0.<λ>nm` channel per band centre, the band's
+/// mean spectral radiance, with the layout's `emissiveUnits` attribute.
+pub fn write_spectral_exr(
+    path: &Path,
+    rendered: &Rendered,
+    metadata: &[(&str, Meta)],
+) -> Result<(), ImageError> {
+    let film = &rendered.film;
+    let Some(bands) = film.bands else {
+        return Err(ImageError::Invalid(format!(
+            "{}: the render has no spectral bands",
+            path.display()
+        )));
+    };
+    let channels = (0..bands.0)
+        .map(|i| (spectral_channel_name(bands.centre(i)), film.band_means(i)))
+        .collect();
+    let mut meta: Vec<(&str, Meta)> = metadata.to_vec();
+    meta.push(("emissiveUnits", Meta::Text("W.m^-2.sr^-1".into())));
+    meta.push(("spectralBandWidthNm", Meta::F32(bands.width())));
+    write_exr(
+        path,
+        film.width as usize,
+        film.height as usize,
+        channels,
+        &meta,
+    )
+}

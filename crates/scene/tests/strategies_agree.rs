@@ -30,10 +30,17 @@ fn swc_hero_and_single_agree_on_the_cornell_box() {
             .xyzv()
     };
     let swc = image(WavelengthStrategy::Swc, 1);
-    for (other, seed) in [(WavelengthStrategy::Hero, 2), (WavelengthStrategy::Single, 3)] {
+    for (other, seed) in [
+        (WavelengthStrategy::Hero, 2),
+        (WavelengthStrategy::Single, 3),
+    ] {
         let b = image(other, seed);
         for c in 0..4 {
-            let d: Vec<f64> = swc.iter().zip(&b).map(|(p, q)| (p[c] - q[c]) as f64).collect();
+            let d: Vec<f64> = swc
+                .iter()
+                .zip(&b)
+                .map(|(p, q)| (p[c] - q[c]) as f64)
+                .collect();
             let n = d.len() as f64;
             let mean = d.iter().sum::<f64>() / n;
             let se = (d.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0) / n).sqrt();

@@ -3,8 +3,10 @@
 //! how many there were. Each sample belongs to one pixel (see `filter`).
 
 mod filter;
+mod spectral;
 
 pub use filter::FilterSampler;
+pub use spectral::Bands;
 
 /// Accumulated estimates of one pixel.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -31,21 +33,54 @@ impl PixelSum {
     }
 }
 
-/// A width × height image of pixel sums, row-major, top row first.
+/// A width × height image of pixel sums, row-major, top row first, with
+/// optional spectral band sums.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Film {
     pub width: u32,
     pub height: u32,
     pub pixels: Vec<PixelSum>,
+    pub bands: Option<Bands>,
+    /// Band sums, `row_stride()` values per row (one unused slot per row
+    /// when there are no bands, so rows can be split the same way).
+    pub spectral: Vec<f64>,
 }
 
 impl Film {
-    pub fn new(width: u32, height: u32) -> Self {
-        Self {
+    pub fn new(width: u32, height: u32, bands: Option<Bands>) -> Self {
+        let mut film = Self {
             width,
             height,
             pixels: vec![PixelSum::default(); width as usize * height as usize],
-        }
+            bands,
+            spectral: Vec::new(),
+        };
+        film.spectral = vec![0.0; film.row_stride() * height as usize];
+        film
+    }
+
+    /// Spectral values per row.
+    pub fn row_stride(&self) -> usize {
+        self.bands.map_or(1, |b| b.0 * self.width as usize)
+    }
+
+    /// Mean spectral radiance of band `band` per pixel (row-major).
+    pub fn band_means(&self, band: usize) -> Vec<f32> {
+        let Some(b) = self.bands else {
+            return Vec::new();
+        };
+        self.pixels
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                let s = self.spectral[i * b.0 + band];
+                if p.samples == 0 {
+                    0.0
+                } else {
+                    (s / p.samples as f64) as f32
+                }
+            })
+            .collect()
     }
 
     /// Means as a row-major H × W × 4 array of X, Y, Z, V′.

@@ -4,12 +4,14 @@
 
 mod path;
 
+pub use path::CameraSample;
+
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
 
-use crate::film::{Film, FilterSampler, PixelSum};
+use crate::film::{Bands, Film, FilterSampler};
 use crate::light::{Light, SceneExtent};
 use crate::math::Vec3;
 use crate::sampling::distribution::Distribution1D;
@@ -31,6 +33,8 @@ pub struct RenderOptions {
     pub strategy: WavelengthStrategy,
     /// Wavelengths per path, one of `CLUSTER_SIZES`.
     pub cluster: usize,
+    /// Also accumulate spectral radiance in this many bands.
+    pub bands: Option<usize>,
 }
 
 impl Default for RenderOptions {
@@ -41,6 +45,7 @@ impl Default for RenderOptions {
             seed: 0,
             strategy: WavelengthStrategy::Swc,
             cluster: 4,
+            bands: None,
         }
     }
 }
@@ -65,6 +70,8 @@ pub enum RenderError {
     Cluster(usize),
     #[error("samples per pixel must be positive")]
     Spp,
+    #[error("spectral bands must number 1 to 471 (at least 1 nm wide)")]
+    Bands,
 }
 
 /// Per-scene state shared by all samples.
@@ -129,24 +136,27 @@ impl<'a> Renderer<'a> {
 
     /// Adds samples `first..first + count` to every pixel of `rows`
     /// (row-major pixel sums of the whole film), returning dropped ones.
-    fn pass<const K: usize>(
-        &self,
-        seed: u32,
-        pixels: &mut [PixelSum],
-        first: u32,
-        count: u32,
-    ) -> u64 {
-        let width = self.scene.camera.width as usize;
-        pixels
+    fn pass<const K: usize>(&self, seed: u32, film: &mut Film, first: u32, count: u32) -> u64 {
+        let width = film.width as usize;
+        let stride = film.row_stride();
+        let bands = film.bands;
+        film.pixels
             .par_chunks_mut(width)
+            .zip(film.spectral.par_chunks_mut(stride))
             .enumerate()
-            .map(|(y, row)| {
+            .map(|(y, (row, spectral))| {
                 let mut sampler = Sampler::new(seed);
                 let mut dropped = 0;
                 for (x, px) in row.iter_mut().enumerate() {
                     for i in first..first + count {
                         match self.sample_pixel::<K>(&mut sampler, [x as u32, y as u32], i) {
-                            Some(e) => px.add(e),
+                            Some(s) => {
+                                px.add(s.xyzv);
+                                if let Some(b) = bands {
+                                    let sums = &mut spectral[x * b.0..(x + 1) * b.0];
+                                    b.add(sums, &s.radiance, &s.wl);
+                                }
+                            }
                             None => dropped += 1,
                         }
                     }
@@ -192,7 +202,12 @@ fn render_k<const K: usize>(
     }
     let start = Instant::now();
     let renderer = Renderer::new(scene, options.strategy);
-    let mut film = Film::new(scene.camera.width, scene.camera.height);
+    let bands = match options.bands {
+        Some(n) if (1..=471).contains(&n) => Some(Bands(n)),
+        Some(_) => return Err(RenderError::Bands),
+        None => None,
+    };
+    let mut film = Film::new(scene.camera.width, scene.camera.height, bands);
     let dropped = AtomicU64::new(0);
     let mut done = 0;
     let mut cancelled = false;
@@ -208,7 +223,7 @@ fn render_k<const K: usize>(
             break;
         }
         let count = step.min(total - done);
-        let d = renderer.pass::<K>(options.seed, &mut film.pixels, done, count);
+        let d = renderer.pass::<K>(options.seed, &mut film, done, count);
         dropped.fetch_add(d, Ordering::Relaxed);
         done += count;
         step = (step * 2).min(16);

@@ -13,6 +13,13 @@ use crate::light::Light;
 use crate::math::{offset_ray_origin, Frame, Ray, Vec3};
 use crate::sampling::sobol::Sampler;
 
+/// What one camera sample found.
+pub struct CameraSample<const K: usize> {
+    pub xyzv: [f32; 4],
+    pub radiance: SampledSpectrum<K>,
+    pub wl: SampledWavelengths<K>,
+}
+
 /// The power heuristic's weight of a strategy with density `a` against `b`.
 #[inline]
 fn power_heuristic(a: f32, b: f32) -> f32 {
@@ -34,14 +41,15 @@ fn spawn(p: Vec3, n: Vec3, d: Vec3) -> Ray {
 }
 
 impl Renderer<'_> {
-    /// One camera sample of `pixel`: its X, Y, Z, V′ estimate, or `None`
-    /// when the estimate is not finite (counted by the caller).
+    /// One camera sample of `pixel`: its X, Y, Z, V′ estimate and the
+    /// cluster's radiance, or `None` when the estimate is not finite
+    /// (counted by the caller).
     pub fn sample_pixel<const K: usize>(
         &self,
         sampler: &mut Sampler,
         pixel: [u32; 2],
         index: u32,
-    ) -> Option<[f32; 4]> {
+    ) -> Option<CameraSample<K>> {
         sampler.start(pixel, index);
         let [fx, fy, u_choice, u_wl] = sampler.get_4d();
         let [lx, ly, u_first, _] = sampler.get_4d();
@@ -59,8 +67,9 @@ impl Renderer<'_> {
         }
         let ray = self.scene.camera.generate_ray(film, lens);
         let radiance = self.trace(sampler, &mut wl, ray);
-        let e = estimate_xyzv(&radiance, &wl);
-        e.iter().all(|v| v.is_finite()).then_some(e)
+        let xyzv = estimate_xyzv(&radiance, &wl);
+        let finite = xyzv.iter().all(|v| v.is_finite()) && radiance.0.iter().all(|v| v.is_finite());
+        finite.then_some(CameraSample { xyzv, radiance, wl })
     }
 
     /// Radiance arriving along `ray` on the cluster `wl` (which a
