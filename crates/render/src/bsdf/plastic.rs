@@ -42,6 +42,44 @@ pub fn diffuse_fresnel_reflectance(eta: f32) -> f32 {
     (sum / n as f64) as f32
 }
 
+/// The specular lobe's share of lobe choice, by the mean reflectances.
+pub(super) fn specular_weight(diffuse: &Texture, specular: &Texture) -> f32 {
+    let (d, s) = (diffuse.mean(), specular.mean());
+    if d + s > 0.0 {
+        s / (d + s)
+    } else {
+        0.5
+    }
+}
+
+/// Probability of choosing the specular lobe when the coating reflects a
+/// share `r` of the incident light.
+pub(super) fn specular_probability(r: f32, weight: f32) -> f32 {
+    let s = r * weight;
+    let d = (1.0 - r) * (1.0 - weight);
+    if s + d > 0.0 {
+        s / (s + d)
+    } else {
+        0.0
+    }
+}
+
+/// The substrate's albedo ρ after the coating's internal reflections
+/// (albedo `internal`): ρ / (1 − F_int), or ρ / (1 − ρ F_int) when
+/// `nonlinear`.
+pub(super) fn substrate<const K: usize>(
+    rho: SampledSpectrum<K>,
+    internal: f32,
+    nonlinear: bool,
+) -> SampledSpectrum<K> {
+    let denominator = if nonlinear {
+        SampledSpectrum::splat(1.0) - rho * internal
+    } else {
+        SampledSpectrum::splat(1.0 - internal)
+    };
+    rho.safe_div(&denominator)
+}
+
 impl Plastic {
     pub fn new(
         diffuse_reflectance: Texture,
@@ -49,26 +87,13 @@ impl Plastic {
         eta: f32,
         nonlinear: bool,
     ) -> Self {
-        // Mean reflectances set the lobe choice.
-        let (d, s) = (diffuse_reflectance.mean(), specular_reflectance.mean());
         Self {
             fdr_internal: diffuse_fresnel_reflectance(1.0 / eta),
-            specular_weight: if d + s > 0.0 { s / (d + s) } else { 0.5 },
+            specular_weight: specular_weight(&diffuse_reflectance, &specular_reflectance),
             diffuse_reflectance,
             specular_reflectance,
             eta,
             nonlinear,
-        }
-    }
-
-    /// Probability of choosing the specular lobe at incidence cosine `ci`.
-    fn specular_probability(&self, f_i: f32) -> f32 {
-        let s = f_i * self.specular_weight;
-        let d = (1.0 - f_i) * (1.0 - self.specular_weight);
-        if s + d > 0.0 {
-            s / (s + d)
-        } else {
-            0.0
         }
     }
 
@@ -85,20 +110,16 @@ impl Plastic {
         let f_i = fresnel_dielectric(wi.z, self.eta).0;
         let f_o = fresnel_dielectric(wo.z, self.eta).0;
         let rho = self.diffuse_reflectance.eval(wl, uv);
-        let denominator = if self.nonlinear {
-            SampledSpectrum::splat(1.0) - rho * self.fdr_internal
-        } else {
-            SampledSpectrum::splat(1.0 - self.fdr_internal)
-        };
         let scale = (1.0 - f_i) * (1.0 - f_o) * FRAC_1_PI * wo.z / (self.eta * self.eta);
-        rho.safe_div(&denominator) * scale
+        substrate(rho, self.fdr_internal, self.nonlinear) * scale
     }
 
     pub fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return 0.0;
         }
-        let p_spec = self.specular_probability(fresnel_dielectric(wi.z, self.eta).0);
+        let p_spec =
+            specular_probability(fresnel_dielectric(wi.z, self.eta).0, self.specular_weight);
         (1.0 - p_spec) * wo.z * FRAC_1_PI
     }
 
@@ -114,7 +135,7 @@ impl Plastic {
             return None;
         }
         let f_i = fresnel_dielectric(wi.z, self.eta).0;
-        let p_spec = self.specular_probability(f_i);
+        let p_spec = specular_probability(f_i, self.specular_weight);
         if u_lobe < p_spec {
             return Some(BsdfSample {
                 wo: reflect(wi),

@@ -12,6 +12,7 @@ use std::f32::consts::FRAC_1_PI;
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
+use super::plastic::{specular_probability, specular_weight, substrate};
 use super::{fresnel_dielectric, reflect_about, BsdfSample, Ggx};
 use crate::math::Vec3;
 use crate::sampling::warp::square_to_cosine_hemisphere;
@@ -60,8 +61,8 @@ impl RoughPlastic {
             })
             .sum::<f32>()
             / TABLE as f32;
-        let (d, s) = (diffuse_reflectance.mean(), specular_reflectance.mean());
         Self {
+            specular_weight: specular_weight(&diffuse_reflectance, &specular_reflectance),
             diffuse_reflectance,
             specular_reflectance,
             eta,
@@ -69,7 +70,6 @@ impl RoughPlastic {
             nonlinear,
             external_transmittance,
             internal_reflectance,
-            specular_weight: if d + s > 0.0 { s / (d + s) } else { 0.5 },
         }
     }
 
@@ -93,14 +93,7 @@ impl RoughPlastic {
 
     /// Probability of choosing the glossy lobe at incidence cosine `ci`.
     fn specular_probability(&self, ci: f32) -> f32 {
-        let t = self.transmittance(ci);
-        let s = (1.0 - t) * self.specular_weight;
-        let d = t * (1.0 - self.specular_weight);
-        if s + d > 0.0 {
-            s / (s + d)
-        } else {
-            0.0
-        }
+        specular_probability(1.0 - self.transmittance(ci), self.specular_weight)
     }
 
     pub fn eval<const K: usize>(
@@ -118,14 +111,10 @@ impl RoughPlastic {
         let glossy =
             fresnel_dielectric(wi.dot(h), self.eta).0 * ggx.d(h) * ggx.g(wi, wo, h) / (4.0 * wi.z);
         let rho = self.diffuse_reflectance.eval(wl, uv);
-        let denominator = if self.nonlinear {
-            SampledSpectrum::splat(1.0) - rho * self.internal_reflectance
-        } else {
-            SampledSpectrum::splat(1.0 - self.internal_reflectance)
-        };
         let scale = self.transmittance(wi.z) * self.transmittance(wo.z) * FRAC_1_PI * wo.z
             / (self.eta * self.eta);
-        self.specular_reflectance.eval(wl, uv) * glossy + rho.safe_div(&denominator) * scale
+        self.specular_reflectance.eval(wl, uv) * glossy
+            + substrate(rho, self.internal_reflectance, self.nonlinear) * scale
     }
 
     pub fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {

@@ -46,9 +46,15 @@ pub fn build_sensor(b: &mut Builder, node: &Node) -> Result<Sensor, SceneError> 
                     let rp = Props::new(f);
                     filter = match t {
                         "box" => Filter::Box,
-                        "gaussian" => Filter::Gaussian {
-                            stddev: rp.float("stddev", 0.5)?,
-                        },
+                        "gaussian" => {
+                            let stddev = rp.float("stddev", 0.5)?;
+                            if !(stddev.is_finite() && stddev > 0.0) {
+                                return Err(f.error(format!(
+                                    "gaussian stddev must be positive, got {stddev}"
+                                )));
+                            }
+                            Filter::Gaussian { stddev }
+                        }
                         other => {
                             b.warn(
                                 f,
