@@ -4,7 +4,7 @@ use crate::math::{Ray, Vec3};
 
 /// γ₃ = 3u/(1 − 3u), u the unit roundoff (pbrt-v4 §6.8.1): the relative
 /// error bound of the slab distances.
-const GAMMA3: f32 = 3.0 * (f32::EPSILON * 0.5) / (1.0 - 3.0 * (f32::EPSILON * 0.5));
+pub(super) const GAMMA3: f32 = 3.0 * (f32::EPSILON * 0.5) / (1.0 - 3.0 * (f32::EPSILON * 0.5));
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Aabb {
@@ -65,27 +65,36 @@ impl Aabb {
         2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
     }
 
-    /// Slab test: the entry distance if the ray meets the box within (0, t_max).
-    /// `inv_d` is 1/d per component. Robust to ±∞ in `inv_d` and scaled by
+    /// Slab test: whether the ray meets the box within (0, t_max). `inv_d`
+    /// is 1/d per component. Robust to ±∞ in `inv_d` and scaled by
     /// 1 + 2γ₃ so grazing hits are not lost to rounding (pbrt-v4 §6.1.2).
     #[inline]
     pub fn hit(&self, ray: &Ray, inv_d: Vec3, t_max: f32) -> bool {
-        let mut t0 = 0.0f32;
-        let mut t1 = t_max;
-        for a in 0..3 {
-            let mut near = (self.min[a] - ray.o[a]) * inv_d[a];
-            let mut far = (self.max[a] - ray.o[a]) * inv_d[a];
-            if near > far {
-                std::mem::swap(&mut near, &mut far);
+        let neg = [inv_d.x < 0.0, inv_d.y < 0.0, inv_d.z < 0.0];
+        self.hit_signed(ray.o, inv_d, neg, t_max)
+    }
+
+    /// The slab test with the ray's direction signs precomputed: the near
+    /// plane of each slab is chosen by sign, not by comparing distances,
+    /// so the test is branch-free. A NaN distance (0·∞, when the origin
+    /// lies on a slab plane) leaves the bound as it was: the comparisons
+    /// below return their second operand then (and compile to single
+    /// minss/maxss, unlike `f32::min`, which also checks the second).
+    #[inline]
+    pub fn hit_signed(&self, o: Vec3, inv_d: Vec3, neg: [bool; 3], t_max: f32) -> bool {
+        let pick = |a: usize, far: bool| {
+            if neg[a] != far {
+                self.max[a]
+            } else {
+                self.min[a]
             }
-            far *= 1.0 + 2.0 * GAMMA3;
-            // NaN (0·∞ when the origin lies on a slab plane) keeps the old bound.
-            t0 = if near > t0 { near } else { t0 };
-            t1 = if far < t1 { far } else { t1 };
-            if t0 > t1 {
-                return false;
-            }
-        }
-        true
+        };
+        let near = |a: usize| (pick(a, false) - o[a]) * inv_d[a];
+        let far = |a: usize| (pick(a, true) - o[a]) * inv_d[a] * (1.0 + 2.0 * GAMMA3);
+        let max = |a: f32, b: f32| if a > b { a } else { b };
+        let min = |a: f32, b: f32| if a < b { a } else { b };
+        let t0 = max(near(0), max(near(1), max(near(2), 0.0)));
+        let t1 = min(far(0), min(far(1), min(far(2), t_max)));
+        t0 <= t1
     }
 }

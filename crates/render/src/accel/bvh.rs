@@ -1,9 +1,12 @@
 //! A bounding volume hierarchy built with the binned surface-area heuristic
 //! (Wald 2007, "On fast Construction of SAH-based Bounding Volume
-//! Hierarchies"), in parallel, then flattened depth-first for traversal.
+//! Hierarchies"), in parallel, then collapsed into a 4-wide tree for
+//! traversal (as Embree's BVH4, Wald et al. 2014): each node tests its four
+//! child boxes at once, in a form the compiler turns into SIMD.
 
 use rayon::prelude::*;
 
+use super::aabb::GAMMA3;
 use super::Aabb;
 use crate::math::{Ray, Vec3};
 
@@ -16,23 +19,11 @@ const TRAVERSAL_COST: f32 = 0.5;
 /// Subtrees larger than this are built in parallel.
 const PARALLEL_MIN: usize = 4096;
 
-/// One node of the flattened tree: 32 bytes.
-#[derive(Debug, Clone, Copy)]
-struct Node {
-    bounds: Aabb,
-    /// Leaf: first index into `order`; interior: index of the second child
-    /// (the first child follows the node).
-    offset: u32,
-    /// Primitives in a leaf; 0 for an interior node.
-    count: u16,
-    /// Split axis of an interior node.
-    axis: u16,
-}
-
 /// A BVH over primitives given by their bounds.
 #[derive(Debug, Clone)]
 pub struct Bvh {
-    nodes: Vec<Node>,
+    nodes: Vec<Node4>,
+    bounds: Aabb,
     /// Primitive indices in leaf order.
     order: Vec<u32>,
 }
@@ -52,19 +43,8 @@ enum BuildNode {
     },
     Interior {
         bounds: Aabb,
-        axis: usize,
         children: Box<[BuildNode; 2]>,
-        size: usize,
     },
-}
-
-impl BuildNode {
-    fn node_count(&self) -> usize {
-        match self {
-            BuildNode::Leaf { .. } => 1,
-            BuildNode::Interior { size, .. } => *size,
-        }
-    }
 }
 
 fn build(items: &mut [Item], start: usize) -> BuildNode {
@@ -144,44 +124,9 @@ fn build(items: &mut [Item], start: usize) -> BuildNode {
     } else {
         (build(l, start), build(r, start + mid))
     };
-    let size = 1 + a.node_count() + b.node_count();
     BuildNode::Interior {
         bounds,
-        axis,
         children: Box::new([a, b]),
-        size,
-    }
-}
-
-fn flatten(node: &BuildNode, nodes: &mut Vec<Node>) {
-    match node {
-        BuildNode::Leaf {
-            bounds,
-            start,
-            count,
-        } => nodes.push(Node {
-            bounds: *bounds,
-            offset: *start as u32,
-            count: *count as u16,
-            axis: 0,
-        }),
-        BuildNode::Interior {
-            bounds,
-            axis,
-            children,
-            ..
-        } => {
-            let here = nodes.len();
-            nodes.push(Node {
-                bounds: *bounds,
-                offset: 0,
-                count: 0,
-                axis: *axis as u16,
-            });
-            flatten(&children[0], nodes);
-            nodes[here].offset = nodes.len() as u32;
-            flatten(&children[1], nodes);
-        }
     }
 }
 
@@ -202,114 +147,330 @@ impl Bvh {
         if items.is_empty() {
             return Self {
                 nodes: Vec::new(),
+                bounds: Aabb::EMPTY,
                 order: Vec::new(),
             };
         }
         // Leaves hold at most u16::MAX primitives; the count split guarantees
         // far fewer (MAX_LEAF, or one degenerate cluster halved until small).
         let root = build(&mut items, 0);
-        let mut nodes = Vec::with_capacity(root.node_count());
-        flatten(&root, &mut nodes);
         Self {
-            nodes,
+            nodes: collapse(&root),
+            bounds: root.bounds(),
             order: items.iter().map(|it| it.index).collect(),
         }
     }
 
+    /// Primitive indices in leaf order: `traverse` reports positions in it.
+    pub fn order(&self) -> &[u32] {
+        &self.order
+    }
+
+    /// Nodes of the 4-wide tree.
     pub fn node_count(&self) -> usize {
         self.nodes.len()
     }
 
     /// Bounds of everything.
     pub fn bounds(&self) -> Aabb {
-        self.nodes.first().map_or(Aabb::EMPTY, |n| n.bounds)
+        self.bounds
     }
 
     /// Visits the primitives whose boxes the ray meets within (0, t_max),
-    /// nearest subtree first. `hit(prim, t_max)` returns a new, closer t_max
-    /// when the primitive is hit; returning `Some` with `stop` true ends the
+    /// nearest box first, by their position in `order()`.
+    /// `hit(position, t_max)` returns a new, closer t_max when the
+    /// primitive is hit; returning `Some` with `stop` true ends the
     /// traversal (any-hit queries).
     #[inline]
     pub fn traverse(
         &self,
         ray: &Ray,
-        mut t_max: f32,
+        t_max: f32,
         mut hit: impl FnMut(u32, f32) -> Option<(f32, bool)>,
     ) -> f32 {
         if self.nodes.is_empty() {
             return t_max;
         }
-        let inv_d = Vec3::new(1.0 / ray.d.x, 1.0 / ray.d.y, 1.0 / ray.d.z);
-        let neg = [inv_d.x < 0.0, inv_d.y < 0.0, inv_d.z < 0.0];
-        let mut stack = [0u32; 64];
+        let query = Query::new(ray);
+        self.walk(&query, 0, t_max, &mut hit).0
+    }
+
+    /// Traverses the subtree under node `root` with a fixed stack of
+    /// (entry distance, node, child slot) words; a subtree that would
+    /// overflow it (only in pathologically deep trees) is walked by
+    /// recursion instead. Returns (t_max, stopped).
+    fn walk(
+        &self,
+        q: &Query,
+        root: u32,
+        mut t_max: f32,
+        hit: &mut impl FnMut(u32, f32) -> Option<(f32, bool)>,
+    ) -> (f32, bool) {
+        let mut stack = [0u64; STACK];
         let mut sp = 0;
-        let mut current = 0usize;
+        let mut current = root;
         loop {
-            let node = &self.nodes[current];
-            if node.bounds.hit(ray, inv_d, t_max) {
-                if node.count > 0 {
-                    let start = node.offset as usize;
-                    for &prim in &self.order[start..start + node.count as usize] {
-                        if let Some((t, stop)) = hit(prim, t_max) {
-                            t_max = t;
-                            if stop {
-                                return t_max;
-                            }
-                        }
+            let node = &self.nodes[current as usize];
+            let t_near = node.hit(q, t_max);
+            // The hit children, sorted farthest first (insertion into at
+            // most four), so the nearest is pushed last and pops first.
+            let mut hits = [(0.0f32, 0u32); 4];
+            let mut n = 0;
+            // +∞ marks a miss (t_max itself may be +∞); the mask is built
+            // branch-free and then walked bit by bit.
+            let mut mask = (0..4).fold(0u32, |m, c| m | ((t_near[c] != f32::INFINITY) as u32) << c);
+            while mask != 0 {
+                let c = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                let t = t_near[c];
+                let mut j = n;
+                while j > 0 && hits[j - 1].0 < t {
+                    hits[j] = hits[j - 1];
+                    j -= 1;
+                }
+                hits[j] = (t, c as u32);
+                n += 1;
+            }
+            // Descend straight into the nearest child when it is interior;
+            // the others wait on the stack.
+            if n > 0 && node.count[hits[n - 1].1 as usize] == 0 {
+                n -= 1;
+                for &(t, c) in &hits[..n] {
+                    let (t, stop) = self.push(&mut stack, &mut sp, q, current, c, t, t_max, hit);
+                    t_max = t;
+                    if stop {
+                        return (t_max, true);
                     }
-                } else {
-                    // Visit the near child first; push the far one.
-                    let (near, far) = if neg[node.axis as usize] {
-                        (node.offset as usize, current + 1)
-                    } else {
-                        (current + 1, node.offset as usize)
-                    };
-                    if sp < stack.len() {
-                        stack[sp] = far as u32;
-                        sp += 1;
-                        current = near;
-                        continue;
-                    }
-                    // Deeper than 64 (pathological input): visit both, near
-                    // first, by recursing on the far side.
-                    t_max = self.traverse_from(far, ray, t_max, &mut hit);
-                    current = near;
-                    continue;
+                }
+                current = node.child[hits[n].1 as usize];
+                continue;
+            }
+            for &(t, c) in &hits[..n] {
+                let (t, stop) = self.push(&mut stack, &mut sp, q, current, c, t, t_max, hit);
+                t_max = t;
+                if stop {
+                    return (t_max, true);
                 }
             }
-            if sp == 0 {
-                return t_max;
+            // Pop until an interior child to descend into.
+            loop {
+                if sp == 0 {
+                    return (t_max, false);
+                }
+                sp -= 1;
+                let e = stack[sp];
+                // A box entered beyond the closest hit holds nothing nearer.
+                if f32::from_bits((e >> 32) as u32) > t_max {
+                    continue;
+                }
+                let (index, slot) = ((e as u32) >> 2, (e & 3) as usize);
+                let node = &self.nodes[index as usize];
+                if node.count[slot] == 0 {
+                    current = node.child[slot];
+                    break;
+                }
+                let (t, stop) = self.visit(q, node, slot, t_max, hit);
+                t_max = t;
+                if stop {
+                    return (t_max, true);
+                }
             }
-            sp -= 1;
-            current = stack[sp] as usize;
         }
     }
 
-    fn traverse_from(
+    /// Puts child `slot` of node `index`, entered at `t`, on the stack;
+    /// when the stack is full, visits it at once instead.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn push(
         &self,
-        start: usize,
-        ray: &Ray,
+        stack: &mut [u64; STACK],
+        sp: &mut usize,
+        q: &Query,
+        index: u32,
+        slot: u32,
+        t: f32,
         t_max: f32,
         hit: &mut impl FnMut(u32, f32) -> Option<(f32, bool)>,
-    ) -> f32 {
-        // A plain recursive walk, for the rare stack overflow case.
-        let node = &self.nodes[start];
-        let inv_d = Vec3::new(1.0 / ray.d.x, 1.0 / ray.d.y, 1.0 / ray.d.z);
-        if !node.bounds.hit(ray, inv_d, t_max) {
-            return t_max;
+    ) -> (f32, bool) {
+        if *sp < STACK {
+            stack[*sp] = (t.to_bits() as u64) << 32 | (index << 2 | slot) as u64;
+            *sp += 1;
+            return (t_max, false);
         }
-        let mut t_max = t_max;
-        if node.count > 0 {
-            let s = node.offset as usize;
-            for &prim in &self.order[s..s + node.count as usize] {
-                if let Some((t, _)) = hit(prim, t_max) {
-                    t_max = t;
+        self.visit(q, &self.nodes[index as usize], slot as usize, t_max, hit)
+    }
+
+    /// Child `slot` of `node`: a leaf's primitives, or (when the stack is
+    /// full) an interior subtree by recursion.
+    fn visit(
+        &self,
+        q: &Query,
+        node: &Node4,
+        slot: usize,
+        mut t_max: f32,
+        hit: &mut impl FnMut(u32, f32) -> Option<(f32, bool)>,
+    ) -> (f32, bool) {
+        let (first, count) = (node.child[slot], node.count[slot] as u32);
+        if count == 0 {
+            return self.walk(q, first, t_max, hit);
+        }
+        for k in first..first + count {
+            if let Some((t, stop)) = hit(k, t_max) {
+                t_max = t;
+                if stop {
+                    return (t_max, true);
                 }
             }
-            t_max
-        } else {
-            t_max = self.traverse_from(start + 1, ray, t_max, hit);
-            self.traverse_from(node.offset as usize, ray, t_max, hit)
+        }
+        (t_max, false)
+    }
+}
+
+/// Entries on the traversal stack.
+const STACK: usize = 32;
+
+/// The per-ray values every box test needs.
+struct Query {
+    o: Vec3,
+    inv_d: Vec3,
+    neg: [bool; 3],
+}
+
+impl Query {
+    fn new(ray: &Ray) -> Self {
+        let inv_d = Vec3::new(1.0 / ray.d.x, 1.0 / ray.d.y, 1.0 / ray.d.z);
+        Self {
+            o: ray.o,
+            inv_d,
+            neg: [inv_d.x < 0.0, inv_d.y < 0.0, inv_d.z < 0.0],
+        }
+    }
+}
+
+/// A node of the 4-wide tree: four child boxes in structure-of-arrays
+/// form (one 4-lane register per bound) and what each child is. Unused
+/// slots hold an empty box, which no ray meets. 128 bytes.
+#[derive(Debug, Clone, Copy)]
+#[repr(C, align(64))]
+struct Node4 {
+    /// min x, min y, min z, max x, max y, max z of the four children.
+    bounds: [[f32; 4]; 6],
+    /// Interior child: its node index; leaf: first position in `order`.
+    child: [u32; 4],
+    /// Primitives of a leaf child; 0 for an interior child.
+    count: [u16; 4],
+}
+
+impl Node4 {
+    const EMPTY: Node4 = Node4 {
+        bounds: [
+            [f32::INFINITY; 4],
+            [f32::INFINITY; 4],
+            [f32::INFINITY; 4],
+            [f32::NEG_INFINITY; 4],
+            [f32::NEG_INFINITY; 4],
+            [f32::NEG_INFINITY; 4],
+        ],
+        child: [0; 4],
+        count: [0; 4],
+    };
+
+    /// The slab test of `Aabb::hit_signed` on all four children: per
+    /// child the distance at which the ray enters its box, or +∞ when it
+    /// misses within (0, t_max).
+    #[inline]
+    fn hit(&self, q: &Query, t_max: f32) -> [f32; 4] {
+        let max = |a: f32, b: f32| if a > b { a } else { b };
+        let min = |a: f32, b: f32| if a < b { a } else { b };
+        let scale = 1.0 + 2.0 * GAMMA3;
+        let planes = |axis: usize| {
+            let (lo, hi) = (&self.bounds[axis], &self.bounds[axis + 3]);
+            if q.neg[axis] {
+                (hi, lo)
+            } else {
+                (lo, hi)
+            }
+        };
+        let (nx, fx) = planes(0);
+        let (ny, fy) = planes(1);
+        let (nz, fz) = planes(2);
+        let mut out = [f32::INFINITY; 4];
+        for c in 0..4 {
+            let t0 = max(
+                (nx[c] - q.o.x) * q.inv_d.x,
+                max(
+                    (ny[c] - q.o.y) * q.inv_d.y,
+                    max((nz[c] - q.o.z) * q.inv_d.z, 0.0),
+                ),
+            );
+            let t1 = min(
+                (fx[c] - q.o.x) * q.inv_d.x * scale,
+                min(
+                    (fy[c] - q.o.y) * q.inv_d.y * scale,
+                    min((fz[c] - q.o.z) * q.inv_d.z * scale, t_max),
+                ),
+            );
+            out[c] = if t0 <= t1 { t0 } else { f32::INFINITY };
+        }
+        out
+    }
+}
+
+impl BuildNode {
+    fn bounds(&self) -> Aabb {
+        match self {
+            BuildNode::Leaf { bounds, .. } | BuildNode::Interior { bounds, .. } => *bounds,
+        }
+    }
+}
+
+/// Collapses the binary tree into 4-wide nodes: each node takes its
+/// children's children, opening the largest interior child first, until
+/// it has four. Node 0 is the root.
+fn collapse(root: &BuildNode) -> Vec<Node4> {
+    let mut nodes = vec![Node4::EMPTY];
+    let top: Vec<&BuildNode> = match root {
+        // A lone leaf still needs a node above it.
+        BuildNode::Leaf { .. } => vec![root],
+        BuildNode::Interior { children, .. } => vec![&children[0], &children[1]],
+    };
+    fill(0, top, &mut nodes);
+    nodes
+}
+
+fn fill(at: usize, mut kids: Vec<&BuildNode>, nodes: &mut Vec<Node4>) {
+    while kids.len() < 4 {
+        let widest = kids
+            .iter()
+            .enumerate()
+            .filter(|(_, k)| matches!(k, BuildNode::Interior { .. }))
+            .max_by(|a, b| a.1.bounds().area().total_cmp(&b.1.bounds().area()))
+            .map(|(i, _)| i);
+        let Some(i) = widest else { break };
+        let BuildNode::Interior { children, .. } = kids.swap_remove(i) else {
+            unreachable!("filtered to interior nodes")
+        };
+        kids.push(&children[0]);
+        kids.push(&children[1]);
+    }
+    for (c, kid) in kids.into_iter().enumerate() {
+        let b = kid.bounds();
+        let corners = [b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z];
+        for (k, v) in corners.into_iter().enumerate() {
+            nodes[at].bounds[k][c] = v;
+        }
+        match kid {
+            BuildNode::Leaf { start, count, .. } => {
+                nodes[at].child[c] = *start as u32;
+                nodes[at].count[c] = *count as u16;
+            }
+            BuildNode::Interior { children, .. } => {
+                let index = nodes.len();
+                nodes.push(Node4::EMPTY);
+                nodes[at].child[c] = index as u32;
+                fill(index, vec![&children[0], &children[1]], nodes);
+            }
         }
     }
 }

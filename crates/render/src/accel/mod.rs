@@ -3,19 +3,21 @@
 
 mod aabb;
 mod bvh;
+mod prims;
 
 pub use aabb::Aabb;
 pub use bvh::Bvh;
 
 use crate::geometry::{Hit, RayShear, Shape};
 use crate::math::Ray;
+use prims::Prim;
 
 /// All shapes of a scene under one BVH over their primitives.
 #[derive(Debug, Clone)]
 pub struct Aggregate {
     pub shapes: Vec<Shape>,
-    /// (shape, primitive) of each BVH primitive.
-    prims: Vec<(u32, u32)>,
+    /// The primitives in the BVH's leaf order.
+    prims: Vec<Prim>,
     bvh: Bvh,
 }
 
@@ -31,6 +33,14 @@ impl Aggregate {
             .map(|&(s, p)| shapes[s as usize].bounds(p as usize))
             .collect();
         let bvh = Bvh::build(&bounds);
+        let prims = bvh
+            .order()
+            .iter()
+            .map(|&i| {
+                let (s, p) = prims[i as usize];
+                Prim::new(&shapes, s, p)
+            })
+            .collect();
         Self { shapes, prims, bvh }
     }
 
@@ -47,12 +57,12 @@ impl Aggregate {
         let shear = RayShear::new(ray);
         let mut best: Option<Hit> = None;
         self.bvh.traverse(ray, ray.t_max, |i, t_max| {
-            let (s, p) = self.prims[i as usize];
-            let (t, uv) = self.shapes[s as usize].intersect(p as usize, ray, &shear, t_max)?;
+            let prim = &self.prims[i as usize];
+            let (t, uv) = prim.intersect(ray, &shear, t_max)?;
             best = Some(Hit {
                 t,
-                shape: s,
-                prim: p,
+                shape: prim.shape,
+                prim: prim.index,
                 uv,
             });
             Some((t, false))
@@ -65,8 +75,7 @@ impl Aggregate {
         let shear = RayShear::new(ray);
         let mut any = false;
         self.bvh.traverse(ray, ray.t_max, |i, t_max| {
-            let (s, p) = self.prims[i as usize];
-            let (t, _) = self.shapes[s as usize].intersect(p as usize, ray, &shear, t_max)?;
+            let (t, _) = self.prims[i as usize].intersect(ray, &shear, t_max)?;
             any = true;
             Some((t, true))
         });

@@ -8,7 +8,7 @@ mod sphere;
 mod triangle;
 
 pub use mesh::TriangleMesh;
-pub use planar::{Planar, PlanarKind};
+pub use planar::{Planar, PlanarKind, PlaneTest};
 pub use sample::SurfacePoint;
 pub use sphere::Sphere;
 pub use triangle::{intersect_triangle, RayShear, TriangleHit};

@@ -18,45 +18,78 @@ pub struct Planar {
     pub kind: PlanarKind,
     pub world_from_object: Transform,
     pub object_from_world: Transform,
+    /// What the ray test needs, in f32.
+    pub test: PlaneTest,
+    /// The unit world-space normal.
+    normal: Vec3,
+}
+
+/// The ray test of a planar shape: the first three rows of its
+/// object-from-world matrix (affine: placements have no projection), and
+/// its kind. Small and `Copy`, so the accelerator keeps it inline.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlaneTest {
+    rows: [[f32; 4]; 3],
+    disk: bool,
+}
+
+impl PlaneTest {
+    /// t in (0, t_max) and the object-space hit point (x, y). The hit
+    /// point is rebuilt from (x, y) in f64, so t's f32 rounding only
+    /// decides which surface is nearer.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<(f32, [f32; 2])> {
+        // The distance t is the same in both spaces (the direction is
+        // transformed unnormalised).
+        let [rx, ry, rz] = &self.rows;
+        let point = |r: &[f32; 4]| r[0] * ray.o.x + r[1] * ray.o.y + r[2] * ray.o.z + r[3];
+        let vector = |r: &[f32; 4]| r[0] * ray.d.x + r[1] * ray.d.y + r[2] * ray.d.z;
+        let dz = vector(rz);
+        let t = -point(rz) / dz;
+        if !(t > 0.0 && t < t_max) {
+            return None;
+        }
+        let (x, y) = (point(rx) + t * vector(rx), point(ry) + t * vector(ry));
+        let inside = if self.disk {
+            x * x + y * y <= 1.0
+        } else {
+            x.abs() <= 1.0 && y.abs() <= 1.0
+        };
+        inside.then_some((t, [x, y]))
+    }
 }
 
 impl Planar {
     pub fn new(kind: PlanarKind, world_from_object: Transform) -> Self {
+        let object_from_world = world_from_object.inverse();
+        let m = object_from_world.matrix();
+        let test = PlaneTest {
+            rows: std::array::from_fn(|i| std::array::from_fn(|j| m[i][j] as f32)),
+            disk: kind == PlanarKind::Disk,
+        };
+        let normal = world_from_object
+            .normal(Vec3::new(0.0, 0.0, 1.0))
+            .normalize();
         Self {
             kind,
-            object_from_world: world_from_object.inverse(),
+            object_from_world,
             world_from_object,
+            test,
+            normal,
         }
     }
 
     /// t in (0, t_max) and the object-space hit point (x, y).
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<(f32, [f32; 2])> {
-        // The distance t is the same in both spaces (the direction is
-        // transformed unnormalised).
-        let o = self.object_from_world.point(ray.o);
-        let d = self.object_from_world.vector(ray.d);
-        if d.z == 0.0 {
-            return None;
-        }
-        let t = -o.z / d.z;
-        if !(t > 0.0 && t < t_max) {
-            return None;
-        }
-        let (x, y) = (o.x + t * d.x, o.y + t * d.y);
-        let inside = match self.kind {
-            PlanarKind::Disk => x * x + y * y <= 1.0,
-            PlanarKind::Rectangle => x.abs() <= 1.0 && y.abs() <= 1.0,
-        };
-        inside.then_some((t, [x, y]))
+        self.test.intersect(ray, t_max)
     }
 
     /// World-space normal: object +z transformed as a normal, as Mitsuba
     /// does (a mirroring `to_world` turns the shape over).
+    #[inline]
     pub fn normal(&self) -> Vec3 {
-        self.world_from_object
-            .normal(Vec3::new(0.0, 0.0, 1.0))
-            .normalize()
+        self.normal
     }
 
     /// World-space area (the object shape's area times the transform's

@@ -160,6 +160,10 @@ impl Transform {
         let m = &self.m;
         let (x, y, z) = (p.x as f64, p.y as f64, p.z as f64);
         let r = |i: usize| m[i][0] * x + m[i][1] * y + m[i][2] * z + m[i][3];
+        if m[3] == [0.0, 0.0, 0.0, 1.0] {
+            // Affine (every placement): no divide.
+            return Vec3::new(r(0) as f32, r(1) as f32, r(2) as f32);
+        }
         let w = r(3);
         Vec3::new((r(0) / w) as f32, (r(1) / w) as f32, (r(2) / w) as f32)
     }

@@ -78,6 +78,48 @@ const fn byte_tables() -> [[[u32; 256]; 4]; 4] {
 
 static BYTE_TABLES: [[[u32; 256]; 4]; 4] = byte_tables();
 
+/// The same tables in bit-reversed form: indexed by the bytes of the
+/// reversed index, giving the reversed coordinate. Owen scrambling works on
+/// reversed bits (Burley 2020, §3), so the sampler stays in that domain
+/// and reverses once per coordinate instead of three times.
+const fn reversed_tables() -> [[[u32; 256]; 4]; 4] {
+    let mut t = [[[0u32; 256]; 4]; 4];
+    let mut d = 0;
+    while d < 4 {
+        let mut b = 0;
+        while b < 4 {
+            let mut pattern = 0;
+            while pattern < 256 {
+                let mut x = 0u32;
+                let mut bit = 0;
+                while bit < 8 {
+                    if (pattern >> bit) & 1 == 1 {
+                        x ^= DIRECTIONS[d][31 - (b * 8 + bit)].reverse_bits();
+                    }
+                    bit += 1;
+                }
+                t[d][b][pattern] = x;
+                pattern += 1;
+            }
+            b += 1;
+        }
+        d += 1;
+    }
+    t
+}
+
+static REVERSED_TABLES: [[[u32; 256]; 4]; 4] = reversed_tables();
+
+/// `sobol(index, dim).reverse_bits()` from `index.reverse_bits()`.
+#[inline]
+fn sobol_reversed(index_rev: u32, dim: usize) -> u32 {
+    let t = &REVERSED_TABLES[dim];
+    t[0][(index_rev & 0xff) as usize]
+        ^ t[1][((index_rev >> 8) & 0xff) as usize]
+        ^ t[2][((index_rev >> 16) & 0xff) as usize]
+        ^ t[3][(index_rev >> 24) as usize]
+}
+
 /// The `index`-th point's coordinate in Sobol dimension `dim` < 4, as 32 bits.
 #[inline]
 pub fn sobol(index: u32, dim: usize) -> u32 {
@@ -124,6 +166,17 @@ pub fn hash(words: &[u32]) -> u32 {
     h ^ (h >> 16)
 }
 
+/// A fast 32-bit integer mix (Wellons's "lowbias32", from his hash
+/// prospector search), for per-set and per-dimension scramble seeds.
+#[inline]
+fn mix(mut x: u32) -> u32 {
+    x ^= x >> 16;
+    x = x.wrapping_mul(0x7feb_352d);
+    x ^= x >> 15;
+    x = x.wrapping_mul(0x846c_a68b);
+    x ^ (x >> 16)
+}
+
 /// 32 bits to [0, 1), never rounding up to 1.
 #[inline]
 fn to_unit(x: u32) -> f32 {
@@ -134,8 +187,10 @@ fn to_unit(x: u32) -> f32 {
 #[derive(Debug, Clone)]
 pub struct Sampler {
     seed: u32,
-    pixel: [u32; 2],
-    index: u32,
+    /// Hash of (seed, pixel): the root of every scramble seed.
+    pixel_key: u32,
+    /// The sample index, bit-reversed.
+    index_rev: u32,
     dimension: u32,
 }
 
@@ -143,16 +198,16 @@ impl Sampler {
     pub fn new(seed: u32) -> Self {
         Self {
             seed,
-            pixel: [0, 0],
-            index: 0,
+            pixel_key: hash(&[seed, 0, 0]),
+            index_rev: 0,
             dimension: 0,
         }
     }
 
     /// Starts sample `index` of `pixel`, from dimension 0.
     pub fn start(&mut self, pixel: [u32; 2], index: u32) {
-        self.pixel = pixel;
-        self.index = index;
+        self.pixel_key = hash(&[self.seed, pixel[0], pixel[1]]);
+        self.index_rev = index.reverse_bits();
         self.dimension = 0;
     }
 
@@ -161,9 +216,14 @@ impl Sampler {
     fn set(&mut self) -> [f32; 4] {
         let set = self.dimension / 4;
         self.dimension = (set + 1) * 4;
-        let key = hash(&[self.seed, self.pixel[0], self.pixel[1], set]);
-        let index = owen_scramble(self.index, key);
-        std::array::from_fn(|d| to_unit(owen_scramble(sobol(index, d), hash(&[key, d as u32]))))
+        let key = mix(self.pixel_key ^ set.wrapping_mul(0x9e37_79b9));
+        // owen_scramble(index, key), reversed; then each coordinate's own
+        // scramble, reversed back once.
+        let index_rev = laine_karras(self.index_rev, key);
+        std::array::from_fn(|d| {
+            let seed = mix(key.wrapping_add((d as u32 + 1).wrapping_mul(0x85eb_ca6b)));
+            to_unit(laine_karras(sobol_reversed(index_rev, d), seed).reverse_bits())
+        })
     }
 
     /// One number in [0, 1) (uses a whole 4-dimensional set).
@@ -282,6 +342,18 @@ mod tests {
             worst = worst.max((sum / 256.0 - exact).abs());
         }
         assert!(worst < 0.005, "{worst}");
+    }
+
+    #[test]
+    fn reversed_tables_match_the_plain_ones() {
+        for index in [0u32, 1, 2, 3, 255, 256, 0xdead_beef, u32::MAX, 0x0123_4567] {
+            for dim in 0..4 {
+                assert_eq!(
+                    sobol_reversed(index.reverse_bits(), dim),
+                    sobol(index, dim).reverse_bits()
+                );
+            }
+        }
     }
 
     #[test]

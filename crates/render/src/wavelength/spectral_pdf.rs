@@ -1,7 +1,9 @@
 //! A density over wavelength proportional to a spectrum: piecewise linear
 //! between the spectrum's integration nodes (the 1 nm grid merged with its
 //! own samples, so a 0.2 nm emission line keeps its shape), sampled by
-//! inverting its CDF exactly.
+//! inverting its CDF exactly. Both directions start from a guide table
+//! (per nanometre for lookups, per CDF bucket for sampling), so a path's
+//! wavelengths cost O(1) searches, not a bisection of ~500 nodes each.
 
 use scotopia_color::photometry::integration_nodes;
 use scotopia_color::Spectrum;
@@ -9,25 +11,55 @@ use scotopia_color::Spectrum;
 #[derive(Debug, Clone, PartialEq)]
 pub struct SpectralPdf {
     nodes: Vec<f32>,
+    /// The density at each node (normalised, per nm).
     values: Vec<f32>,
-    /// cdf[i] = ∫ from nodes[0] to nodes[i], unnormalised.
+    /// cdf[i] = ∫ from nodes[0] to nodes[i], normalised to end at 1.
     cdf: Vec<f64>,
+    /// by_nm[j]: the interval holding nodes[0] + j nm.
+    by_nm: Vec<u32>,
+    /// by_mass[j]: the interval holding the CDF value j / by_mass.len().
+    by_mass: Vec<u32>,
+}
+
+/// Index of the interval [x[i], x[i + 1]] that holds `v` (x increasing,
+/// at least two entries), searching only [lo, hi].
+#[inline]
+fn interval<T: PartialOrd + Copy>(x: &[T], v: T, lo: usize, hi: usize) -> usize {
+    let hi = hi.min(x.len() - 2);
+    let lo = lo.min(hi);
+    lo + x[lo + 1..=hi].partition_point(|&c| c <= v)
 }
 
 impl SpectralPdf {
     /// `None` when the spectrum has no positive value in 360–830 nm.
     pub fn new(s: &Spectrum) -> Option<Self> {
         let nodes = integration_nodes(s);
-        let values: Vec<f32> = nodes
+        let values = nodes.iter().map(|&l| s.eval(l)).collect();
+        Self::from_nodes(nodes, values)
+    }
+
+    /// The mixture Σ wᵢ·pᵢ of densities: piecewise linear on the union of
+    /// their nodes, so it equals the mixture exactly. `None` when empty.
+    pub fn mixture(parts: &[(f32, &SpectralPdf)]) -> Option<Self> {
+        let mut nodes: Vec<f32> = parts.iter().flat_map(|(_, p)| p.nodes.clone()).collect();
+        nodes.sort_by(f32::total_cmp);
+        nodes.dedup();
+        let values = nodes
             .iter()
-            .map(|&l| {
-                let v = s.eval(l);
-                if v.is_finite() {
-                    v.max(0.0)
-                } else {
-                    0.0
-                }
-            })
+            .map(|&l| parts.iter().map(|(w, p)| w * p.pdf(l)).sum())
+            .collect();
+        Self::from_nodes(nodes, values)
+    }
+
+    /// A density proportional to the piecewise-linear function through
+    /// (nodes, values); negative or non-finite values count as zero.
+    fn from_nodes(nodes: Vec<f32>, values: Vec<f32>) -> Option<Self> {
+        if nodes.len() < 2 {
+            return None;
+        }
+        let mut values: Vec<f32> = values
+            .into_iter()
+            .map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 })
             .collect();
         let mut cdf = Vec::with_capacity(nodes.len());
         let mut sum = 0.0f64;
@@ -36,41 +68,70 @@ impl SpectralPdf {
             sum += 0.5 * (values[i - 1] + values[i]) as f64 * (nodes[i] - nodes[i - 1]) as f64;
             cdf.push(sum);
         }
-        (sum > 0.0).then_some(Self { nodes, values, cdf })
-    }
-
-    fn total(&self) -> f64 {
-        self.cdf[self.cdf.len() - 1]
+        if !(sum > 0.0 && sum.is_finite()) {
+            return None;
+        }
+        cdf.iter_mut().for_each(|c| *c /= sum);
+        values
+            .iter_mut()
+            .for_each(|v| *v = (*v as f64 / sum) as f32);
+        let last = nodes.len() - 1;
+        let span = (nodes[last] - nodes[0]).ceil() as usize;
+        let by_nm = (0..=span)
+            .map(|j| interval(&nodes, nodes[0] + j as f32, 0, last) as u32)
+            .collect();
+        let buckets = nodes.len();
+        let by_mass = (0..=buckets)
+            .map(|j| interval(&cdf, j as f64 / buckets as f64, 0, last) as u32)
+            .collect();
+        Some(Self {
+            nodes,
+            values,
+            cdf,
+            by_nm,
+            by_mass,
+        })
     }
 
     /// Density at `lambda` (per nm).
+    #[inline]
     pub fn pdf(&self, lambda: f32) -> f32 {
         let n = &self.nodes;
         if !(n[0]..=n[n.len() - 1]).contains(&lambda) {
             return 0.0;
         }
-        let i = n.partition_point(|&x| x <= lambda).clamp(1, n.len() - 1);
-        let t = (lambda - n[i - 1]) / (n[i] - n[i - 1]);
-        let v = self.values[i - 1] * (1.0 - t) + self.values[i] * t;
-        (v as f64 / self.total()) as f32
+        let j = ((lambda - n[0]) as usize).min(self.by_nm.len() - 2);
+        let i = interval(
+            n,
+            lambda,
+            self.by_nm[j] as usize,
+            self.by_nm[j + 1] as usize,
+        );
+        let t = ((lambda - n[i]) / (n[i + 1] - n[i])).clamp(0.0, 1.0);
+        self.values[i] * (1.0 - t) + self.values[i + 1] * t
     }
 
     /// A wavelength distributed by the density, for u ∈ [0, 1).
+    #[inline]
     pub fn sample(&self, u: f32) -> f32 {
-        let target = u.clamp(0.0, 1.0) as f64 * self.total();
-        let i = self
-            .cdf
-            .partition_point(|&c| c <= target)
-            .clamp(1, self.cdf.len() - 1);
-        let (a, b) = (self.nodes[i - 1], self.nodes[i]);
-        let (v0, v1) = (self.values[i - 1] as f64, self.values[i] as f64);
-        let mass = self.cdf[i] - self.cdf[i - 1];
+        let target = u.clamp(0.0, 1.0) as f64;
+        let buckets = self.by_mass.len() - 1;
+        let j = ((target * buckets as f64) as usize).min(buckets - 1);
+        let i = interval(
+            &self.cdf,
+            target,
+            self.by_mass[j] as usize,
+            self.by_mass[j + 1] as usize,
+        );
+        let (a, b) = (self.nodes[i], self.nodes[i + 1]);
+        let (v0, v1) = (self.values[i] as f64, self.values[i + 1] as f64);
+        let mass = self.cdf[i + 1] - self.cdf[i];
         if mass <= 0.0 {
             return a;
         }
         // Within the interval the density is linear: solve its CDF for t,
         // in the form that stays stable when v0 ≈ v1.
-        let w = (target - self.cdf[i - 1]) / mass;
+        let w = ((target - self.cdf[i]) / mass).clamp(0.0, 1.0);
         let root = (v0 * v0 + w * (v1 * v1 - v0 * v0)).max(0.0).sqrt();
         let t = if v0 + root > 0.0 {
             w * (v0 + v1) / (v0 + root)
@@ -128,5 +189,62 @@ mod tests {
             );
         }
         assert!(SpectralPdf::new(&Spectrum::Constant(0.0)).is_none());
+    }
+
+    /// The guided lookups agree with the spectrum itself, normalised by
+    /// a plain trapezoid sum, and a mixture with its weighted sum.
+    #[test]
+    fn guided_lookups_match_the_spectrum_and_mixtures_their_parts() {
+        let line = Spectrum::tabulated(
+            Tabulated::new(
+                vec![500.0, 501.0, 589.0, 589.2, 600.0, 600.5],
+                vec![0.0, 0.2, 0.2, 80.0, 1.0, 0.0],
+            )
+            .unwrap(),
+        );
+        let smooth = Spectrum::blackbody(2700.0).unwrap();
+        let (a, b) = (
+            SpectralPdf::new(&line).unwrap(),
+            SpectralPdf::new(&smooth).unwrap(),
+        );
+        let total = |s: &Spectrum| {
+            let n = integration_nodes(s);
+            n.windows(2)
+                .map(|w| 0.5 * (s.eval(w[0]) + s.eval(w[1])) as f64 * (w[1] - w[0]) as f64)
+                .sum::<f64>()
+        };
+        let (ta, tb) = (total(&line), total(&smooth));
+        let mix = SpectralPdf::mixture(&[(0.25, &a), (0.75, &b)]).unwrap();
+        for i in 0..=47_000 {
+            let l = 360.0 + i as f32 * 0.01;
+            let (pa, pb) = (a.pdf(l), b.pdf(l));
+            assert!(
+                (pa as f64 - line.eval(l) as f64 / ta).abs() < 1e-6 * (1.0 + pa as f64),
+                "{l}"
+            );
+            assert!(
+                (pb as f64 - smooth.eval(l) as f64 / tb).abs() < 1e-4 * pb as f64,
+                "{l}"
+            );
+            let m = 0.25 * pa + 0.75 * pb;
+            assert!(
+                (mix.pdf(l) - m).abs() <= 1e-5 * m + 1e-9,
+                "{l}: {} vs {m}",
+                mix.pdf(l)
+            );
+        }
+        // Sampling inverts the CDF: u = ∫ pdf up to sample(u).
+        for k in 1..200 {
+            let u = k as f32 / 200.0;
+            let l = a.sample(u);
+            let m = 20_000;
+            let cdf: f64 = (0..m)
+                .map(|j| {
+                    let x = 360.0 + (l - 360.0) * (j as f32 + 0.5) / m as f32;
+                    a.pdf(x) as f64 * (l - 360.0) as f64 / m as f64
+                })
+                .sum();
+            assert!((cdf - u as f64).abs() < 2e-3, "u {u}: cdf {cdf} at {l}");
+        }
     }
 }

@@ -19,6 +19,8 @@ pub struct Swc {
     pdfs: Vec<SpectralPdf>,
     /// Choice among `pdfs`, by radiant power.
     choice: Distribution1D,
+    /// Σ P(l)·p_l(λ), tabulated once on the union of the lights' nodes.
+    lights: Option<SpectralPdf>,
     /// Probability of drawing from the visible density instead.
     defensive: f32,
 }
@@ -34,25 +36,29 @@ impl Swc {
                     .flatten()
             })
             .unzip();
+        let choice = Distribution1D::new(power);
+        let parts: Vec<(f32, &SpectralPdf)> = pdfs
+            .iter()
+            .enumerate()
+            .map(|(i, p)| (choice.probability(i), p))
+            .collect();
+        let lights = SpectralPdf::mixture(&parts);
         Self {
+            lights,
             defensive: if pdfs.is_empty() {
                 1.0
             } else {
                 DEFENSIVE_SHARE
             },
-            choice: Distribution1D::new(power),
+            choice,
             pdfs,
         }
     }
 
     /// The mixture density the estimator divides by.
+    #[inline]
     pub fn pdf(&self, lambda: f32) -> f32 {
-        let lights: f32 = self
-            .pdfs
-            .iter()
-            .enumerate()
-            .map(|(i, p)| self.choice.probability(i) * p.pdf(lambda))
-            .sum();
+        let lights = self.lights.as_ref().map_or(0.0, |m| m.pdf(lambda));
         (1.0 - self.defensive) * lights + self.defensive * visible_pdf(lambda)
     }
 
