@@ -56,9 +56,13 @@ demo:
 	@$(BIN) spectrum --rgb 0.8,0.3,0.1 --plot $(DEMO_OUT)/srgb-orange-reflectance.png; echo
 	@echo "plots in $(DEMO_OUT)/"
 
-## criterion benchmarks.
-bench:
+## criterion benchmarks, the bundled scenes' render rates and memory, and
+## the Cornell box against Mitsuba 3 (bench/*.py print the README tables).
+bench: python
 	$(CARGO) bench -p scotopia-color -p scotopia-render
+	$(CARGO) build --release -p scotopia
+	$(PY) bench/scenes.py --spp 16
+	$(PY) bench/vs_mitsuba.py
 
 ## Regenerates the Jakob–Hanika coefficient tables in data/rgb2spec.
 tables:

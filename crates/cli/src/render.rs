@@ -141,9 +141,10 @@ pub fn run(args: Args) -> Result<()> {
     }
     let secs = rendered.elapsed.as_secs_f64();
     eprintln!(
-        "scotopia: {} spp in {secs:.1} s ({:.2} Msamples/s) → {}",
+        "scotopia: {} spp in {secs:.1} s ({:.2} Msamples/s, {:.2} Mrays/s) → {}",
         rendered.spp,
         rendered.spp as f64 * pixels as f64 / secs.max(1e-9) * 1e-6,
+        rendered.rays as f64 / secs.max(1e-9) * 1e-6,
         args.output.display()
     );
     if rendered.nonfinite > 0 {

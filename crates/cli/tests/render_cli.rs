@@ -84,6 +84,43 @@ fn bad_options_are_clear_errors() {
     }
 }
 
+#[test]
+fn a_time_limit_ends_the_render_by_itself() {
+    // No --spp: render until the time is spent, then write normally with
+    // the samples actually reached.
+    let dir = out_dir("time");
+    let exr = dir.join("t.exr");
+    let scene = scenes().join("cornell-box.xml");
+    let (code, err) = scotopia(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-D",
+        "res=32",
+        "--time",
+        "1",
+        "-o",
+        exr.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let img = scotopia_image::read_exr(&exr).unwrap();
+    let meta = |k: &str| {
+        img.metadata
+            .iter()
+            .find(|m| m.0 == k)
+            .map(|m| m.1.clone())
+            .unwrap()
+    };
+    let spp: u32 = meta("samplesPerPixel").parse().unwrap();
+    let secs: f32 = meta("renderSeconds").parse().unwrap();
+    let rays: u64 = meta("raysTraced").parse().unwrap();
+    // More samples than one pass, far fewer than unbounded; each sample
+    // traced at least its camera ray.
+    assert!(spp > 16 && spp < 10_000_000, "{spp}");
+    assert!(rays >= spp as u64 * 32 * 32, "{rays}");
+    assert!(secs >= 0.5, "{secs}");
+    assert_eq!(meta("interrupted"), "0");
+}
+
 #[cfg(unix)]
 #[test]
 fn sigterm_writes_what_was_accumulated() {

@@ -379,7 +379,7 @@ impl Node4 {
     /// The slab test of `Aabb::hit_signed` on all four children: per
     /// child the distance at which the ray enters its box, or +∞ when it
     /// misses within (0, t_max).
-    #[inline]
+    #[inline(always)]
     fn hit(&self, q: &Query, t_max: f32) -> [f32; 4] {
         let max = |a: f32, b: f32| if a > b { a } else { b };
         let min = |a: f32, b: f32| if a < b { a } else { b };

@@ -34,7 +34,7 @@ impl Prim {
     }
 
     /// t in (0, t_max) and the hit's barycentrics or object (x, y).
-    #[inline]
+    #[inline(always)]
     pub fn intersect(&self, ray: &Ray, shear: &RayShear, t_max: f32) -> Option<(f32, [f32; 2])> {
         match &self.test {
             Test::Triangle([a, b, c]) => {

@@ -6,7 +6,7 @@ mod path;
 
 pub use path::CameraSample;
 
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
@@ -58,6 +58,8 @@ pub struct Rendered {
     pub spp: u32,
     /// Samples whose estimate was NaN or infinite, dropped.
     pub nonfinite: u64,
+    /// Rays traced (camera, continuation and shadow rays).
+    pub rays: u64,
     pub elapsed: Duration,
     /// Stopped by `cancel` rather than by `spp` or time.
     pub cancelled: bool,
@@ -134,9 +136,15 @@ impl<'a> Renderer<'a> {
         self.infinite.iter().map(|&i| (i, &self.scene.lights[i]))
     }
 
-    /// Adds samples `first..first + count` to every pixel of `rows`
-    /// (row-major pixel sums of the whole film), returning dropped ones.
-    fn pass<const K: usize>(&self, seed: u32, film: &mut Film, first: u32, count: u32) -> u64 {
+    /// Adds samples `first..first + count` to every pixel of the film,
+    /// returning (samples dropped, rays traced).
+    fn pass<const K: usize>(
+        &self,
+        seed: u32,
+        film: &mut Film,
+        first: u32,
+        count: u32,
+    ) -> (u64, u64) {
         let width = film.width as usize;
         let stride = film.row_stride();
         let bands = film.bands;
@@ -146,10 +154,11 @@ impl<'a> Renderer<'a> {
             .enumerate()
             .map(|(y, (row, spectral))| {
                 let mut sampler = Sampler::new(seed);
-                let mut dropped = 0;
+                let (mut dropped, mut rays) = (0, 0);
                 for (x, px) in row.iter_mut().enumerate() {
                     for i in first..first + count {
-                        match self.sample_pixel::<K>(&mut sampler, [x as u32, y as u32], i) {
+                        let pixel = [x as u32, y as u32];
+                        match self.sample_pixel::<K>(&mut sampler, pixel, i, &mut rays) {
                             Some(s) => {
                                 px.add(s.xyzv);
                                 if let Some(b) = bands {
@@ -161,9 +170,9 @@ impl<'a> Renderer<'a> {
                         }
                     }
                 }
-                dropped
+                (dropped, rays)
             })
-            .sum()
+            .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
     }
 }
 
@@ -208,7 +217,7 @@ fn render_k<const K: usize>(
         None => None,
     };
     let mut film = Film::new(scene.camera.width, scene.camera.height, bands);
-    let dropped = AtomicU64::new(0);
+    let (mut dropped, mut rays) = (0, 0);
     let mut done = 0;
     let mut cancelled = false;
     // Passes grow from 1 spp so that progress, time limits and Ctrl-C are
@@ -219,12 +228,27 @@ fn render_k<const K: usize>(
             cancelled = true;
             break;
         }
-        if options.time_limit.is_some_and(|t| start.elapsed() >= t) {
-            break;
+        let mut count = step.min(total - done);
+        if let Some(limit) = options.time_limit {
+            // Only as many samples as the time left should allow, judged by
+            // the rate so far, so a time limit is met rather than overrun
+            // by a whole pass (and is spent, not left half unused).
+            let elapsed = start.elapsed();
+            if elapsed >= limit {
+                break;
+            }
+            if done > 0 {
+                let per_spp = elapsed.as_secs_f64() / done as f64;
+                let fits = ((limit - elapsed).as_secs_f64() / per_spp) as u32;
+                if fits == 0 {
+                    break;
+                }
+                count = count.min(fits);
+            }
         }
-        let count = step.min(total - done);
-        let d = renderer.pass::<K>(options.seed, &mut film, done, count);
-        dropped.fetch_add(d, Ordering::Relaxed);
+        let (d, r) = renderer.pass::<K>(options.seed, &mut film, done, count);
+        dropped += d;
+        rays += r;
         done += count;
         step = (step * 2).min(16);
         progress(done, total);
@@ -232,7 +256,8 @@ fn render_k<const K: usize>(
     Ok(Rendered {
         film,
         spp: done,
-        nonfinite: dropped.into_inner(),
+        nonfinite: dropped,
+        rays,
         elapsed: start.elapsed(),
         cancelled,
     })

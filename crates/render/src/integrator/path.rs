@@ -43,12 +43,13 @@ fn spawn(p: Vec3, n: Vec3, d: Vec3) -> Ray {
 impl Renderer<'_> {
     /// One camera sample of `pixel`: its X, Y, Z, V′ estimate and the
     /// cluster's radiance, or `None` when the estimate is not finite
-    /// (counted by the caller).
+    /// (counted by the caller). Adds the rays it traced to `rays`.
     pub fn sample_pixel<const K: usize>(
         &self,
         sampler: &mut Sampler,
         pixel: [u32; 2],
         index: u32,
+        rays: &mut u64,
     ) -> Option<CameraSample<K>> {
         sampler.start(pixel, index);
         let [fx, fy, u_choice, u_wl] = sampler.get_4d();
@@ -66,19 +67,20 @@ impl Renderer<'_> {
             wl.rotate_to_front(((u_first * K as f32) as usize).min(K - 1));
         }
         let ray = self.scene.camera.generate_ray(film, lens);
-        let radiance = self.trace(sampler, &mut wl, ray);
+        let radiance = self.trace(sampler, &mut wl, ray, rays);
         let xyzv = estimate_xyzv(&radiance, &wl);
         let finite = xyzv.iter().all(|v| v.is_finite()) && radiance.0.iter().all(|v| v.is_finite());
         finite.then_some(CameraSample { xyzv, radiance, wl })
     }
 
     /// Radiance arriving along `ray` on the cluster `wl` (which a
-    /// dispersive refraction may collapse).
+    /// dispersive refraction may collapse), counting rays traced.
     fn trace<const K: usize>(
         &self,
         sampler: &mut Sampler,
         wl: &mut SampledWavelengths<K>,
         mut ray: Ray,
+        rays: &mut u64,
     ) -> SampledSpectrum<K> {
         let scene = self.scene;
         let max_depth = scene.integrator.max_depth;
@@ -92,6 +94,7 @@ impl Renderer<'_> {
         let mut prev = ray.o;
         let mut depth = 1;
         loop {
+            *rays += 1;
             let Some(hit) = scene.geometry.intersect(&ray) else {
                 // Escaped: lights at infinity.
                 for (i, light) in self.infinite_lights() {
@@ -152,6 +155,7 @@ impl Renderer<'_> {
                             let mut shadow = spawn(surface.p, surface.n_geometric, ls.wi);
                             // Stop short of the light's own surface.
                             shadow.t_max = ls.distance * (1.0 - 1e-4);
+                            *rays += 1;
                             if !scene.geometry.occluded(&shadow) {
                                 let p_light = p_choice * ls.pdf;
                                 let w = if ls.delta {

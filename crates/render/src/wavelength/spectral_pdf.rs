@@ -124,21 +124,22 @@ impl SpectralPdf {
             self.by_mass[j + 1] as usize,
         );
         let (a, b) = (self.nodes[i], self.nodes[i + 1]);
-        let (v0, v1) = (self.values[i] as f64, self.values[i + 1] as f64);
+        let (v0, v1) = (self.values[i], self.values[i + 1]);
         let mass = self.cdf[i + 1] - self.cdf[i];
         if mass <= 0.0 {
             return a;
         }
         // Within the interval the density is linear: solve its CDF for t,
-        // in the form that stays stable when v0 ≈ v1.
-        let w = ((target - self.cdf[i]) / mass).clamp(0.0, 1.0);
+        // in the form that stays stable when v0 ≈ v1. (f32 suffices from
+        // here: w is a fraction of one interval's mass.)
+        let w = ((target - self.cdf[i]) / mass).clamp(0.0, 1.0) as f32;
         let root = (v0 * v0 + w * (v1 * v1 - v0 * v0)).max(0.0).sqrt();
         let t = if v0 + root > 0.0 {
             w * (v0 + v1) / (v0 + root)
         } else {
             w
         };
-        a + (b - a) * t.clamp(0.0, 1.0) as f32
+        a + (b - a) * t.clamp(0.0, 1.0)
     }
 }
 
