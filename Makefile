@@ -44,17 +44,20 @@ pytest: python
 ## Everything CI checks.
 test: fmt lint cargo-test pytest
 
-## Until rendering exists: the colorimetry of a few lamps, with plots.
+## The bundled scenes rendered (X, Y, Z, V′ EXRs with auto-exposed sRGB
+## previews), and the colorimetry of the demo lamps, with plots.
+DEMO_SCENES := cornell-box material-showcase night-street prism
+
 demo:
 	$(CARGO) build --release -p scotopia
 	@mkdir -p $(DEMO_OUT)
+	@for s in $(DEMO_SCENES); do \
+	  $(BIN) render scenes/$$s.xml -o $(DEMO_OUT)/$$s.exr --preview $(DEMO_OUT)/$$s.png; done
 	@for lamp in A D65 F2 F11; do \
-	  $(BIN) spectrum --illuminant $$lamp --plot $(DEMO_OUT)/illuminant-$$lamp.png; echo; done
-	@$(BIN) spectrum --blackbody 1900 --plot $(DEMO_OUT)/candle-1900K.png; echo
-	@$(BIN) spectrum --file scenes/lamps/led-4000k.csv --plot $(DEMO_OUT)/led-4000k.png; echo
-	@$(BIN) spectrum --file scenes/lamps/low-pressure-sodium.csv --plot $(DEMO_OUT)/low-pressure-sodium.png; echo
-	@$(BIN) spectrum --rgb 0.8,0.3,0.1 --plot $(DEMO_OUT)/srgb-orange-reflectance.png; echo
-	@echo "plots in $(DEMO_OUT)/"
+	  $(BIN) spectrum --illuminant $$lamp --plot $(DEMO_OUT)/illuminant-$$lamp.png > /dev/null; done
+	@$(BIN) spectrum --file scenes/lamps/led-4000k.csv --plot $(DEMO_OUT)/led-4000k.png
+	@$(BIN) spectrum --file scenes/lamps/low-pressure-sodium.csv --plot $(DEMO_OUT)/low-pressure-sodium.png
+	@echo "renders and plots in $(DEMO_OUT)/"
 
 ## criterion benchmarks, the bundled scenes' render rates and memory, and
 ## the Cornell box against Mitsuba 3 (bench/*.py print the README tables).

@@ -12,7 +12,7 @@ its film in XYZ; scotopia with its defaults (SWC, K = 4). Printed:
 
 Mitsuba's Y is ∫L·ȳ dλ / ∫ȳ dλ; it is multiplied by 683 × 106.857 to be
 absolute like scotopia's (docs/scene-format.md, "Comparing with Mitsuba 3").
-Usage: python bench/vs_mitsuba.py [--spp 64] [--ref-spp 1024] [--res 256]
+Usage: python bench/vs_mitsuba.py [--spp 64] [--ref-spp 1024] [--res 256] [--variant V]
 """
 
 import argparse
@@ -82,10 +82,11 @@ def main():
     parser.add_argument("--ref-spp", type=int, default=1024)
     parser.add_argument("--res", type=int, default=256)
     parser.add_argument("--depth", type=int, default=16)
+    parser.add_argument("--variant", help="Mitsuba variant (default: the best that runs)")
     args = parser.parse_args()
     pixels = args.res * args.res
 
-    variant = best_variant()
+    variant = args.variant or best_variant()
     with tempfile.TemporaryDirectory() as tmp:
         mitsuba = mitsuba_renderer(variant, args.res, args.depth, tmp)
         print(f"reference: Mitsuba {variant}, {args.ref_spp} spp …", flush=True)
