@@ -23,9 +23,16 @@ pub fn xyz_to_oklab(xyz: [f64; 3]) -> [f64; 3] {
 
 /// Oklab → XYZ (relative, D65).
 pub fn oklab_to_xyz(lab: [f64; 3]) -> [f64; 3] {
-    // The constant matrices are invertible.
-    let lms = M2.inverse().expect("M2").apply(lab).map(|v| v * v * v);
-    M1.inverse().expect("M1").apply(lms)
+    static INVERSES: std::sync::OnceLock<(Mat3, Mat3)> = std::sync::OnceLock::new();
+    // The constant matrices are invertible; inverted once.
+    let (m1_inv, m2_inv) = INVERSES.get_or_init(|| {
+        (
+            M1.inverse().expect("M1 is invertible"),
+            M2.inverse().expect("M2 is invertible"),
+        )
+    });
+    let lms = m2_inv.apply(lab).map(|v| v * v * v);
+    m1_inv.apply(lms)
 }
 
 /// Oklab → OkLCh (h in degrees, [0, 360)).

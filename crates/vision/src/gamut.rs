@@ -1,0 +1,177 @@
+//! Gamut mapping to a display's primaries by CSS Color 4's algorithm
+//! (W3C CSS Color Module Level 4, §13.2 "binary search gamut mapping with
+//! local MINDE"; ../shared/vision-equations.md §7): reduce chroma in OkLCh
+//! at constant lightness and hue until clipping the colour moves it less
+//! than a just-noticeable difference, then clip. Unlike clipping each
+//! channel, hue and lightness survive; colours already in gamut are
+//! returned unchanged.
+//!
+//! One step is scotopia's own: that final clip may turn the hue by several
+//! degrees (6° for Rec.2020 blue into sRGB, where Oklab's blue bends), so
+//! the clipped colour's lightness and chroma are put back on the original
+//! hue, its chroma lowered to the gamut boundary if that leaves it
+//! outside. The result stays within about one JND of CSS's (at most 0.023
+//! ΔEOK on the test colours) and keeps the hue exactly (docs/vision.md).
+
+use scotopia_color::space::{
+    delta_e_ok, oklab_to_oklch, oklab_to_xyz, oklch_to_oklab, xyz_to_oklab, RgbColorSpace,
+};
+
+/// ΔEOK of a just-noticeable difference (CSS Color 4).
+pub const JND: f64 = 0.02;
+/// Chroma resolution of the search (CSS Color 4's ε).
+pub const EPSILON: f64 = 0.0001;
+
+fn in_gamut(rgb: [f64; 3]) -> bool {
+    rgb.iter().all(|&c| (0.0..=1.0).contains(&c))
+}
+
+fn clip(rgb: [f64; 3]) -> [f64; 3] {
+    rgb.map(|c| if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) })
+}
+
+/// Maps XYZ (relative: the display's white has Y = 1, D65) into `space`'s
+/// gamut, returning linear RGB in [0, 1].
+pub fn map_to_gamut(xyz: [f64; 3], space: &RgbColorSpace) -> [f64; 3] {
+    let rgb = space.xyz_to_rgb(xyz);
+    if in_gamut(rgb) {
+        return rgb;
+    }
+    let origin = xyz_to_oklab(xyz);
+    let [l, _, h] = oklab_to_oklch(origin);
+    // Beyond white or black there is no chroma to keep.
+    if l >= 1.0 {
+        return [1.0; 3];
+    }
+    if l.is_nan() || l <= 0.0 {
+        return [0.0; 3];
+    }
+    let clipped = css_color_4(rgb, origin, space);
+    restore_hue(clipped, h, space)
+}
+
+/// CSS Color 4's binary search with local MINDE, for an out-of-gamut
+/// colour (`rgb` in `space`, `origin` in Oklab, 0 < L < 1).
+fn css_color_4(rgb: [f64; 3], origin: [f64; 3], space: &RgbColorSpace) -> [f64; 3] {
+    let [l, c, h] = oklab_to_oklch(origin);
+    let oklab_of = |rgb: [f64; 3]| xyz_to_oklab(space.rgb_to_xyz(rgb));
+    let mut clipped = clip(rgb);
+    if delta_e_ok(oklab_of(clipped), origin) < JND {
+        return clipped;
+    }
+    let (mut min, mut max, mut min_in_gamut) = (0.0, c, true);
+    while max - min > EPSILON {
+        let chroma = 0.5 * (min + max);
+        let current = oklch_to_oklab([l, chroma, h]);
+        let rgb = space.xyz_to_rgb(oklab_to_xyz(current));
+        if min_in_gamut && in_gamut(rgb) {
+            min = chroma;
+            continue;
+        }
+        clipped = clip(rgb);
+        let e = delta_e_ok(oklab_of(clipped), current);
+        if e < JND {
+            if JND - e < EPSILON {
+                return clipped;
+            }
+            min_in_gamut = false;
+            min = chroma;
+        } else {
+            max = chroma;
+        }
+    }
+    clipped
+}
+
+/// The in-gamut colour `rgb` turned back to hue `h` at its own OkLCh
+/// lightness and chroma, with chroma lowered (bisection to ε) until the
+/// result is in gamut; grey at that lightness always is.
+fn restore_hue(rgb: [f64; 3], h: f64, space: &RgbColorSpace) -> [f64; 3] {
+    let [l, c, _] = oklab_to_oklch(xyz_to_oklab(space.rgb_to_xyz(rgb)));
+    let at = |chroma: f64| space.xyz_to_rgb(oklab_to_xyz(oklch_to_oklab([l, chroma, h])));
+    let full = at(c);
+    if in_gamut(full) {
+        return full;
+    }
+    let (mut lo, mut hi) = (0.0, c);
+    while hi - lo > EPSILON {
+        let mid = 0.5 * (lo + hi);
+        if in_gamut(at(mid)) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    clip(at(lo))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use scotopia_color::space::RgbSpace;
+
+    fn hue(xyz: [f64; 3]) -> f64 {
+        oklab_to_oklch(xyz_to_oklab(xyz))[2]
+    }
+
+    #[test]
+    fn in_gamut_colours_are_unchanged() {
+        let srgb = RgbSpace::Srgb.def();
+        for rgb in [
+            [0.2, 0.5, 0.9],
+            [1.0, 1.0, 1.0],
+            [0.0, 0.3, 0.0],
+            [0.7, 0.1, 0.4],
+        ] {
+            let out = map_to_gamut(srgb.rgb_to_xyz(rgb), srgb);
+            for k in 0..3 {
+                assert!((out[k] - rgb[k]).abs() < 1e-12, "{rgb:?} → {out:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn out_of_gamut_colours_land_inside_with_their_hue() {
+        // Saturated Rec.2020 and spectral-locus-like colours into sRGB and
+        // P3, at several lightnesses.
+        let rec2020 = RgbSpace::Rec2020.def();
+        let mut worst_hue = 0.0f64;
+        for space in [RgbSpace::Srgb.def(), RgbSpace::DisplayP3.def()] {
+            for rgb in [
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.0, 0.0, 1.0],
+                [0.0, 0.8, 0.9],
+                [0.9, 0.0, 0.8],
+                [0.6, 0.55, 0.0],
+                [0.05, 0.3, 0.02],
+                [0.3, 0.02, 0.05],
+            ] {
+                let xyz = rec2020.rgb_to_xyz(rgb);
+                let out = map_to_gamut(xyz, space);
+                assert!(out.iter().all(|c| (0.0..=1.0).contains(c)), "{out:?}");
+                let dh = (hue(space.rgb_to_xyz(out)) - hue(xyz) + 540.0).rem_euclid(360.0) - 180.0;
+                worst_hue = worst_hue.max(dh.abs());
+                let css = css_color_4(space.xyz_to_rgb(xyz), xyz_to_oklab(xyz), space);
+                let ok = |rgb: [f64; 3]| xyz_to_oklab(space.rgb_to_xyz(rgb));
+                // Within about one JND of CSS Color 4's own answer.
+                assert!(delta_e_ok(ok(out), ok(css)) < 1.5 * JND, "{rgb:?}");
+            }
+        }
+        assert!(worst_hue < 1.0, "hue moved {worst_hue}°");
+        // Per-channel clipping of the same colours moves hue far more (the
+        // test can fail): pure Rec.2020 green clipped into sRGB.
+        let xyz = rec2020.rgb_to_xyz([0.05, 0.3, 0.02]);
+        let srgb = RgbSpace::Srgb.def();
+        let naive = clip(srgb.xyz_to_rgb(xyz));
+        let dh = (hue(srgb.rgb_to_xyz(naive)) - hue(xyz) + 540.0).rem_euclid(360.0) - 180.0;
+        assert!(dh.abs() > 1.0, "{dh}");
+    }
+
+    #[test]
+    fn beyond_white_is_white_and_black_is_black() {
+        let srgb = RgbSpace::Srgb.def();
+        assert_eq!(map_to_gamut([2.0, 2.1, 2.0], srgb), [1.0; 3]);
+        assert_eq!(map_to_gamut([0.0, 0.0, 0.0], srgb), [0.0; 3]);
+    }
+}

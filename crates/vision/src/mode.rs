@@ -1,0 +1,196 @@
+//! The visual mode: how far vision has moved from cones to rods, from the
+//! adaptation luminance. Two published measures:
+//!
+//! - Jensen et al. 2001 ("A Physically-Based Night Sky Model", SIGGRAPH):
+//!   the scotopic sensitivity s ∈ [0, 1] that drives the night shift
+//!   (../shared/vision-equations.md §3);
+//! - CIE 191:2010 (MES2): the mesopic adaptation coefficient m ∈ [0, 1]
+//!   from photopic luminance and the S/P ratio (§5), which also names the
+//!   mode: photopic at m = 1 (≥ 5 cd/m²), scotopic at m = 0 (≤ 0.005).
+
+/// Jensen et al. 2001: s = 0 at log₁₀ L ≤ −2, 1 at log₁₀ L ≥ 0.6, and the
+/// smoothstep 3t² − 2t³ of t = (log₁₀ L + 2) / 2.6 between. s = 1 is fully
+/// photopic (no night shift), s = 0 fully scotopic.
+pub fn scotopic_sensitivity(luminance: f64) -> f64 {
+    if luminance.is_nan() || luminance <= 0.0 {
+        return 0.0;
+    }
+    let t = ((luminance.log10() + 2.0) / 2.6).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
+/// CIE 191:2010: m = a + b·log₁₀ L_mes (a = 0.7670, b = 0.3334), iterated
+/// from m = 0.5 with L_mes = [m·L_p + (1−m)·L_s·V′(λ₀)] / [m + (1−m)·V′(λ₀)],
+/// L_s = (S/P)·L_p, V′(λ₀) = 683/1699. The iteration can oscillate at high
+/// L_p with very high S/P (Melgosa et al. 2017), so it is bounded.
+pub fn mesopic_coefficient(photopic: f64, sp_ratio: f64) -> f64 {
+    const A: f64 = 0.7670;
+    const B: f64 = 0.3334;
+    const V_LAMBDA0: f64 = 683.0 / 1699.0;
+    if photopic.is_nan() || photopic <= 0.0 {
+        return 0.0;
+    }
+    let scotopic = sp_ratio.max(0.0) * photopic;
+    let mut m = 0.5;
+    for _ in 0..100 {
+        let l_mes = (m * photopic + (1.0 - m) * scotopic * V_LAMBDA0) / (m + (1.0 - m) * V_LAMBDA0);
+        let next = if l_mes > 0.0 {
+            (A + B * l_mes.log10()).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        if (next - m).abs() < 1e-9 {
+            return next;
+        }
+        m = next;
+    }
+    m
+}
+
+/// The visual mode's name, by CIE 191's range.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum VisualMode {
+    Photopic,
+    Mesopic,
+    Scotopic,
+}
+
+impl VisualMode {
+    pub fn from_mesopic(m: f64) -> Self {
+        if m >= 1.0 {
+            Self::Photopic
+        } else if m <= 0.0 {
+            Self::Scotopic
+        } else {
+            Self::Mesopic
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Photopic => "photopic",
+            Self::Mesopic => "mesopic",
+            Self::Scotopic => "scotopic",
+        }
+    }
+}
+
+/// What the eye is adapted to.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Adaptation {
+    /// One luminance for the whole image: its log-average (see
+    /// `image_statistics`).
+    Global,
+    /// Per pixel, from a low-pass level of the adaptation pyramid.
+    Local,
+    /// A stated luminance, cd/m².
+    Fixed(f64),
+}
+
+/// Luminance statistics of an image.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ImageStatistics {
+    /// exp(mean(ln(δ + Y))) with δ = 10⁻⁶ cd/m² (so black pixels count as
+    /// very dark rather than as −∞): the global adaptation luminance.
+    pub log_average: f64,
+    pub maximum: f64,
+    /// Mean V′ / mean Y: the scene's S/P ratio, for CIE 191.
+    pub sp_ratio: f64,
+}
+
+/// Statistics of pixels given as [X, Y, Z, V′].
+pub fn image_statistics(pixels: &[[f32; 4]]) -> ImageStatistics {
+    const DELTA: f64 = 1e-6;
+    let n = pixels.len().max(1) as f64;
+    let (mut log_sum, mut max, mut y_sum, mut v_sum) = (0.0, 0.0f64, 0.0, 0.0);
+    for p in pixels {
+        let y = (p[1] as f64).max(0.0);
+        let v = (p[3] as f64).max(0.0);
+        if !(y.is_finite() && v.is_finite()) {
+            continue;
+        }
+        log_sum += (DELTA + y).ln();
+        max = max.max(y);
+        y_sum += y;
+        v_sum += v;
+    }
+    ImageStatistics {
+        log_average: (log_sum / n).exp(),
+        maximum: max,
+        sp_ratio: if y_sum > 0.0 { v_sum / y_sum } else { 0.0 },
+    }
+}
+
+/// The visual state at one adaptation luminance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VisualState {
+    /// Adaptation luminance, cd/m².
+    pub luminance: f64,
+    /// Jensen et al.'s scotopic sensitivity (1 photopic, 0 scotopic).
+    pub s: f64,
+    /// CIE 191's mesopic coefficient.
+    pub m: f64,
+    pub mode: VisualMode,
+}
+
+impl VisualState {
+    pub fn new(luminance: f64, sp_ratio: f64) -> Self {
+        let m = mesopic_coefficient(luminance, sp_ratio);
+        Self {
+            luminance,
+            s: scotopic_sensitivity(luminance),
+            m,
+            mode: VisualMode::from_mesopic(m),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sensitivity_follows_jensen() {
+        assert_eq!(scotopic_sensitivity(0.0), 0.0);
+        assert_eq!(scotopic_sensitivity(0.001), 0.0);
+        assert_eq!(scotopic_sensitivity(0.01), 0.0);
+        assert_eq!(scotopic_sensitivity(10f64.powf(0.6)), 1.0);
+        assert_eq!(scotopic_sensitivity(100.0), 1.0);
+        // Midpoint of the log range: t = ½ → s = ½.
+        let mid = 10f64.powf(-2.0 + 1.3);
+        assert!((scotopic_sensitivity(mid) - 0.5).abs() < 1e-12);
+        // Monotonic between.
+        let mut prev = 0.0;
+        for i in 0..=300 {
+            let s = scotopic_sensitivity(10f64.powf(-3.0 + i as f64 * 0.01));
+            assert!(s >= prev);
+            prev = s;
+        }
+    }
+
+    #[test]
+    fn mesopic_coefficient_spans_cie_191_range() {
+        // At S/P = 1 photopic and scotopic luminances coincide (L_mes = L_p),
+        // so m = a + b·log₁₀ L_p directly.
+        assert_eq!(mesopic_coefficient(10.0, 1.0), 1.0);
+        assert_eq!(mesopic_coefficient(0.001, 1.0), 0.0);
+        let m = mesopic_coefficient(0.1, 1.0);
+        // log₁₀ 0.1 = −1.
+        assert!((m - (0.7670 - 0.3334)).abs() < 1e-6, "{m}");
+        // A bluer source (higher S/P) at the same photopic luminance looks
+        // brighter in mesopic vision: L_mes > L_p, so m is larger.
+        assert!(mesopic_coefficient(0.1, 2.0) > m);
+        assert_eq!(VisualMode::from_mesopic(1.0), VisualMode::Photopic);
+        assert_eq!(VisualMode::from_mesopic(0.3), VisualMode::Mesopic);
+        assert_eq!(VisualMode::from_mesopic(0.0), VisualMode::Scotopic);
+    }
+
+    #[test]
+    fn statistics_of_a_two_level_image() {
+        let px = [[0.0, 1.0, 0.0, 2.0], [0.0, 100.0, 0.0, 200.0]];
+        let s = image_statistics(&px);
+        assert!((s.log_average - 10.0).abs() < 1e-4, "{}", s.log_average);
+        assert_eq!(s.maximum, 100.0);
+        assert!((s.sp_ratio - 2.0).abs() < 1e-12);
+    }
+}
