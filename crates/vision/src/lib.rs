@@ -4,6 +4,7 @@
 //! (`night`), tone operators (`tonemap`), gamut mapping (`gamut`).
 
 pub mod gamut;
+pub mod glare;
 pub mod mode;
 pub mod night;
 pub mod tonemap;
