@@ -103,8 +103,16 @@ impl Default for Halo {
     }
 }
 
-/// The PSF of channel `c` at θ degrees for weights `w`.
+/// The widest angle the PSF reaches: scattered light stays within the
+/// hemisphere in front of the eye (scotopia's bound; the 1/θ² bloom would
+/// otherwise put 2 % of its light beyond 64° for ever wider grids).
+pub const MAX_ANGLE: f64 = 90.0;
+
+/// The PSF of channel `c` at θ degrees for weights `w` (0 beyond 90°).
 pub fn psf(c: usize, theta: f64, w: &[f64; 4], halo: &Halo) -> f64 {
+    if theta > MAX_ANGLE {
+        return 0.0;
+    }
     let [f0, f1, f2, _] = components(theta, 568.0);
     w[0] * f0 + w[1] * f1 + w[2] * f2 + w[3] * halo.eval(c, theta)
 }

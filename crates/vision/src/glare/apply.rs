@@ -1,0 +1,197 @@
+//! Applying the glare PSF: only the light a display cannot show glares
+//! (Spencer et al. 1995, §5): a pixel brighter than the display's maximum
+//! keeps that maximum and its excess is spread by the PSF, convolved by
+//! FFT with zero padding, one PSF per channel (the halo differs).
+
+use rustfft::num_complex::Complex32;
+use rustfft::FftDirection;
+
+use super::fft2::fft2;
+use super::psf::{psf, weights, Halo};
+
+/// How the glare is applied.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GlareParams {
+    /// Visual angle of one pixel, degrees.
+    pub degrees_per_pixel: f64,
+    /// Scotopic sensitivity s (1 photopic, 0 scotopic): the PSF's mixture.
+    pub s: f64,
+    /// The largest luminance (Y, cd/m²) the display reproduces at this
+    /// image's exposure; light above it glares.
+    pub threshold: f64,
+}
+
+/// Pixels within this distance of the PSF's centre (in pixels) are
+/// integrated over their area (the core is 0.02° wide, often sub-pixel).
+const SUPERSAMPLED_RADIUS: i64 = 4;
+const SUBSAMPLES: usize = 8;
+
+/// The PSF of each channel on a `pw` × `ph` grid, centred at (0, 0) and
+/// wrapped, normalised to sum 1 over the grid.
+fn kernels(p: &GlareParams, pw: usize, ph: usize) -> [Vec<f32>; 4] {
+    let halo = Halo::new();
+    let w = weights(p.s);
+    std::array::from_fn(|c| {
+        let mut k = vec![0.0f64; pw * ph];
+        for j in 0..ph {
+            let dy = if j <= ph / 2 {
+                j as i64
+            } else {
+                j as i64 - ph as i64
+            };
+            for i in 0..pw {
+                let dx = if i <= pw / 2 {
+                    i as i64
+                } else {
+                    i as i64 - pw as i64
+                };
+                let at = |x: f64, y: f64| psf(c, x.hypot(y) * p.degrees_per_pixel, &w, &halo);
+                k[j * pw + i] =
+                    if dx.abs() <= SUPERSAMPLED_RADIUS && dy.abs() <= SUPERSAMPLED_RADIUS {
+                        // The pixel's average over a grid of sub-positions.
+                        let n = SUBSAMPLES as f64;
+                        let mut sum = 0.0;
+                        for sy in 0..SUBSAMPLES {
+                            for sx in 0..SUBSAMPLES {
+                                let ox = (sx as f64 + 0.5) / n - 0.5;
+                                let oy = (sy as f64 + 0.5) / n - 0.5;
+                                sum += at(dx as f64 + ox, dy as f64 + oy);
+                            }
+                        }
+                        sum / (n * n)
+                    } else {
+                        at(dx as f64, dy as f64)
+                    };
+            }
+        }
+        let total: f64 = k.iter().sum();
+        k.iter().map(|v| (v / total) as f32).collect()
+    })
+}
+
+/// Adds glare to `pixels` ([X, Y, Z, V′], row-major, `width` × `height`)
+/// in place. Returns whether any pixel exceeded the threshold.
+pub fn apply_glare(pixels: &mut [[f32; 4]], width: usize, height: usize, p: &GlareParams) -> bool {
+    // Split each pixel into what the display shows and the excess, by the
+    // same factor on all channels so the excess keeps the pixel's colour.
+    let excess: Vec<[f32; 4]> = pixels
+        .iter_mut()
+        .map(|px| {
+            let y = px[1] as f64;
+            if y > p.threshold && y.is_finite() {
+                let f = ((y - p.threshold) / y) as f32;
+                let e = px.map(|v| v * f);
+                for c in 0..4 {
+                    px[c] -= e[c];
+                }
+                e
+            } else {
+                [0.0; 4]
+            }
+        })
+        .collect();
+    if excess.iter().all(|e| e[1] == 0.0) {
+        return false;
+    }
+    // Padding to twice the image keeps the circular convolution from
+    // wrapping light from one edge onto the other.
+    let (pw, ph) = (2 * width, 2 * height);
+    let kernels = kernels(p, pw, ph);
+    let scale = 1.0 / (pw * ph) as f32;
+    for (c, kernel) in kernels.iter().enumerate() {
+        let mut k: Vec<Complex32> = kernel.iter().map(|&v| Complex32::new(v, 0.0)).collect();
+        fft2(&mut k, pw, ph, FftDirection::Forward);
+        let mut img = vec![Complex32::new(0.0, 0.0); pw * ph];
+        for y in 0..height {
+            for x in 0..width {
+                img[y * pw + x].re = excess[y * width + x][c];
+            }
+        }
+        fft2(&mut img, pw, ph, FftDirection::Forward);
+        for (a, b) in img.iter_mut().zip(&k) {
+            *a *= b;
+        }
+        fft2(&mut img, pw, ph, FftDirection::Inverse);
+        for y in 0..height {
+            for x in 0..width {
+                pixels[y * width + x][c] += img[y * pw + x].re * scale;
+            }
+        }
+    }
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn params() -> GlareParams {
+        GlareParams {
+            degrees_per_pixel: 0.05,
+            s: 1.0,
+            threshold: 100.0,
+        }
+    }
+
+    #[test]
+    fn an_image_the_display_can_show_is_unchanged() {
+        let mut px = vec![[50.0, 60.0, 70.0, 80.0]; 32 * 24];
+        let before = px.clone();
+        assert!(!apply_glare(&mut px, 32, 24, &params()));
+        assert_eq!(px, before);
+    }
+
+    #[test]
+    fn a_bright_point_spreads_and_luminance_is_conserved() {
+        // A lamp in the centre of a dark image wide enough (256 × 256
+        // pixels of 0.5°: ±64°) to hold nearly all of the PSF, whose bloom
+        // falls only as 1/θ².
+        let (w, h) = (256, 256);
+        let c = 128;
+        let mut px = vec![[0.0f32; 4]; w * h];
+        px[c * w + c] = [9.0e5, 1.0e6, 8.0e5, 2.0e6];
+        let total_before: f64 = px.iter().map(|p| p[1] as f64).sum();
+        let p = GlareParams {
+            degrees_per_pixel: 0.5,
+            ..params()
+        };
+        assert!(apply_glare(&mut px, w, h, &p));
+        let total_after: f64 = px.iter().map(|p| p[1] as f64).sum();
+        assert!(
+            (total_after / total_before - 1.0).abs() < 0.01,
+            "{total_after} vs {total_before}"
+        );
+        // Light reaches pixels far from the lamp, falling with distance.
+        let at = |d: usize| px[c * w + c + d][1];
+        assert!(at(2) > at(8) && at(8) > at(30) && at(30) > 0.0);
+    }
+
+    #[test]
+    fn the_scotopic_halo_is_red_outside_blue_inside() {
+        // A white (X = Z) lamp at 0.1° per pixel: around the 3° ring the
+        // glare is redder (X/Z higher) at 3.4° than at 2.2°. Photopic
+        // vision has no halo term, so there the ratio stays 1.
+        let (w, h) = (128, 128);
+        let c = 64;
+        let lamp = [1.0e6, 1.0e6, 1.0e6, 1.0e6];
+        let ratio = |s: f64, r: usize| {
+            let mut px = vec![[0.0f32; 4]; w * h];
+            px[c * w + c] = lamp;
+            let p = GlareParams {
+                degrees_per_pixel: 0.1,
+                s,
+                threshold: 1.0,
+            };
+            apply_glare(&mut px, w, h, &p);
+            let q = px[c * w + c + r];
+            q[0] / q[2]
+        };
+        assert!(
+            ratio(0.0, 34) > 1.02 * ratio(0.0, 22),
+            "{} {}",
+            ratio(0.0, 34),
+            ratio(0.0, 22)
+        );
+        assert!((ratio(1.0, 34) - 1.0).abs() < 1e-3 && (ratio(1.0, 22) - 1.0).abs() < 1e-3);
+    }
+}
