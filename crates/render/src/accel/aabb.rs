@@ -68,20 +68,14 @@ impl Aabb {
     /// Slab test: whether the ray meets the box within (0, t_max). `inv_d`
     /// is 1/d per component. Robust to ±∞ in `inv_d` and scaled by
     /// 1 + 2γ₃ so grazing hits are not lost to rounding (pbrt-v4 §6.1.2).
+    /// The near plane of each slab is chosen by the direction's sign, not
+    /// by comparing distances, so the test is branch-free (the BVH's
+    /// 4-wide node test is the same, per lane). A NaN distance (0·∞, when
+    /// the origin lies on a slab plane) leaves the bound as it was.
     #[inline]
     pub fn hit(&self, ray: &Ray, inv_d: Vec3, t_max: f32) -> bool {
         let neg = [inv_d.x < 0.0, inv_d.y < 0.0, inv_d.z < 0.0];
-        self.hit_signed(ray.o, inv_d, neg, t_max)
-    }
-
-    /// The slab test with the ray's direction signs precomputed: the near
-    /// plane of each slab is chosen by sign, not by comparing distances,
-    /// so the test is branch-free. A NaN distance (0·∞, when the origin
-    /// lies on a slab plane) leaves the bound as it was: the comparisons
-    /// below return their second operand then (and compile to single
-    /// minss/maxss, unlike `f32::min`, which also checks the second).
-    #[inline]
-    pub fn hit_signed(&self, o: Vec3, inv_d: Vec3, neg: [bool; 3], t_max: f32) -> bool {
+        let o = ray.o;
         let pick = |a: usize, far: bool| {
             if neg[a] != far {
                 self.max[a]
@@ -91,6 +85,8 @@ impl Aabb {
         };
         let near = |a: usize| (pick(a, false) - o[a]) * inv_d[a];
         let far = |a: usize| (pick(a, true) - o[a]) * inv_d[a] * (1.0 + 2.0 * GAMMA3);
+        // Return b when a is NaN (and compile to one maxss/minss, unlike
+        // f32::max, which also checks b).
         let max = |a: f32, b: f32| if a > b { a } else { b };
         let min = |a: f32, b: f32| if a < b { a } else { b };
         let t0 = max(near(0), max(near(1), max(near(2), 0.0)));
