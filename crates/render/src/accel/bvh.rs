@@ -376,7 +376,7 @@ impl Node4 {
         count: [0; 4],
     };
 
-    /// The slab test of `Aabb::hit_signed` on all four children: per
+    /// The slab test of `Aabb::hit` on all four children: per
     /// child the distance at which the ray enters its box, or +∞ when it
     /// misses within (0, t_max).
     #[inline(always)]
