@@ -110,8 +110,8 @@ impl<'a> Renderer<'a> {
             .map(|l| l.power(&extent).watts as f32)
             .collect();
         Self {
+            wavelengths: WavelengthSampler::new(strategy, &scene.lights, &power),
             light_choice: Distribution1D::new(power),
-            wavelengths: WavelengthSampler::new(strategy, &scene.lights, &extent),
             filter: FilterSampler::new(scene.filter),
             infinite: (0..scene.lights.len())
                 .filter(|&i| scene.lights[i].is_infinite())

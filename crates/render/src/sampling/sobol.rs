@@ -49,40 +49,12 @@ const DIRECTIONS: [[u32; 32]; 4] = directions();
 
 /// Per dimension and index byte, the XOR of the direction numbers of every
 /// 8-bit pattern: a coordinate is then four lookups, not a loop over bits
-/// (the shuffled indices of padded sampling use all 32).
-const fn byte_tables() -> [[[u32; 256]; 4]; 4] {
-    let mut t = [[[0u32; 256]; 4]; 4];
-    let mut d = 0;
-    while d < 4 {
-        let mut b = 0;
-        while b < 4 {
-            let mut pattern = 0;
-            while pattern < 256 {
-                let mut x = 0;
-                let mut bit = 0;
-                while bit < 8 {
-                    if (pattern >> bit) & 1 == 1 {
-                        x ^= DIRECTIONS[d][b * 8 + bit];
-                    }
-                    bit += 1;
-                }
-                t[d][b][pattern] = x;
-                pattern += 1;
-            }
-            b += 1;
-        }
-        d += 1;
-    }
-    t
-}
-
-static BYTE_TABLES: [[[u32; 256]; 4]; 4] = byte_tables();
-
-/// The same tables in bit-reversed form: indexed by the bytes of the
-/// reversed index, giving the reversed coordinate. Owen scrambling works on
-/// reversed bits (Burley 2020, §3), so the sampler stays in that domain
-/// and reverses once per coordinate instead of three times.
-const fn reversed_tables() -> [[[u32; 256]; 4]; 4] {
+/// (the shuffled indices of padded sampling use all 32). `reversed` builds
+/// the bit-reversed form: indexed by the bytes of the reversed index, giving
+/// the reversed coordinate. Owen scrambling works on reversed bits (Burley
+/// 2020, §3), so the sampler stays in that domain and reverses once per
+/// coordinate instead of three times.
+const fn byte_tables(reversed: bool) -> [[[u32; 256]; 4]; 4] {
     let mut t = [[[0u32; 256]; 4]; 4];
     let mut d = 0;
     while d < 4 {
@@ -94,7 +66,11 @@ const fn reversed_tables() -> [[[u32; 256]; 4]; 4] {
                 let mut bit = 0;
                 while bit < 8 {
                     if (pattern >> bit) & 1 == 1 {
-                        x ^= DIRECTIONS[d][31 - (b * 8 + bit)].reverse_bits();
+                        x ^= if reversed {
+                            DIRECTIONS[d][31 - (b * 8 + bit)].reverse_bits()
+                        } else {
+                            DIRECTIONS[d][b * 8 + bit]
+                        };
                     }
                     bit += 1;
                 }
@@ -108,26 +84,28 @@ const fn reversed_tables() -> [[[u32; 256]; 4]; 4] {
     t
 }
 
-static REVERSED_TABLES: [[[u32; 256]; 4]; 4] = reversed_tables();
+static BYTE_TABLES: [[[u32; 256]; 4]; 4] = byte_tables(false);
+static REVERSED_TABLES: [[[u32; 256]; 4]; 4] = byte_tables(true);
+
+/// The XOR of one table entry per byte of `x`.
+#[inline]
+fn lookup(t: &[[u32; 256]; 4], x: u32) -> u32 {
+    t[0][(x & 0xff) as usize]
+        ^ t[1][((x >> 8) & 0xff) as usize]
+        ^ t[2][((x >> 16) & 0xff) as usize]
+        ^ t[3][(x >> 24) as usize]
+}
 
 /// `sobol(index, dim).reverse_bits()` from `index.reverse_bits()`.
 #[inline]
 fn sobol_reversed(index_rev: u32, dim: usize) -> u32 {
-    let t = &REVERSED_TABLES[dim];
-    t[0][(index_rev & 0xff) as usize]
-        ^ t[1][((index_rev >> 8) & 0xff) as usize]
-        ^ t[2][((index_rev >> 16) & 0xff) as usize]
-        ^ t[3][(index_rev >> 24) as usize]
+    lookup(&REVERSED_TABLES[dim], index_rev)
 }
 
 /// The `index`-th point's coordinate in Sobol dimension `dim` < 4, as 32 bits.
 #[inline]
 pub fn sobol(index: u32, dim: usize) -> u32 {
-    let t = &BYTE_TABLES[dim];
-    t[0][(index & 0xff) as usize]
-        ^ t[1][((index >> 8) & 0xff) as usize]
-        ^ t[2][((index >> 16) & 0xff) as usize]
-        ^ t[3][(index >> 24) as usize]
+    lookup(&BYTE_TABLES[dim], index)
 }
 
 /// Laine & Karras's hash permutation as Burley 2020 (listing 3) improves it:

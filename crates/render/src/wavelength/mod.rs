@@ -22,7 +22,7 @@ pub use visible::{sample_visible, visible_pdf};
 
 use scotopia_color::{SampledWavelengths, LAMBDA_MAX, LAMBDA_MIN};
 
-use crate::light::{Light, SceneExtent};
+use crate::light::Light;
 
 /// The strategy names the CLI and Python accept.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -57,9 +57,11 @@ pub enum WavelengthSampler {
 }
 
 impl WavelengthSampler {
-    pub fn new(strategy: WavelengthStrategy, lights: &[Light], scene: &SceneExtent) -> Self {
+    /// `power[i]` is light i's radiant power (W), as the renderer's light
+    /// choice has it.
+    pub fn new(strategy: WavelengthStrategy, lights: &[Light], power: &[f32]) -> Self {
         match strategy {
-            WavelengthStrategy::Swc => Self::Swc(Box::new(Swc::new(lights, scene))),
+            WavelengthStrategy::Swc => Self::Swc(Box::new(Swc::new(lights, power))),
             WavelengthStrategy::Hero => Self::Hero,
             WavelengthStrategy::Single => Self::Single,
         }

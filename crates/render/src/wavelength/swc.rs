@@ -5,7 +5,7 @@
 use scotopia_color::SampledWavelengths;
 
 use super::{sample_visible, visible_pdf, SpectralPdf};
-use crate::light::{Light, SceneExtent};
+use crate::light::Light;
 use crate::sampling::distribution::Distribution1D;
 
 /// Share of clusters drawn from the visible density instead of a light,
@@ -26,11 +26,12 @@ pub struct Swc {
 }
 
 impl Swc {
-    pub fn new(lights: &[Light], scene: &SceneExtent) -> Self {
+    /// `power[i]`: light i's radiant power, W.
+    pub fn new(lights: &[Light], power: &[f32]) -> Self {
         let (pdfs, power): (Vec<SpectralPdf>, Vec<f32>) = lights
             .iter()
-            .filter_map(|l| {
-                let watts = l.power(scene).watts as f32;
+            .zip(power)
+            .filter_map(|(l, &watts)| {
                 (watts > 0.0 && watts.is_finite())
                     .then(|| SpectralPdf::new(l.spectrum()).map(|p| (p, watts)))
                     .flatten()

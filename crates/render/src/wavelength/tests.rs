@@ -7,7 +7,7 @@ use scotopia_color::photometry::{estimate_xyzv, spectrum_to_xyzv};
 use scotopia_color::{cie, io, Spectrum};
 
 use super::*;
-use crate::light::{ConstantLight, PointLight};
+use crate::light::{ConstantLight, PointLight, SceneExtent};
 use crate::math::Vec3;
 
 fn sodium() -> Spectrum {
@@ -62,9 +62,13 @@ fn samplers() -> Vec<(&'static str, WavelengthSampler)> {
         center: Vec3::ZERO,
         radius: 1.0,
     };
+    let power: Vec<f32> = lights
+        .iter()
+        .map(|l| l.power(&extent).watts as f32)
+        .collect();
     WavelengthStrategy::ALL
         .into_iter()
-        .map(|s| (s.name(), WavelengthSampler::new(s, &lights, &extent)))
+        .map(|s| (s.name(), WavelengthSampler::new(s, &lights, &power)))
         .collect()
 }
 

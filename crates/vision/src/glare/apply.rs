@@ -7,7 +7,7 @@ use rustfft::num_complex::Complex32;
 use rustfft::FftDirection;
 
 use super::fft2::fft2;
-use super::psf::{psf, weights, Halo};
+use super::psf::{scatter, weights, Halo};
 
 /// How the glare is applied.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -26,47 +26,61 @@ pub struct GlareParams {
 const SUPERSAMPLED_RADIUS: i64 = 4;
 const SUBSAMPLES: usize = 8;
 
-/// The PSF of each channel on a `pw` × `ph` grid, centred at (0, 0) and
-/// wrapped, normalised to sum 1 over the grid.
-fn kernels(p: &GlareParams, pw: usize, ph: usize) -> [Vec<f32>; 4] {
-    let halo = Halo::new();
-    let w = weights(p.s);
-    std::array::from_fn(|c| {
-        let mut k = vec![0.0f64; pw * ph];
-        for j in 0..ph {
-            let dy = if j <= ph / 2 {
-                j as i64
-            } else {
-                j as i64 - ph as i64
-            };
-            for i in 0..pw {
-                let dx = if i <= pw / 2 {
-                    i as i64
-                } else {
-                    i as i64 - pw as i64
-                };
-                let at = |x: f64, y: f64| psf(c, x.hypot(y) * p.degrees_per_pixel, &w, &halo);
-                k[j * pw + i] =
-                    if dx.abs() <= SUPERSAMPLED_RADIUS && dy.abs() <= SUPERSAMPLED_RADIUS {
-                        // The pixel's average over a grid of sub-positions.
-                        let n = SUBSAMPLES as f64;
-                        let mut sum = 0.0;
-                        for sy in 0..SUBSAMPLES {
-                            for sx in 0..SUBSAMPLES {
-                                let ox = (sx as f64 + 0.5) / n - 0.5;
-                                let oy = (sy as f64 + 0.5) / n - 0.5;
-                                sum += at(dx as f64 + ox, dy as f64 + oy);
-                            }
-                        }
-                        sum / (n * n)
-                    } else {
-                        at(dx as f64, dy as f64)
-                    };
-            }
+/// `f` of the visual angle (degrees) on a `pw` × `ph` grid centred at
+/// (0, 0) and wrapped, each pixel near the centre averaged over its area.
+fn grid(pw: usize, ph: usize, degrees_per_pixel: f64, f: impl Fn(f64) -> f64) -> Vec<f64> {
+    let signed = |i: usize, n: usize| {
+        if i <= n / 2 {
+            i as i64
+        } else {
+            i as i64 - n as i64
         }
+    };
+    let at = |x: f64, y: f64| f(x.hypot(y) * degrees_per_pixel);
+    let n = SUBSAMPLES as f64;
+    let mut k = vec![0.0f64; pw * ph];
+    for j in 0..ph {
+        let dy = signed(j, ph);
+        for i in 0..pw {
+            let dx = signed(i, pw);
+            k[j * pw + i] = if dx.abs() <= SUPERSAMPLED_RADIUS && dy.abs() <= SUPERSAMPLED_RADIUS {
+                let mut sum = 0.0;
+                for sy in 0..SUBSAMPLES {
+                    for sx in 0..SUBSAMPLES {
+                        let ox = (sx as f64 + 0.5) / n - 0.5;
+                        let oy = (sy as f64 + 0.5) / n - 0.5;
+                        sum += at(dx as f64 + ox, dy as f64 + oy);
+                    }
+                }
+                sum / (n * n)
+            } else {
+                at(dx as f64, dy as f64)
+            };
+        }
+    }
+    k
+}
+
+/// The PSF on a `pw` × `ph` grid, normalised to sum 1: one kernel when the
+/// halo has no weight (every channel alike), else one per channel (the
+/// shared scatter computed once, each channel's halo added to it).
+fn kernels(p: &GlareParams, pw: usize, ph: usize) -> Vec<Vec<f32>> {
+    let w = weights(p.s);
+    let normalised = |k: Vec<f64>| {
         let total: f64 = k.iter().sum();
-        k.iter().map(|v| (v / total) as f32).collect()
-    })
+        k.iter().map(|v| (v / total) as f32).collect::<Vec<f32>>()
+    };
+    let shared = grid(pw, ph, p.degrees_per_pixel, |t| scatter(t, &w));
+    if w[3] == 0.0 {
+        return vec![normalised(shared)];
+    }
+    let halo = Halo::new();
+    (0..4)
+        .map(|c| {
+            let ring = grid(pw, ph, p.degrees_per_pixel, |t| w[3] * halo.eval(c, t));
+            normalised(shared.iter().zip(ring).map(|(a, b)| a + b).collect())
+        })
+        .collect()
 }
 
 /// Adds glare to `pixels` ([X, Y, Z, V′], row-major, `width` × `height`)
@@ -96,11 +110,17 @@ pub fn apply_glare(pixels: &mut [[f32; 4]], width: usize, height: usize, p: &Gla
     // Padding to twice the image keeps the circular convolution from
     // wrapping light from one edge onto the other.
     let (pw, ph) = (2 * width, 2 * height);
-    let kernels = kernels(p, pw, ph);
+    let kernels: Vec<Vec<Complex32>> = kernels(p, pw, ph)
+        .into_iter()
+        .map(|kernel| {
+            let mut k: Vec<Complex32> = kernel.iter().map(|&v| Complex32::new(v, 0.0)).collect();
+            fft2(&mut k, pw, ph, FftDirection::Forward);
+            k
+        })
+        .collect();
     let scale = 1.0 / (pw * ph) as f32;
-    for (c, kernel) in kernels.iter().enumerate() {
-        let mut k: Vec<Complex32> = kernel.iter().map(|&v| Complex32::new(v, 0.0)).collect();
-        fft2(&mut k, pw, ph, FftDirection::Forward);
+    for c in 0..4 {
+        let k = &kernels[c.min(kernels.len() - 1)];
         let mut img = vec![Complex32::new(0.0, 0.0); pw * ph];
         for y in 0..height {
             for x in 0..width {
@@ -108,7 +128,7 @@ pub fn apply_glare(pixels: &mut [[f32; 4]], width: usize, height: usize, p: &Gla
             }
         }
         fft2(&mut img, pw, ph, FftDirection::Forward);
-        for (a, b) in img.iter_mut().zip(&k) {
+        for (a, b) in img.iter_mut().zip(k) {
             *a *= b;
         }
         fft2(&mut img, pw, ph, FftDirection::Inverse);

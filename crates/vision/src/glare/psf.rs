@@ -17,16 +17,26 @@
 
 use scotopia_color::cie;
 
-/// The core, flare, bloom and halo terms at θ degrees (halo at λ nm).
-pub fn components(theta: f64, lambda: f64) -> [f64; 4] {
+/// The core, flare and bloom terms f0, f1, f2 at θ degrees.
+pub fn scatter_terms(theta: f64) -> [f64; 3] {
     let t = theta + 0.02;
-    let ring = 3.0 * lambda / 568.0;
     [
         2.61e6 * (-(theta / 0.02).powi(2)).exp(),
         20.91 / (t * t * t),
         72.37 / (t * t),
-        436.9 * (568.0 / lambda) * (-19.75 * (theta - ring).powi(2)).exp(),
     ]
+}
+
+/// The lenticular halo f3 at θ degrees and λ nm.
+pub fn halo_term(theta: f64, lambda: f64) -> f64 {
+    let ring = 3.0 * lambda / 568.0;
+    436.9 * (568.0 / lambda) * (-19.75 * (theta - ring).powi(2)).exp()
+}
+
+/// f0…f3 at θ degrees (the halo at λ nm).
+pub fn components(theta: f64, lambda: f64) -> [f64; 4] {
+    let [f0, f1, f2] = scatter_terms(theta);
+    [f0, f1, f2, halo_term(theta, lambda)]
 }
 
 /// Weights of f0…f3 for photopic, mesopic and scotopic vision.
@@ -75,7 +85,7 @@ impl Halo {
                     lambdas
                         .iter()
                         .zip(&weight)
-                        .map(|(&l, w)| w * components(theta, l)[3])
+                        .map(|(&l, w)| w * halo_term(theta, l))
                         .sum::<f64>()
                         / total
                 })
@@ -108,13 +118,14 @@ impl Default for Halo {
 /// otherwise put 2 % of its light beyond 64° for ever wider grids).
 pub const MAX_ANGLE: f64 = 90.0;
 
-/// The PSF of channel `c` at θ degrees for weights `w` (0 beyond 90°).
-pub fn psf(c: usize, theta: f64, w: &[f64; 4], halo: &Halo) -> f64 {
+/// The part of the PSF every channel shares, w0·f0 + w1·f1 + w2·f2, at θ
+/// degrees (0 beyond 90°); the halo, w3·f3, is `Halo::eval` per channel.
+pub fn scatter(theta: f64, w: &[f64; 4]) -> f64 {
     if theta > MAX_ANGLE {
         return 0.0;
     }
-    let [f0, f1, f2, _] = components(theta, 568.0);
-    w[0] * f0 + w[1] * f1 + w[2] * f2 + w[3] * halo.eval(c, theta)
+    let [f0, f1, f2] = scatter_terms(theta);
+    w[0] * f0 + w[1] * f1 + w[2] * f2
 }
 
 #[cfg(test)]
