@@ -1,0 +1,71 @@
+//! The multiscale model's gain control (Pattanaik, Ferwerda, Fairchild &
+//! Greenberg 1998, §3): the photoreceptors' gain as a function of local
+//! adaptation.
+
+/// A gain-control function of the adapting luminance I (cd/m² for cones,
+/// scotopic cd/m² for rods):
+///
+///   G(I) = S(I) / (k · (I + σ)ⁿ),  S(I) = c / (I² + c) (rods) or 1 (cones).
+///
+/// Pattanaik et al. 1998 fit these to threshold-versus-intensity data so
+/// that a band signal times G is in units of threshold: cones k = 0.555,
+/// σ = 1, n = 0.85; rods k = 0.908, σ = 0.001, n = 0.85, with the
+/// saturation factor c = 10 that switches rods off in daylight. (Recalled
+/// from the paper; its text could not be consulted here — docs/vision.md.)
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GainFunction {
+    pub k: f32,
+    pub sigma: f32,
+    pub n: f32,
+    /// The rods' saturation constant c; `None` for cones.
+    pub saturation: Option<f32>,
+}
+
+impl GainFunction {
+    pub const CONES: Self = Self {
+        k: 0.555,
+        sigma: 1.0,
+        n: 0.85,
+        saturation: None,
+    };
+    pub const RODS: Self = Self {
+        k: 0.908,
+        sigma: 0.001,
+        n: 0.85,
+        saturation: Some(10.0),
+    };
+
+    #[inline]
+    pub fn gain(&self, i: f32) -> f32 {
+        let i = i.max(0.0);
+        let g = 1.0 / (self.k * (i + self.sigma).powf(self.n));
+        match self.saturation {
+            Some(c) => g * c / (i * i + c),
+            None => g,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gains_are_one_near_one_candela_and_fall_with_adaptation() {
+        // Both fits pass close to G(1) = 1: cones 1/(0.555·2^0.85),
+        // rods (10/11)/(0.908·1.001^0.85).
+        assert!((GainFunction::CONES.gain(1.0) - 1.0).abs() < 0.01);
+        assert!((GainFunction::RODS.gain(1.0) - 1.0).abs() < 0.01);
+        for g in [GainFunction::CONES, GainFunction::RODS] {
+            let mut last = f32::INFINITY;
+            for e in -4..5 {
+                let v = g.gain(10f32.powi(e));
+                assert!(v < last, "gain must fall as adaptation rises");
+                last = v;
+            }
+        }
+        // Rods saturate: at 100 scotopic cd/m² their gain is a thousandth
+        // of the cones' at the same level.
+        assert!(GainFunction::RODS.gain(100.0) < 1e-3 * GainFunction::CONES.gain(100.0));
+    }
+}

@@ -1,0 +1,141 @@
+use super::*;
+
+const W: usize = 96;
+const H: usize = 64;
+
+/// u′v′ of an XYZ triple.
+fn uv(xyz: [f32; 3]) -> [f64; 2] {
+    let [x, y, z] = xyz.map(f64::from);
+    let d = x + 15.0 * y + 3.0 * z;
+    [4.0 * x / d, 9.0 * y / d]
+}
+
+fn white_uv() -> [f64; 2] {
+    uv(RgbSpace::Srgb.def().white_xyz().map(|v| v as f32))
+}
+
+fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+/// A scene of grey patches (reflectances 0.05–0.9) lit by an illuminant of
+/// chromaticity `xy`, with a scotopic-to-photopic ratio `sp`, scaled so
+/// that white has luminance `white`.
+fn patches(xy: [f64; 2], white: f64, sp: f64) -> Vec<[f32; 4]> {
+    let reflectances = [0.05, 0.2, 0.18, 0.9, 0.4, 0.1];
+    let ill = [xy[0] / xy[1], 1.0, (1.0 - xy[0] - xy[1]) / xy[1]];
+    (0..W * H)
+        .map(|i| {
+            let (x, y) = (i % W, i / W);
+            let r = reflectances[(x / 16 + 3 * (y / 32)) % reflectances.len()] * white;
+            [
+                (ill[0] * r) as f32,
+                r as f32,
+                (ill[2] * r) as f32,
+                (sp * r) as f32,
+            ]
+        })
+        .collect()
+}
+
+fn mean_y(out: &[[f32; 3]]) -> f64 {
+    out.iter().map(|p| p[1] as f64).sum::<f64>() / out.len() as f64
+}
+
+#[test]
+fn a_uniform_field_stays_uniform() {
+    for level in [1e-3f32, 0.3, 50.0, 5e3] {
+        let px = vec![[0.95 * level, level, 1.09 * level, 2.4 * level]; W * H];
+        let out = multiscale(&px, W, H, &MultiscaleParams::default());
+        let first = out[0];
+        assert!(first[1] > 0.0);
+        for p in &out {
+            for c in 0..3 {
+                assert!(
+                    (p[c] / first[c] - 1.0).abs() < 1e-4,
+                    "{level}: {p:?} vs {first:?}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn ten_times_the_light_is_far_less_than_ten_times_brighter() {
+    // Photopic range: the display mean grows by under 2× for 10× light
+    // (measured: ≈ 1.4×), where a linear operator would give 10×.
+    let d65 = [0.3127, 0.3290];
+    let p = MultiscaleParams::default();
+    for base in [100.0, 1000.0] {
+        let lo = mean_y(&multiscale(&patches(d65, base, 2.4), W, H, &p));
+        let hi = mean_y(&multiscale(&patches(d65, 10.0 * base, 2.4), W, H, &p));
+        let ratio = hi / lo;
+        assert!(ratio > 1.0 && ratio < 2.0, "{base}: {ratio}");
+    }
+}
+
+#[test]
+fn a_grey_card_under_illuminant_a_comes_out_nearer_neutral() {
+    // Illuminant A (CIE 15: x = 0.44757, y = 0.40745) at 200 cd/m²: the
+    // input grey is as far from D65 as A is; local von Kries gain control
+    // must bring the 18 % card at least halfway back to neutral.
+    let a = [0.44757, 0.40745];
+    let px = patches(a, 200.0, 1.4);
+    let out = multiscale(&px, W, H, &MultiscaleParams::default());
+    // The centre of the 0.18 patch (x in 32..48, y in 0..32).
+    let i = 16 * W + 40;
+    let before = distance(uv([px[i][0], px[i][1], px[i][2]]), white_uv());
+    let after = distance(uv(out[i]), white_uv());
+    assert!(after < 0.5 * before, "Δu′v′ {before:.4} → {after:.4}");
+}
+
+#[test]
+fn chroma_falls_as_light_falls_into_scotopic_vision() {
+    // Saturated red, green and blue patches on grey.
+    let colours = [
+        [0.41, 0.21, 0.02],
+        [0.36, 0.72, 0.12],
+        [0.18, 0.07, 0.95],
+        [0.3, 0.32, 0.35],
+    ];
+    let scene = |scale: f32| -> Vec<[f32; 4]> {
+        (0..W * H)
+            .map(|i| {
+                let c = colours[(i % W) / 24];
+                // V′ ≈ 2·Y for these mixtures; enough for the trend.
+                [c[0] * scale, c[1] * scale, c[2] * scale, 2.0 * c[1] * scale]
+            })
+            .collect()
+    };
+    let chroma = |scale: f32| {
+        let out = multiscale(&scene(scale), W, H, &MultiscaleParams::default());
+        // Mean u′v′ distance from white over the three coloured patches.
+        let mut sum = 0.0;
+        for k in 0..3 {
+            sum += distance(uv(out[(H / 2) * W + 24 * k + 12]), white_uv());
+        }
+        sum / 3.0
+    };
+    let levels = [300.0, 3.0, 0.03, 3e-4];
+    let c: Vec<f64> = levels.iter().map(|&s| chroma(s)).collect();
+    for k in 1..c.len() {
+        assert!(c[k] < c[k - 1], "chroma must fall: {c:?}");
+    }
+    assert!(c[3] < 0.25 * c[0], "scotopic chroma not near zero: {c:?}");
+}
+
+#[test]
+fn global_adaptation_is_a_single_gain_per_receptor() {
+    // With one adaptation for the whole image, the model is linear in
+    // each cone signal: doubling one patch doubles its output.
+    let d65 = [0.3127, 0.3290];
+    let px = patches(d65, 100.0, 2.4);
+    let p = MultiscaleParams {
+        adaptation: GainAdaptation::Global(20.0),
+        ..MultiscaleParams::default()
+    };
+    let out = multiscale(&px, W, H, &p);
+    // Reflectance 0.9 (x in 48..64) against 0.18 (x in 32..48), row 16.
+    let ratio = out[16 * W + 56][1] / out[16 * W + 40][1];
+    assert!((ratio - 5.0).abs() < 0.05, "{ratio}");
+}
