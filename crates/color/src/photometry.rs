@@ -46,6 +46,20 @@ pub fn xyz_to_xy([x, y, z]: [f64; 3]) -> Option<[f64; 2]> {
     (sum > 0.0).then(|| [x / sum, y / sum])
 }
 
+/// Scale that puts Pattanaik et al. 1998's rod-signal fit on the scotopic
+/// cd/m² scale (K′m = 1700 lm/W): the fit gives R/Y = 0.8433 for D65, whose
+/// true V′/Y is 2.4645, so 2.4645 / 0.8433. (scotopia's calibration; the
+/// fit itself is on a scale the paper does not state.)
+pub const ROD_FIT_SCALE: f64 = 2.9225;
+
+/// Estimates V′ (scotopic cd/m²) from X, Y, Z (cd/m²) when only those are
+/// known, with the linear fit R = −0.702X + 1.039Y + 0.433Z (Pattanaik et
+/// al. 1998) scaled by [`ROD_FIT_SCALE`]. Exact for D65; about 13 % low for
+/// illuminant A (test below); never negative.
+pub fn estimate_scotopic([x, y, z]: [f64; 3]) -> f64 {
+    (ROD_FIT_SCALE * (-0.702 * x + 1.039 * y + 0.433 * z)).max(0.0)
+}
+
 /// The wavelengths at which to integrate `s` over 360–830 nm: the 1 nm grid
 /// merged with the spectrum's own tabulated wavelengths (trapezoid nodes).
 pub fn integration_nodes(s: &Spectrum) -> Vec<f32> {
@@ -165,6 +179,19 @@ impl Colorimetry {
 mod tests {
     use super::*;
     use crate::spectrum::Tabulated;
+
+    #[test]
+    fn the_rod_fit_estimates_scotopic_luminance() {
+        // Against the integral of V′: D65 by construction, A and F11 as a
+        // check of how far the linear fit carries.
+        for (name, tolerance) in [("D65", 0.005), ("A", 0.15), ("F11", 0.15)] {
+            let s = crate::cie::illuminant(name).unwrap();
+            let v = spectrum_to_xyzv(&s);
+            let estimate = estimate_scotopic([v.x, v.y, v.z]);
+            let err = estimate / v.v - 1.0;
+            assert!(err.abs() < tolerance, "{name}: {err:+.3}");
+        }
+    }
 
     #[test]
     fn equal_energy_is_white_with_the_standard_sums() {

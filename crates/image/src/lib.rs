@@ -1,15 +1,17 @@
-//! Images in and out of scotopia: PNG writing (atomic), PNG/JPEG/EXR
-//! reading for textures, spectrum plots. The
-//! XYZV′ image type and OpenEXR I/O arrive with the renderer.
+//! Images in and out of scotopia: the XYZV′ image read for the vision
+//! pipeline, OpenEXR and PNG (8/16-bit, sRGB or PQ) writing (atomic),
+//! PNG/JPEG/EXR reading for textures, spectrum plots.
 
 pub mod exr_out;
 pub mod plot;
 pub mod png_out;
 pub mod preview;
 pub mod read;
+pub mod xyzv;
 
 pub use exr_out::{read_exr, write_exr, ExrImage, Meta};
 pub use plot::{display_colour, plot_spectrum};
-pub use png_out::{write_png_rgb8, ImageError};
+pub use png_out::{write_png, write_png_rgb8, ImageError, PngColour, PngSamples};
 pub use preview::preview_srgb8;
 pub use read::{read_rgb, Encoding, RgbImage};
+pub use xyzv::{read_xyzv, RgbInput, XyzvImage};

@@ -34,11 +34,42 @@ pub(crate) fn tmp_path(path: &Path) -> PathBuf {
 
 /// Writes 8-bit sRGB pixels (row-major RGB triples) as a PNG with an sRGB chunk.
 pub fn write_png_rgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<(), ImageError> {
-    if rgb.len() != (width * height * 3) as usize {
+    write_png(path, width, height, PngSamples::Rgb8(rgb), PngColour::Srgb)
+}
+
+/// RGB samples for a PNG, row-major triples.
+#[derive(Debug, Clone, Copy)]
+pub enum PngSamples<'a> {
+    Rgb8(&'a [u8]),
+    Rgb16(&'a [u16]),
+}
+
+/// What the code values mean, written into the file so viewers know.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PngColour {
+    /// IEC 61966-2-1 sRGB: an sRGB chunk.
+    Srgb,
+    /// Rec. 2100 PQ with Rec. 2020 primaries: a cICP chunk (primaries 9,
+    /// transfer 16, matrix 0, full range; ITU-T H.273).
+    Rec2100Pq,
+}
+
+/// Writes an RGB PNG of 8 or 16 bits with its colour-space chunk, atomically.
+pub fn write_png(
+    path: &Path,
+    width: u32,
+    height: u32,
+    samples: PngSamples,
+    colour: PngColour,
+) -> Result<(), ImageError> {
+    let count = match samples {
+        PngSamples::Rgb8(v) => v.len(),
+        PngSamples::Rgb16(v) => v.len(),
+    };
+    if count != (width as usize) * (height as usize) * 3 {
         return Err(ImageError::Invalid(format!(
-            "{}: {} bytes for a {width}×{height} RGB image",
-            path.display(),
-            rgb.len()
+            "{}: {count} samples for a {width}×{height} RGB image",
+            path.display()
         )));
     }
     let name = path.display().to_string();
@@ -55,10 +86,30 @@ pub fn write_png_rgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Resul
         let file = File::create(&tmp).map_err(io)?;
         let mut encoder = png::Encoder::new(BufWriter::new(file), width, height);
         encoder.set_color(png::ColorType::Rgb);
-        encoder.set_depth(png::BitDepth::Eight);
-        encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+        let bytes: std::borrow::Cow<[u8]> = match samples {
+            PngSamples::Rgb8(v) => {
+                encoder.set_depth(png::BitDepth::Eight);
+                v.into()
+            }
+            PngSamples::Rgb16(v) => {
+                encoder.set_depth(png::BitDepth::Sixteen);
+                // PNG stores 16-bit samples big-endian.
+                v.iter()
+                    .flat_map(|s| s.to_be_bytes())
+                    .collect::<Vec<u8>>()
+                    .into()
+            }
+        };
+        if colour == PngColour::Srgb {
+            encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+        }
         let mut writer = encoder.write_header().map_err(png_err)?;
-        writer.write_image_data(rgb).map_err(png_err)?;
+        if colour == PngColour::Rec2100Pq {
+            writer
+                .write_chunk(png::chunk::cICP, &[9, 16, 0, 1])
+                .map_err(png_err)?;
+        }
+        writer.write_image_data(&bytes).map_err(png_err)?;
         writer.finish().map_err(png_err)?;
         std::fs::rename(&tmp, path).map_err(io)
     })();

@@ -2,12 +2,20 @@
 //! would see of it on a display. Stages, each its own module: the visual
 //! mode (`mode`), glare, multiscale adaptation (`multiscale`, on the
 //! pyramids of `pyramid`), the night-vision shift (`night`) and scotopic
-//! acuity (`acuity`), tone operators (`tonemap`), gamut mapping (`gamut`).
+//! acuity (`acuity`), tone operators (`tonemap`), gamut mapping (`gamut`),
+//! code values (`encode`); `pipeline` runs them in order.
 
+pub mod acuity;
+pub mod encode;
 pub mod gamut;
 pub mod glare;
 pub mod mode;
 pub mod multiscale;
 pub mod night;
+pub mod pipeline;
 pub mod pyramid;
 pub mod tonemap;
+
+pub use pipeline::{
+    display, display_observed, DisplayParams, Displayed, Report, Stage, ToneOperator,
+};

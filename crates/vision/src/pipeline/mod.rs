@@ -1,0 +1,350 @@
+//! The whole pipeline, stage by stage in the order of ../shared/DESIGN.md:
+//! visual mode → glare → adaptation (tone mapping) → night shift and
+//! scotopic acuity → gamut mapping. The result is display-referred linear
+//! RGB in [0, 1] (1 = the display's peak), ready for `encode`.
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+use scotopia_color::RgbSpace;
+
+use crate::acuity::{gaussian_blur, scotopic_blur_degrees};
+use crate::gamut::map_to_gamut;
+use crate::glare::{apply_glare, GlareParams};
+use crate::mode::{
+    image_statistics, scotopic_sensitivity, Adaptation, ImageStatistics, VisualState,
+};
+use crate::multiscale::{multiscale, GainAdaptation, MultiscaleParams};
+use crate::night::night_shift;
+use crate::pyramid::{expand, gaussian, Plane};
+use crate::tonemap::{exposure_scale, reinhard_scale};
+
+/// The tone operator of stage 3.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ToneOperator {
+    /// Pattanaik et al. 1998's multiscale model (the default).
+    Multiscale,
+    /// Reinhard et al. 2002's global operator, for comparison.
+    Reinhard,
+    /// A linear exposure (adaptation luminance at 18 % of peak).
+    Exposure,
+}
+
+impl ToneOperator {
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name.to_ascii_lowercase().as_str() {
+            "multiscale" | "pattanaik" => Some(Self::Multiscale),
+            "reinhard" => Some(Self::Reinhard),
+            "exposure" | "linear" => Some(Self::Exposure),
+            _ => None,
+        }
+    }
+}
+
+/// Every switch of the pipeline.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DisplayParams {
+    /// Visual angle of one pixel, degrees (horizontal field of view over
+    /// the width).
+    pub degrees_per_pixel: f64,
+    /// The display's peak luminance, cd/m².
+    pub display_peak: f64,
+    pub adaptation: Adaptation,
+    pub glare: bool,
+    /// The night-vision shift and the scotopic acuity blur (stage 4).
+    pub night_shift: bool,
+    pub tonemap: ToneOperator,
+    pub gamut: RgbSpace,
+    /// The multiscale model's constants (its display peak and adaptation
+    /// are taken from this struct's).
+    pub multiscale: MultiscaleParams,
+}
+
+impl Default for DisplayParams {
+    fn default() -> Self {
+        Self {
+            degrees_per_pixel: 40.0 / 1024.0,
+            display_peak: 100.0,
+            adaptation: Adaptation::Global,
+            glare: true,
+            night_shift: true,
+            tonemap: ToneOperator::Multiscale,
+            gamut: RgbSpace::Srgb,
+            multiscale: MultiscaleParams::default(),
+        }
+    }
+}
+
+/// The stages, for `--compare` and for callers that want to look inside.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stage {
+    /// The input at a plain exposure.
+    Input,
+    /// After glare, at the same exposure.
+    Glare,
+    /// After the tone operator.
+    Adaptation,
+    /// After the night shift and acuity blur.
+    NightShift,
+    /// After gamut mapping.
+    Final,
+}
+
+impl Stage {
+    pub const ALL: [Stage; 5] = [
+        Stage::Input,
+        Stage::Glare,
+        Stage::Adaptation,
+        Stage::NightShift,
+        Stage::Final,
+    ];
+
+    pub fn label(self) -> &'static str {
+        match self {
+            Stage::Input => "input (exposure)",
+            Stage::Glare => "glare",
+            Stage::Adaptation => "adaptation",
+            Stage::NightShift => "night shift",
+            Stage::Final => "final",
+        }
+    }
+}
+
+/// What the pipeline found and did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Report {
+    pub statistics: ImageStatistics,
+    /// The visual state at the image's (global or stated) adaptation.
+    pub state: VisualState,
+    pub glare_applied: bool,
+    /// The scotopic acuity blur's σ in pixels (0: none).
+    pub blur_pixels: f64,
+    /// Seconds per stage, in order.
+    pub timings: Vec<(&'static str, f64)>,
+}
+
+/// The pipeline's output: display-referred linear RGB in the target gamut.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Displayed {
+    pub width: usize,
+    pub height: usize,
+    pub rgb: Vec<[f32; 3]>,
+    pub report: Report,
+}
+
+/// Runs the pipeline on `pixels` ([X, Y, Z, V′] absolute).
+pub fn display(pixels: &[[f32; 4]], width: usize, height: usize, p: &DisplayParams) -> Displayed {
+    display_observed(pixels, width, height, p, &mut |_, _| {})
+}
+
+/// As [`display`], calling `observe` with each stage's image as
+/// display-relative X, Y, Z (Y = 1 at the display's peak).
+pub fn display_observed(
+    pixels: &[[f32; 4]],
+    width: usize,
+    height: usize,
+    p: &DisplayParams,
+    observe: &mut dyn FnMut(Stage, &[[f32; 3]]),
+) -> Displayed {
+    let mut timings = Vec::new();
+    let mut clock = Instant::now();
+    let mut lap = |name: &'static str, timings: &mut Vec<(&'static str, f64)>| {
+        timings.push((name, clock.elapsed().as_secs_f64()));
+        clock = Instant::now();
+    };
+
+    // 1. Visual mode.
+    let statistics = image_statistics(pixels);
+    let la = match p.adaptation {
+        Adaptation::Fixed(l) => l,
+        Adaptation::Global | Adaptation::Local => statistics.log_average,
+    };
+    let state = VisualState::new(la, statistics.sp_ratio);
+    let local_s =
+        (p.adaptation == Adaptation::Local).then(|| local_sensitivity(pixels, width, height, p));
+    let exposure = exposure_scale(la) as f32;
+    let xyz_at = |px: &[[f32; 4]], k: f32| -> Vec<[f32; 3]> {
+        px.par_iter()
+            .map(|q| [q[0] * k, q[1] * k, q[2] * k])
+            .collect()
+    };
+    observe(Stage::Input, &xyz_at(pixels, exposure));
+    lap("visual mode", &mut timings);
+
+    // 2. Glare.
+    let mut scene = pixels.to_vec();
+    let glare_applied = p.glare
+        && apply_glare(
+            &mut scene,
+            width,
+            height,
+            &GlareParams {
+                degrees_per_pixel: p.degrees_per_pixel,
+                s: state.s,
+                threshold: glare_threshold(p, la),
+            },
+        );
+    observe(Stage::Glare, &xyz_at(&scene, exposure));
+    lap("glare", &mut timings);
+
+    // 3. Adaptation: display-relative X, Y, Z and V′ on the same scale.
+    let mut shown = tone_map(&scene, width, height, p, la, &statistics);
+    observe(Stage::Adaptation, &xyz_of(&shown));
+    lap("adaptation", &mut timings);
+
+    // 4. Night shift and acuity.
+    let mut blur_pixels = 0.0;
+    if p.night_shift {
+        shown.par_iter_mut().enumerate().for_each(|(i, q)| {
+            let s = local_s.as_ref().map_or(state.s, |l| l[i] as f64);
+            let [x, y, z] = night_shift(q.map(f64::from), s);
+            *q = [x as f32, y as f32, z as f32, q[3]];
+        });
+        blur_pixels = scotopic_blur_degrees(la, display_adaptation(p)) / p.degrees_per_pixel;
+        gaussian_blur(&mut shown, width, height, blur_pixels);
+    }
+    observe(Stage::NightShift, &xyz_of(&shown));
+    lap("night shift", &mut timings);
+
+    // 5. Gamut mapping.
+    let space = p.gamut.def();
+    let rgb: Vec<[f32; 3]> = shown
+        .par_iter()
+        .map(|q| map_to_gamut([q[0], q[1], q[2]].map(f64::from), space).map(|v| v as f32))
+        .collect();
+    let back: Vec<[f32; 3]> = rgb
+        .par_iter()
+        .map(|c| space.rgb_to_xyz(c.map(f64::from)).map(|v| v as f32))
+        .collect();
+    observe(Stage::Final, &back);
+    lap("gamut mapping", &mut timings);
+
+    Displayed {
+        width,
+        height,
+        rgb,
+        report: Report {
+            statistics,
+            state,
+            glare_applied,
+            blur_pixels,
+            timings,
+        },
+    }
+}
+
+fn xyz_of(px: &[[f32; 4]]) -> Vec<[f32; 3]> {
+    px.par_iter().map(|q| [q[0], q[1], q[2]]).collect()
+}
+
+fn display_adaptation(p: &DisplayParams) -> f64 {
+    p.multiscale
+        .display_adaptation
+        .unwrap_or(p.display_peak / 2.0)
+}
+
+/// The scene luminance above which the display cannot follow, so the
+/// excess glares (Spencer et al. 1995 §5). For the exposure and Reinhard
+/// operators: what exposure maps to peak white, La / 0.18. For the
+/// multiscale model: the luminance whose photopic response, through the
+/// display's gain, is the peak — Y·G(Y) = peak·G(La_display), solved by
+/// bisection in log luminance (Y·G(Y) rises monotonically).
+fn glare_threshold(p: &DisplayParams, la: f64) -> f64 {
+    match p.tonemap {
+        ToneOperator::Exposure | ToneOperator::Reinhard => la / 0.18,
+        ToneOperator::Multiscale => {
+            let cones = p.multiscale.cones;
+            let response = |y: f64| y * cones.gain(y as f32) as f64;
+            let target = p.display_peak * cones.gain(display_adaptation(p) as f32) as f64;
+            let (mut lo, mut hi) = (-6.0f64, 12.0f64);
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                if response(10f64.powf(mid)) < target {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            10f64.powf(hi)
+        }
+    }
+}
+
+/// Stage 3: the chosen operator, returning X, Y, Z, V′ relative to the
+/// display's peak. V′ is scaled by each pixel's own luminance factor so the
+/// night shift sees it on the display's scale.
+fn tone_map(
+    scene: &[[f32; 4]],
+    width: usize,
+    height: usize,
+    p: &DisplayParams,
+    la: f64,
+    stats: &ImageStatistics,
+) -> Vec<[f32; 4]> {
+    let scaled = |k: &(dyn Fn(usize, f64) -> f64 + Sync)| -> Vec<[f32; 4]> {
+        scene
+            .par_iter()
+            .enumerate()
+            .map(|(i, q)| {
+                let f = k(i, q[1] as f64) as f32;
+                q.map(|v| v * f)
+            })
+            .collect()
+    };
+    match p.tonemap {
+        ToneOperator::Exposure => {
+            let e = exposure_scale(la);
+            scaled(&|_, _| e)
+        }
+        ToneOperator::Reinhard => scaled(&|_, y| reinhard_scale(y, la, stats.maximum)),
+        ToneOperator::Multiscale => {
+            let params = MultiscaleParams {
+                display_peak: p.display_peak,
+                adaptation: match p.adaptation {
+                    Adaptation::Fixed(l) => GainAdaptation::Global(l),
+                    Adaptation::Global | Adaptation::Local => GainAdaptation::Local,
+                },
+                ..p.multiscale
+            };
+            let out = multiscale(scene, width, height, &params);
+            let peak = p.display_peak as f32;
+            scene
+                .par_iter()
+                .zip(out)
+                .map(|(q, d)| {
+                    // V′ follows Y's factor (black in Y stays black).
+                    let f = if q[1] > 0.0 { d[1] / q[1] } else { 0.0 };
+                    [d[0] / peak, d[1] / peak, d[2] / peak, q[3] * f / peak]
+                })
+                .collect()
+        }
+    }
+}
+
+/// Per-pixel scotopic sensitivity for `--adaptation local`: s of the
+/// luminance at the pyramid level whose pixels are nearest 1° wide (the
+/// field the fovea adapts over), brought back to full size.
+fn local_sensitivity(
+    pixels: &[[f32; 4]],
+    width: usize,
+    height: usize,
+    p: &DisplayParams,
+) -> Vec<f32> {
+    let y = Plane::new(
+        width,
+        height,
+        pixels.par_iter().map(|q| q[1].max(0.0)).collect(),
+    );
+    let level = (1.0 / p.degrees_per_pixel).log2().round().clamp(1.0, 10.0) as usize;
+    let levels = gaussian(y, level + 1);
+    let coarse = levels.last().expect("a pyramid has its image");
+    let adapt = expand(coarse, width, height);
+    adapt
+        .data
+        .par_iter()
+        .map(|&l| scotopic_sensitivity(l as f64) as f32)
+        .collect()
+}
+
+#[cfg(test)]
+mod tests;

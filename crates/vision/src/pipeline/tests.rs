@@ -1,0 +1,114 @@
+use super::*;
+
+const W: usize = 64;
+const H: usize = 48;
+
+/// A grey scene (D65, S/P 2.46) at luminance `y` with one lamp `lamp`
+/// times brighter in the middle.
+fn scene(y: f32, lamp: f32) -> Vec<[f32; 4]> {
+    let mut px = vec![[0.9505 * y, y, 1.089 * y, 2.4645 * y]; W * H];
+    px[(H / 2) * W + W / 2] = px[0].map(|v| v * lamp);
+    px
+}
+
+#[test]
+fn every_output_lies_in_the_display_gamut() {
+    // Saturated, very bright and black pixels together.
+    let mut px = scene(20.0, 1.0e4);
+    px[5] = [0.0, 0.0, 5000.0, 10.0];
+    px[6] = [300.0, 100.0, 0.0, 50.0];
+    px[7] = [0.0; 4];
+    for tonemap in [
+        ToneOperator::Multiscale,
+        ToneOperator::Reinhard,
+        ToneOperator::Exposure,
+    ] {
+        for gamut in [RgbSpace::Srgb, RgbSpace::DisplayP3, RgbSpace::Rec2020] {
+            let p = DisplayParams {
+                tonemap,
+                gamut,
+                ..DisplayParams::default()
+            };
+            let out = display(&px, W, H, &p);
+            assert!(out.rgb.iter().flatten().all(|v| (0.0..=1.0).contains(v)));
+        }
+    }
+}
+
+#[test]
+fn exposure_puts_the_log_average_at_mid_grey_and_reports_the_mode() {
+    let p = DisplayParams {
+        tonemap: ToneOperator::Exposure,
+        glare: false,
+        ..DisplayParams::default()
+    };
+    let out = display(&scene(200.0, 1.0), W, H, &p);
+    // 18 % of peak, D65 grey: linear sRGB ≈ (0.18, 0.18, 0.18).
+    for v in out.rgb[0] {
+        assert!((v - 0.18).abs() < 0.002, "{:?}", out.rgb[0]);
+    }
+    assert_eq!(out.report.state.mode.name(), "photopic");
+    assert_eq!(out.report.timings.len(), 5);
+    let night = display(&scene(0.001, 1.0), W, H, &p);
+    assert_eq!(night.report.state.mode.name(), "scotopic");
+    assert!(night.report.blur_pixels > 0.0);
+}
+
+#[test]
+fn glare_only_when_something_exceeds_the_display() {
+    let p = DisplayParams::default();
+    assert!(!display(&scene(50.0, 1.0), W, H, &p).report.glare_applied);
+    assert!(display(&scene(50.0, 1.0e5), W, H, &p).report.glare_applied);
+}
+
+#[test]
+fn the_night_shift_turns_a_dark_scene_blue_grey() {
+    // The same scene at 0.001 cd/m² with and without the night shift: the
+    // shifted one sits near Jensen's (0.25, 0.25), bluer than D65.
+    let xy = |night_shift: bool| {
+        let p = DisplayParams {
+            night_shift,
+            glare: false,
+            ..DisplayParams::default()
+        };
+        let out = display(&scene(0.001, 1.0), W, H, &p);
+        let xyz = RgbSpace::Srgb.def().rgb_to_xyz(out.rgb[0].map(f64::from));
+        let sum: f64 = xyz.iter().sum();
+        [xyz[0] / sum, xyz[1] / sum]
+    };
+    let (on, off) = (xy(true), xy(false));
+    assert!(
+        (off[0] - 0.3127).abs() < 0.01 && (off[1] - 0.329).abs() < 0.01,
+        "{off:?}"
+    );
+    assert!(
+        (on[0] - 0.25).abs() < 0.01 && (on[1] - 0.25).abs() < 0.01,
+        "{on:?}"
+    );
+}
+
+#[test]
+fn local_adaptation_gives_each_region_its_own_sensitivity() {
+    // Left half at 0.001 cd/m², right half at 100: the left is shifted
+    // towards blue-grey, the right keeps D65's chromaticity.
+    let px: Vec<[f32; 4]> = (0..W * H)
+        .map(|i| {
+            let y = if i % W < W / 2 { 0.001 } else { 100.0 };
+            [0.9505 * y, y, 1.089 * y, 2.4645 * y]
+        })
+        .collect();
+    let p = DisplayParams {
+        adaptation: Adaptation::Local,
+        glare: false,
+        degrees_per_pixel: 0.25,
+        ..DisplayParams::default()
+    };
+    let out = display(&px, W, H, &p);
+    let x_of = |i: usize| {
+        let xyz = RgbSpace::Srgb.def().rgb_to_xyz(out.rgb[i].map(f64::from));
+        xyz[0] / xyz.iter().sum::<f64>()
+    };
+    let (left, right) = (x_of((H / 2) * W + 2), x_of((H / 2) * W + W - 3));
+    assert!(left < 0.27, "{left}");
+    assert!((right - 0.3127).abs() < 0.01, "{right}");
+}
