@@ -7,9 +7,16 @@ The colour-science core: spectra (``Spectrum``), the CIE observers
 
 ``spectrum(...)`` is the Python form of the ``scotopia spectrum`` command,
 ``scene_info(path)`` of ``scotopia info``, ``render(path, ...)`` of
-``scotopia render`` (an H × W × 4 array of X, Y, Z, V′ and a metadata dict).
+``scotopia render`` (an H × W × 4 array of X, Y, Z, V′ and a metadata dict),
+``display(image_or_path, ...)`` of ``scotopia display``; ``scotopia.vision``
+holds each stage of the vision pipeline as a function on arrays.
 """
 
+import os
+import warnings
+
+from . import vision  # noqa: F401
+from ._scotopia import display as _display
 from ._scotopia import (  # noqa: F401
     K_M,
     K_M_SCOTOPIC,
@@ -89,3 +96,56 @@ def spectrum(
 
 
 __all__ = [name for name in dir() if not name.startswith("_")]
+
+
+def display(
+    image,
+    *,
+    fov=None,
+    display_peak=None,
+    adaptation="global",
+    glare=True,
+    night_shift=True,
+    tonemap="multiscale",
+    gamut=None,
+    hdr=False,
+    bits=8,
+    output=None,
+    compare=None,
+    units=None,
+    input_space="srgb",
+):
+    """What a person would see: the ``scotopia display`` pipeline.
+
+    ``image`` is an H × W × 4 array of X, Y, Z (cd/m²), V′ (scotopic cd/m²)
+    or the path of an OpenEXR (X, Y, Z[, V], or R, G, B with ``units``).
+    ``fov`` is the horizontal field of view in degrees (a file's metadata
+    when not given). ``adaptation`` is "global", "local" or a luminance in
+    cd/m². Returns (linear RGB H × W × 3 in [0, 1] of ``gamut``, report
+    dict with the adaptation luminance, s, m, mode and stage timings).
+    ``output`` writes a .png or .exr, ``compare`` a sheet of the stages.
+    """
+    import numpy as np
+
+    if isinstance(image, (str, os.PathLike)):
+        image, file_fov, notes = vision.read_image(image, units, input_space)
+        for note in notes:
+            warnings.warn(note, stacklevel=2)
+        if fov is None:
+            fov = file_fov
+    if fov is None:
+        raise ValueError("fov (horizontal field of view, degrees) is needed for an array")
+    return _display(
+        np.ascontiguousarray(image, dtype=np.float32),
+        float(fov),
+        display_peak,
+        str(adaptation),
+        glare,
+        night_shift,
+        tonemap,
+        gamut,
+        hdr,
+        bits,
+        None if output is None else str(output),
+        None if compare is None else str(compare),
+    )

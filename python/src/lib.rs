@@ -7,6 +7,7 @@ mod render;
 mod report;
 mod scene;
 mod spectrum;
+mod vision;
 
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
@@ -33,5 +34,6 @@ fn _scotopia(m: &Bound<'_, PyModule>) -> PyResult<()> {
     report::register(m)?;
     scene::register(m)?;
     render::register(m)?;
+    vision::register(m)?;
     Ok(())
 }

@@ -1,6 +1,7 @@
 //! The `scotopia` command line. Each verb parses its arguments, calls the
 //! library, and prints or writes the result.
 
+mod display;
 mod info;
 mod render;
 mod spectrum;
@@ -28,6 +29,9 @@ enum Command {
     /// Render a scene to an OpenEXR of absolute X, Y, Z (cd/m²) and V′
     /// (scotopic cd/m²), with a spectral path tracer.
     Render(render::Args),
+    /// Show an X, Y, Z, V′ image as a person would see it on a display:
+    /// visual mode, glare, multiscale adaptation, night shift, gamut mapping.
+    Display(display::Args),
 }
 
 /// Writes `text` to standard output; a closed pipe (`| head`) is not an error.
@@ -45,6 +49,7 @@ fn main() -> ExitCode {
         Command::Spectrum(args) => spectrum::run(args),
         Command::Info(args) => info::run(args),
         Command::Render(args) => render::run(args),
+        Command::Display(args) => display::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

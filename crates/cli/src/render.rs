@@ -14,6 +14,7 @@ use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_ex
 use scotopia_render::wavelength::WavelengthStrategy;
 use scotopia_scene::load_scene;
 
+use crate::display::{write_shown, VisionArgs};
 use crate::info::parameters;
 
 #[derive(clap::Args)]
@@ -56,6 +57,12 @@ pub struct Args {
     /// Also write a quick auto-exposed sRGB preview.
     #[arg(long, value_name = "OUT.png")]
     preview: Option<PathBuf>,
+    /// Also run the vision pipeline (as `scotopia display`, with the
+    /// camera's field of view) and write what the eye would see.
+    #[arg(long, value_name = "OUT.png")]
+    display: Option<PathBuf>,
+    #[command(flatten)]
+    vision: VisionArgs,
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -152,6 +159,14 @@ pub fn run(args: Args) -> Result<()> {
             "scotopia: warning: {} samples had NaN or infinite values and were dropped",
             rendered.nonfinite
         );
+    }
+    if let Some(out) = &args.display {
+        let (w, h) = (rendered.film.width as usize, rendered.film.height as usize);
+        let (params, png, _) = args
+            .vision
+            .params(w, Some(scene.camera.fov_degrees().0 as f64))?;
+        let shown = scotopia_vision::display(&rendered.film.xyzv(), w, h, &params);
+        write_shown(out, &shown, &params, png)?;
     }
     if rendered.cancelled {
         bail!(

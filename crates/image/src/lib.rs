@@ -7,6 +7,7 @@ pub mod plot;
 pub mod png_out;
 pub mod preview;
 pub mod read;
+pub mod sheet;
 pub mod xyzv;
 
 pub use exr_out::{read_exr, write_exr, ExrImage, Meta};
@@ -14,4 +15,5 @@ pub use plot::{display_colour, plot_spectrum};
 pub use png_out::{write_png, write_png_rgb8, ImageError, PngColour, PngSamples};
 pub use preview::preview_srgb8;
 pub use read::{read_rgb, Encoding, RgbImage};
+pub use sheet::{sheet, Panel};
 pub use xyzv::{read_xyzv, RgbInput, XyzvImage};

@@ -34,7 +34,7 @@ pub(crate) fn tmp_path(path: &Path) -> PathBuf {
 
 /// Writes 8-bit sRGB pixels (row-major RGB triples) as a PNG with an sRGB chunk.
 pub fn write_png_rgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<(), ImageError> {
-    write_png(path, width, height, PngSamples::Rgb8(rgb), PngColour::Srgb)
+    write_png(path, width, height, PngSamples::Rgb8(rgb), PngColour::SRGB)
 }
 
 /// RGB samples for a PNG, row-major triples.
@@ -44,14 +44,34 @@ pub enum PngSamples<'a> {
     Rgb16(&'a [u16]),
 }
 
-/// What the code values mean, written into the file so viewers know.
+/// What the code values mean, as ITU-T H.273 code points written in a
+/// cICP chunk (PNG 3rd edition), so viewers know; sRGB also gets its sRGB
+/// chunk for older readers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum PngColour {
-    /// IEC 61966-2-1 sRGB: an sRGB chunk.
-    Srgb,
-    /// Rec. 2100 PQ with Rec. 2020 primaries: a cICP chunk (primaries 9,
-    /// transfer 16, matrix 0, full range; ITU-T H.273).
-    Rec2100Pq,
+pub struct PngColour {
+    /// ColourPrimaries: 1 BT.709/sRGB, 9 BT.2020, 12 P3-D65.
+    pub primaries: u8,
+    /// TransferCharacteristics: 13 sRGB, 16 PQ (SMPTE ST 2084).
+    pub transfer: u8,
+}
+
+impl PngColour {
+    pub const SRGB: Self = Self {
+        primaries: 1,
+        transfer: 13,
+    };
+    pub const DISPLAY_P3: Self = Self {
+        primaries: 12,
+        transfer: 13,
+    };
+    pub const REC2020_SRGB: Self = Self {
+        primaries: 9,
+        transfer: 13,
+    };
+    pub const REC2100_PQ: Self = Self {
+        primaries: 9,
+        transfer: 16,
+    };
 }
 
 /// Writes an RGB PNG of 8 or 16 bits with its colour-space chunk, atomically.
@@ -100,15 +120,14 @@ pub fn write_png(
                     .into()
             }
         };
-        if colour == PngColour::Srgb {
+        if colour == PngColour::SRGB {
             encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
         }
         let mut writer = encoder.write_header().map_err(png_err)?;
-        if colour == PngColour::Rec2100Pq {
-            writer
-                .write_chunk(png::chunk::cICP, &[9, 16, 0, 1])
-                .map_err(png_err)?;
-        }
+        // Matrix 0 (RGB), full range.
+        writer
+            .write_chunk(png::chunk::cICP, &[colour.primaries, colour.transfer, 0, 1])
+            .map_err(png_err)?;
         writer.write_image_data(&bytes).map_err(png_err)?;
         writer.finish().map_err(png_err)?;
         std::fs::rename(&tmp, path).map_err(io)

@@ -12,6 +12,7 @@ pub mod glare;
 pub mod mode;
 pub mod multiscale;
 pub mod night;
+pub mod output;
 pub mod pipeline;
 pub mod pyramid;
 pub mod tonemap;

@@ -6,8 +6,14 @@
 //!    D65 gives L = M = S = Y); the rod signal is V′.
 //! 2. A Gaussian pyramid per signal; band-pass images B_n = G_n − ↑G_{n+1}.
 //! 3. Gain control: each band times G(↑G_{n+1}), the receptor's gain at the
-//!    local adaptation of the next coarser level (each cone type adapts on
-//!    its own: a von Kries chromatic adaptation that is local).
+//!    local adaptation of the next coarser level. Rods adapt on their own.
+//!    Cones (scotopia's reading, see docs/vision.md): the gain at the local
+//!    *luminance* of that level, times each cone type's von Kries ratio
+//!    G(L_c)/G(L_Y) taken at the coarsest level. Letting each cone type
+//!    adapt per pixel at every scale, as a literal reading would, painted
+//!    complementary-coloured halos at every colour edge (violet skies beside
+//!    sodium-lit walls); this keeps chromatic adaptation and chroma
+//!    consistent across scales.
 //! 4. Opponent channels: achromatic A (the cones' luminance plus the rods)
 //!    and chromatic C1 = L − M, C2 = (L + M)/2 − S.
 //! 5. The inverse for the display: the same responses, with the display's
@@ -27,7 +33,7 @@ use rayon::prelude::*;
 use scotopia_color::space::Cat;
 use scotopia_color::{Mat3, RgbSpace};
 
-use crate::pyramid::{collapse_with, expanded_coarser, gaussian, Plane};
+use crate::pyramid::{collapse_with, expand, expanded_coarser, gaussian, Plane};
 
 /// What the eye adapts to in the model's gain control.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -141,8 +147,15 @@ pub fn multiscale(
     let coarse: Vec<Vec<Plane>> = pyramids.iter().map(|g| expanded_coarser(g)).collect();
     // Display L, M, S per band.
     let mut bands: [Vec<Plane>; 3] = Default::default();
+    let luminance = |lms: [f32; 3]| -> f32 {
+        let y = m.xyz.0[1];
+        (y[0] * lms[0] as f64 + y[1] * lms[1] as f64 + y[2] * lms[2] as f64) as f32
+    };
     for level in 0..n - 1 {
         let (w, h) = (pyramids[0][level].width, pyramids[0][level].height);
+        // The coarsest level at this size: the large-scale adaptation each
+        // cone type's chromatic (von Kries) gain is taken from.
+        let widest: Vec<Plane> = (0..3).map(|c| expand(&pyramids[c][n - 1], w, h)).collect();
         let mut out = [
             vec![0.0f32; w * h],
             vec![0.0f32; w * h],
@@ -154,9 +167,22 @@ pub fn multiscale(
             .zip(o2.par_iter_mut())
             .enumerate()
             .for_each(|(i, ((l, mm), s))| {
+                let adapt: [f32; 4] =
+                    std::array::from_fn(|c| global.map_or(coarse[c][level].data[i], |g| g[c]));
+                let wide: [f32; 3] =
+                    std::array::from_fn(|c| global.map_or(widest[c].data[i], |g| g[c]));
+                // Cones: luminance gain at this scale's local adaptation,
+                // times each cone's chromatic gain ratio at the widest
+                // scale (see the module notes).
+                let local = p.cones.gain(luminance([adapt[0], adapt[1], adapt[2]]));
+                let wide_y = p.cones.gain(luminance(wide));
                 let x: [f32; 4] = std::array::from_fn(|c| {
-                    let adapt = global.map_or(coarse[c][level].data[i], |g| g[c]);
-                    (pyramids[c][level].data[i] - coarse[c][level].data[i]) * gains[c].gain(adapt)
+                    let gain = if c == 3 {
+                        p.rods.gain(adapt[3])
+                    } else {
+                        local * p.cones.gain(wide[c]) / wide_y
+                    };
+                    (pyramids[c][level].data[i] - coarse[c][level].data[i]) * gain
                 });
                 let lms = to_display_cones(&m, x);
                 [*l, *mm, *s] = lms.map(|v| v / display_gain);

@@ -1,0 +1,253 @@
+//! `scotopia display`: the vision pipeline on an absolute X, Y, Z, V′
+//! image — what a person would see of the scene, on a given display.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Context, Result};
+
+use scotopia_color::RgbSpace;
+use scotopia_image::{read_xyzv, write_png_rgb8, RgbInput};
+use scotopia_vision::mode::Adaptation;
+use scotopia_vision::output::{compare_sheet, write_display, PngOptions};
+use scotopia_vision::{display, DisplayParams, Displayed, ToneOperator};
+
+/// The pipeline's switches, shared by `display` and `render --display`.
+#[derive(clap::Args, Clone)]
+pub struct VisionArgs {
+    /// Horizontal field of view in degrees (default: the image's metadata).
+    #[arg(long, value_name = "DEG")]
+    fov: Option<f64>,
+    /// The display's peak luminance, cd/m² (default 100; 1000 with --hdr).
+    #[arg(long, value_name = "CD")]
+    display_peak: Option<f64>,
+    /// What the eye adapts to: global (the log-average luminance), local
+    /// (per pixel, from a 1°-wide pyramid level), or a luminance in cd/m².
+    #[arg(long, default_value = "global", value_name = "global|local|CD")]
+    adaptation: String,
+    /// Glare from light the display cannot show (Spencer et al. 1995).
+    #[arg(long, default_value = "on", value_name = "on|off")]
+    glare: String,
+    /// The night-vision shift and scotopic acuity loss (Jensen et al. 2001).
+    #[arg(long, default_value = "on", value_name = "on|off")]
+    night_shift: String,
+    /// The tone operator: the multiscale model (Pattanaik et al. 1998),
+    /// Reinhard et al. 2002, or a plain exposure.
+    #[arg(
+        long,
+        default_value = "multiscale",
+        value_name = "multiscale|reinhard|exposure"
+    )]
+    tonemap: String,
+    /// The display's gamut (default srgb; rec2020 with --hdr).
+    #[arg(long, value_name = "srgb|p3|rec2020")]
+    gamut: Option<String>,
+    /// HDR output: Rec. 2100 PQ in a 16-bit PNG with a cICP chunk.
+    #[arg(long)]
+    hdr: bool,
+    /// Bits per PNG sample: 8 (dithered) or 16.
+    #[arg(long, default_value_t = 8, value_name = "8|16")]
+    bits: u8,
+}
+
+fn on_off(name: &str, value: &str) -> Result<bool> {
+    match value.to_ascii_lowercase().as_str() {
+        "on" | "yes" | "true" | "1" => Ok(true),
+        "off" | "no" | "false" | "0" => Ok(false),
+        _ => bail!("--{name} {value}: use on or off"),
+    }
+}
+
+impl VisionArgs {
+    /// The pipeline's parameters for an image `width` pixels wide whose
+    /// file gives `fov` (degrees), with any notes for the user.
+    pub fn params(
+        &self,
+        width: usize,
+        fov: Option<f64>,
+    ) -> Result<(DisplayParams, PngOptions, Vec<String>)> {
+        let mut notes = Vec::new();
+        let fov = match (self.fov, fov) {
+            (Some(f), _) if !(f.is_finite() && f > 0.0 && f < 360.0) => {
+                bail!("--fov {f}: must be between 0 and 360 degrees")
+            }
+            (Some(f), _) | (None, Some(f)) => f,
+            (None, None) => {
+                notes.push("no field of view in the image: assuming 45°; give --fov".into());
+                45.0
+            }
+        };
+        let peak = self
+            .display_peak
+            .unwrap_or(if self.hdr { 1000.0 } else { 100.0 });
+        if !(peak.is_finite() && peak > 0.0 && peak <= 10_000.0) {
+            bail!("--display-peak {peak}: must be in (0, 10000] cd/m²");
+        }
+        let adaptation = match self.adaptation.to_ascii_lowercase().as_str() {
+            "global" => Adaptation::Global,
+            "local" => Adaptation::Local,
+            other => match other.parse::<f64>() {
+                Ok(l) if l.is_finite() && l > 0.0 => Adaptation::Fixed(l),
+                _ => bail!(
+                    "--adaptation {}: use global, local or a luminance in cd/m²",
+                    self.adaptation
+                ),
+            },
+        };
+        let tonemap = ToneOperator::from_name(&self.tonemap).with_context(|| {
+            format!(
+                "--tonemap {}: use multiscale, reinhard or exposure",
+                self.tonemap
+            )
+        })?;
+        let gamut = match &self.gamut {
+            Some(g) => {
+                let space = RgbSpace::from_name(g).with_context(|| format!("--gamut {g}"))?;
+                if space == RgbSpace::AcesCg {
+                    bail!("--gamut {g}: not a display gamut; use srgb, p3 or rec2020");
+                }
+                space
+            }
+            None if self.hdr => RgbSpace::Rec2020,
+            None => RgbSpace::Srgb,
+        };
+        if self.bits != 8 && self.bits != 16 {
+            bail!("--bits {}: use 8 or 16", self.bits);
+        }
+        let params = DisplayParams {
+            degrees_per_pixel: fov / width.max(1) as f64,
+            display_peak: peak,
+            adaptation,
+            glare: on_off("glare", &self.glare)?,
+            night_shift: on_off("night-shift", &self.night_shift)?,
+            tonemap,
+            gamut,
+            ..DisplayParams::default()
+        };
+        let png = PngOptions {
+            sixteen_bit: self.bits == 16,
+            hdr: self.hdr,
+        };
+        Ok((params, png, notes))
+    }
+}
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The input: an OpenEXR with X, Y, Z (cd/m²) and V (scotopic cd/m²;
+    /// estimated if missing), or R, G, B with --units.
+    input: PathBuf,
+    /// The output: .png (sRGB, or PQ with --hdr) or .exr (linear, 1 = peak).
+    #[arg(short, long, value_name = "OUT.png")]
+    output: Option<PathBuf>,
+    /// Print the adaptation luminance, s, the mesopic m and the mode.
+    #[arg(long)]
+    info: bool,
+    /// Write a labelled side-by-side sheet of the stages.
+    #[arg(long, value_name = "OUT.png")]
+    compare: Option<PathBuf>,
+    /// For an RGB input: cd/m² of luminance per unit.
+    #[arg(long, value_name = "CD")]
+    units: Option<f64>,
+    /// For an RGB input: its primaries (linear srgb or acescg).
+    #[arg(long, default_value = "srgb", value_name = "srgb|acescg")]
+    input_space: String,
+    #[command(flatten)]
+    vision: VisionArgs,
+}
+
+pub fn run(args: Args) -> Result<()> {
+    if args.output.is_none() && args.compare.is_none() && !args.info {
+        bail!("nothing to do: give -o OUT.png, --compare OUT.png or --info");
+    }
+    let space = RgbSpace::from_name(&args.input_space)
+        .with_context(|| format!("--input-space {}", args.input_space))?;
+    let image = read_xyzv(
+        &args.input,
+        RgbInput {
+            units: args.units,
+            space,
+        },
+    )?;
+    for note in &image.notes {
+        eprintln!("scotopia: note: {}: {note}", args.input.display());
+    }
+    let (params, png, notes) = args.vision.params(image.width, image.fov_horizontal)?;
+    for note in notes {
+        eprintln!("scotopia: note: {note}");
+    }
+    let shown = match &args.compare {
+        Some(sheet_path) => {
+            let (shown, (w, h, rgb)) =
+                compare_sheet(&image.pixels, image.width, image.height, &params, 360);
+            write_png_rgb8(sheet_path, w as u32, h as u32, &rgb)?;
+            shown
+        }
+        None => display(&image.pixels, image.width, image.height, &params),
+    };
+    if let Some(out) = &args.output {
+        write_shown(out, &shown, &params, png)?;
+    }
+    if args.info {
+        crate::print(&info_text(&shown, &params))?;
+    }
+    Ok(())
+}
+
+/// Writes the pipeline's result and says so.
+pub fn write_shown(
+    out: &Path,
+    shown: &Displayed,
+    params: &DisplayParams,
+    png: PngOptions,
+) -> Result<()> {
+    write_display(out, shown, params, png)?;
+    let total: f64 = shown.report.timings.iter().map(|t| t.1).sum();
+    eprintln!(
+        "scotopia: displayed ({}, {:.3} s) → {}",
+        shown.report.state.mode.name(),
+        total,
+        out.display()
+    );
+    Ok(())
+}
+
+/// `--info`: the visual state and what each stage did.
+fn info_text(shown: &Displayed, p: &DisplayParams) -> String {
+    let r = &shown.report;
+    let s = &r.statistics;
+    let mut t = String::new();
+    t += &format!(
+        "adaptation    {:.4e} cd/m² ({})\n",
+        r.state.luminance,
+        adaptation_name(p.adaptation)
+    );
+    t += &format!(
+        "log-average   {:.4e} cd/m²   maximum {:.4e} cd/m²\n",
+        s.log_average, s.maximum
+    );
+    t += &format!("S/P ratio     {:.4}\n", s.sp_ratio);
+    t += &format!("s (Jensen)    {:.4}\n", r.state.s);
+    t += &format!("m (CIE 191)   {:.4}\n", r.state.m);
+    t += &format!("mode          {}\n", r.state.mode.name());
+    t += &format!(
+        "glare         {}\n",
+        if r.glare_applied {
+            "applied"
+        } else {
+            "none (nothing exceeds the display)"
+        }
+    );
+    t += &format!("acuity blur   σ = {:.2} px\n", r.blur_pixels);
+    for (stage, secs) in &r.timings {
+        t += &format!("  {stage:<14} {:.1} ms\n", secs * 1e3);
+    }
+    t
+}
+
+fn adaptation_name(a: Adaptation) -> String {
+    match a {
+        Adaptation::Global => "global: the log-average".into(),
+        Adaptation::Local => "local per pixel; the log-average shown".into(),
+        Adaptation::Fixed(l) => format!("fixed at {l} cd/m²"),
+    }
+}

@@ -1,0 +1,313 @@
+//! The vision pipeline for Python: each stage on numpy arrays, and the
+//! whole pipeline (`scotopia display`). Images are H × W × 4 float32
+//! arrays of X, Y, Z, V′ (absolute, or display-relative after tone
+//! mapping); the Python layer (`scotopia.vision`) converts dtypes.
+
+use std::path::PathBuf;
+
+use numpy::ndarray::Array3;
+use numpy::{IntoPyArray, PyArray3, PyReadonlyArray3};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use scotopia_color::RgbSpace;
+use scotopia_image::{read_xyzv, RgbInput};
+use scotopia_vision::acuity::gaussian_blur;
+use scotopia_vision::gamut::map_to_gamut;
+use scotopia_vision::glare::{apply_glare, GlareParams};
+use scotopia_vision::mode::{image_statistics, Adaptation, VisualState};
+use scotopia_vision::multiscale::{multiscale as run_multiscale, GainAdaptation, MultiscaleParams};
+use scotopia_vision::night::night_shift as shift;
+use scotopia_vision::output::{compare_sheet, write_display, PngOptions};
+use scotopia_vision::{display as run_display, DisplayParams, ToneOperator};
+
+fn err(e: impl ToString) -> PyErr {
+    PyValueError::new_err(e.to_string())
+}
+
+/// An H × W × C array as (width, height, pixels).
+fn pixels<const C: usize>(a: &PyReadonlyArray3<f32>) -> PyResult<(usize, usize, Vec<[f32; C]>)> {
+    let a = a.as_array();
+    let (h, w, c) = a.dim();
+    if c != C {
+        return Err(err(format!(
+            "expected an H × W × {C} array, got shape {:?}",
+            a.shape()
+        )));
+    }
+    let px = a
+        .outer_iter()
+        .flat_map(|row| {
+            row.outer_iter()
+                .map(|p| std::array::from_fn(|k| p[k]))
+                .collect::<Vec<[f32; C]>>()
+        })
+        .collect();
+    Ok((w, h, px))
+}
+
+fn array<'py, const C: usize>(
+    py: Python<'py>,
+    w: usize,
+    h: usize,
+    px: Vec<[f32; C]>,
+) -> PyResult<Bound<'py, PyArray3<f32>>> {
+    let flat: Vec<f32> = px.into_iter().flatten().collect();
+    Ok(Array3::from_shape_vec((h, w, C), flat)
+        .map_err(err)?
+        .into_pyarray(py))
+}
+
+/// The visual state at adaptation `luminance` (cd/m²) for a scene of S/P
+/// ratio `sp_ratio`: {"s": Jensen et al.'s scotopic sensitivity, "m": CIE
+/// 191's mesopic coefficient, "mode": "photopic" | "mesopic" | "scotopic"}.
+#[pyfunction]
+#[pyo3(signature = (luminance, sp_ratio = 2.46))]
+fn visual_state<'py>(
+    py: Python<'py>,
+    luminance: f64,
+    sp_ratio: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let s = VisualState::new(luminance, sp_ratio);
+    let d = PyDict::new(py);
+    d.set_item("luminance", s.luminance)?;
+    d.set_item("s", s.s)?;
+    d.set_item("m", s.m)?;
+    d.set_item("mode", s.mode.name())?;
+    Ok(d)
+}
+
+/// The image's log-average and maximum luminance and its S/P ratio.
+#[pyfunction]
+fn image_stats<'py>(py: Python<'py>, image: PyReadonlyArray3<f32>) -> PyResult<Bound<'py, PyDict>> {
+    let (_, _, px) = pixels::<4>(&image)?;
+    let s = image_statistics(&px);
+    let d = PyDict::new(py);
+    d.set_item("log_average", s.log_average)?;
+    d.set_item("maximum", s.maximum)?;
+    d.set_item("sp_ratio", s.sp_ratio)?;
+    Ok(d)
+}
+
+/// Glare (Spencer et al. 1995): the light above `threshold` (cd/m²) spread
+/// by the PSF for scotopic sensitivity `s`; returns the new image.
+#[pyfunction]
+#[pyo3(signature = (image, degrees_per_pixel, threshold, s = 1.0))]
+fn glare<'py>(
+    py: Python<'py>,
+    image: PyReadonlyArray3<f32>,
+    degrees_per_pixel: f64,
+    threshold: f64,
+    s: f64,
+) -> PyResult<Bound<'py, PyArray3<f32>>> {
+    let (w, h, mut px) = pixels::<4>(&image)?;
+    if degrees_per_pixel.is_nan() || degrees_per_pixel <= 0.0 {
+        return Err(err("degrees_per_pixel must be positive"));
+    }
+    let p = GlareParams {
+        degrees_per_pixel,
+        s,
+        threshold,
+    };
+    py.detach(|| apply_glare(&mut px, w, h, &p));
+    array(py, w, h, px)
+}
+
+/// The multiscale model (Pattanaik et al. 1998): display X, Y, Z in cd/m²
+/// (H × W × 3). `adaptation` None: local, per scale; a number: one
+/// photopic adaptation luminance for the whole image.
+#[pyfunction]
+#[pyo3(signature = (image, display_peak = 100.0, display_adaptation = None, adaptation = None, levels = 7))]
+fn multiscale<'py>(
+    py: Python<'py>,
+    image: PyReadonlyArray3<f32>,
+    display_peak: f64,
+    display_adaptation: Option<f64>,
+    adaptation: Option<f64>,
+    levels: usize,
+) -> PyResult<Bound<'py, PyArray3<f32>>> {
+    let (w, h, px) = pixels::<4>(&image)?;
+    let p = MultiscaleParams {
+        levels,
+        display_peak,
+        display_adaptation,
+        adaptation: adaptation.map_or(GainAdaptation::Local, GainAdaptation::Global),
+        ..MultiscaleParams::default()
+    };
+    let out = py.detach(|| run_multiscale(&px, w, h, &p));
+    array(py, w, h, out)
+}
+
+/// The night-vision shift (Jensen et al. 2001) of X, Y, Z, V′ (V′ on Y's
+/// scale) for scotopic sensitivity `s`: H × W × 3.
+#[pyfunction]
+fn night_shift<'py>(
+    py: Python<'py>,
+    image: PyReadonlyArray3<f32>,
+    s: f64,
+) -> PyResult<Bound<'py, PyArray3<f32>>> {
+    let (w, h, px) = pixels::<4>(&image)?;
+    let out = px
+        .iter()
+        .map(|q| shift(q.map(f64::from), s).map(|v| v as f32))
+        .collect();
+    array(py, w, h, out)
+}
+
+/// The scotopic acuity blur: a Gaussian of `sigma` pixels on all channels.
+#[pyfunction]
+fn acuity_blur<'py>(
+    py: Python<'py>,
+    image: PyReadonlyArray3<f32>,
+    sigma: f64,
+) -> PyResult<Bound<'py, PyArray3<f32>>> {
+    let (w, h, mut px) = pixels::<4>(&image)?;
+    gaussian_blur(&mut px, w, h, sigma);
+    array(py, w, h, px)
+}
+
+/// Gamut mapping (CSS Color 4, hue kept): display-relative X, Y, Z
+/// (H × W × 3, white Y = 1) to linear RGB of `gamut` in [0, 1].
+#[pyfunction]
+#[pyo3(signature = (xyz, gamut = "srgb"))]
+fn gamut_map<'py>(
+    py: Python<'py>,
+    xyz: PyReadonlyArray3<f32>,
+    gamut: &str,
+) -> PyResult<Bound<'py, PyArray3<f32>>> {
+    let (w, h, px) = pixels::<3>(&xyz)?;
+    let space = RgbSpace::from_name(gamut).map_err(err)?.def();
+    let out = px
+        .iter()
+        .map(|q| map_to_gamut(q.map(f64::from), space).map(|v| v as f32))
+        .collect();
+    array(py, w, h, out)
+}
+
+/// Reads an X, Y, Z(, V) or R, G, B OpenEXR as absolute X, Y, Z, V′:
+/// returns (image, horizontal field of view or None, notes).
+#[pyfunction]
+#[pyo3(signature = (path, units = None, input_space = "srgb"))]
+#[allow(clippy::type_complexity)]
+fn read_image<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    units: Option<f64>,
+    input_space: &str,
+) -> PyResult<(Bound<'py, PyArray3<f32>>, Option<f64>, Vec<String>)> {
+    let space = RgbSpace::from_name(input_space).map_err(err)?;
+    let img = read_xyzv(&path, RgbInput { units, space }).map_err(err)?;
+    Ok((
+        array(py, img.width, img.height, img.pixels)?,
+        img.fov_horizontal,
+        img.notes,
+    ))
+}
+
+/// The whole pipeline (`scotopia display`) on an X, Y, Z, V′ array with
+/// horizontal field of view `fov` degrees. Returns (linear RGB H × W × 3 in
+/// [0, 1] of `gamut`, report dict). `output` writes .png/.exr; `compare` a
+/// sheet of the stages.
+#[pyfunction]
+#[pyo3(signature = (image, fov, display_peak = None, adaptation = "global", glare = true, night_shift = true, tonemap = "multiscale", gamut = None, hdr = false, bits = 8, output = None, compare = None))]
+#[allow(clippy::too_many_arguments)]
+fn display<'py>(
+    py: Python<'py>,
+    image: PyReadonlyArray3<f32>,
+    fov: f64,
+    display_peak: Option<f64>,
+    adaptation: &str,
+    glare: bool,
+    night_shift: bool,
+    tonemap: &str,
+    gamut: Option<&str>,
+    hdr: bool,
+    bits: u8,
+    output: Option<PathBuf>,
+    compare: Option<PathBuf>,
+) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
+    let (w, h, px) = pixels::<4>(&image)?;
+    if !(fov.is_finite() && fov > 0.0 && fov < 360.0) {
+        return Err(err(format!("fov {fov}: must be between 0 and 360 degrees")));
+    }
+    let adaptation = match adaptation {
+        "global" => Adaptation::Global,
+        "local" => Adaptation::Local,
+        other => match other.parse::<f64>() {
+            Ok(l) if l.is_finite() && l > 0.0 => Adaptation::Fixed(l),
+            _ => {
+                return Err(err(format!(
+                    "adaptation '{other}': use 'global', 'local' or a luminance in cd/m²"
+                )))
+            }
+        },
+    };
+    let tonemap = ToneOperator::from_name(tonemap).ok_or_else(|| {
+        err(format!(
+            "tonemap '{tonemap}': use multiscale, reinhard or exposure"
+        ))
+    })?;
+    let gamut = match gamut {
+        Some(g) => RgbSpace::from_name(g).map_err(err)?,
+        None if hdr => RgbSpace::Rec2020,
+        None => RgbSpace::Srgb,
+    };
+    if bits != 8 && bits != 16 {
+        return Err(err(format!("bits {bits}: use 8 or 16")));
+    }
+    let p = DisplayParams {
+        degrees_per_pixel: fov / w.max(1) as f64,
+        display_peak: display_peak.unwrap_or(if hdr { 1000.0 } else { 100.0 }),
+        adaptation,
+        glare,
+        night_shift,
+        tonemap,
+        gamut,
+        ..DisplayParams::default()
+    };
+    let shown = py.detach(|| match &compare {
+        Some(path) => {
+            let (shown, (sw, sh, rgb)) = compare_sheet(&px, w, h, &p, 360);
+            scotopia_image::write_png_rgb8(path, sw as u32, sh as u32, &rgb).map(|()| shown)
+        }
+        None => Ok(run_display(&px, w, h, &p)),
+    });
+    let shown = shown.map_err(err)?;
+    if let Some(out) = output {
+        let png = PngOptions {
+            sixteen_bit: bits == 16,
+            hdr,
+        };
+        write_display(&out, &shown, &p, png).map_err(err)?;
+    }
+    let r = &shown.report;
+    let d = PyDict::new(py);
+    d.set_item("adaptation_luminance", r.state.luminance)?;
+    d.set_item("log_average", r.statistics.log_average)?;
+    d.set_item("maximum", r.statistics.maximum)?;
+    d.set_item("sp_ratio", r.statistics.sp_ratio)?;
+    d.set_item("s", r.state.s)?;
+    d.set_item("m", r.state.m)?;
+    d.set_item("mode", r.state.mode.name())?;
+    d.set_item("glare_applied", r.glare_applied)?;
+    d.set_item("blur_pixels", r.blur_pixels)?;
+    let t = PyDict::new(py);
+    for (stage, secs) in &r.timings {
+        t.set_item(*stage, *secs)?;
+    }
+    d.set_item("timings", t)?;
+    Ok((array(py, w, h, shown.rgb)?, d))
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(visual_state, m)?)?;
+    m.add_function(wrap_pyfunction!(image_stats, m)?)?;
+    m.add_function(wrap_pyfunction!(glare, m)?)?;
+    m.add_function(wrap_pyfunction!(multiscale, m)?)?;
+    m.add_function(wrap_pyfunction!(night_shift, m)?)?;
+    m.add_function(wrap_pyfunction!(acuity_blur, m)?)?;
+    m.add_function(wrap_pyfunction!(gamut_map, m)?)?;
+    m.add_function(wrap_pyfunction!(read_image, m)?)?;
+    m.add_function(wrap_pyfunction!(display, m)?)?;
+    Ok(())
+}
