@@ -60,8 +60,8 @@ fn shrink(p: &Panel, height: usize) -> (usize, usize, Vec<u8>) {
             for sy in y0..y1.max(y0 + 1) {
                 for sx in x0..x1.max(x0 + 1) {
                     let i = (sy * p.width + sx) * 3;
-                    for c in 0..3 {
-                        sum[c] += p.rgb[i + c] as u32;
+                    for (s, v) in sum.iter_mut().zip(&p.rgb[i..i + 3]) {
+                        *s += *v as u32;
                     }
                     n += 1;
                 }
