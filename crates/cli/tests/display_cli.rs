@@ -1,0 +1,152 @@
+//! `scotopia display` and `render --display` end to end: outputs, `--info`,
+//! and clear errors for bad input.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn out_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("scotopia-display-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// (exit code, stdout, stderr).
+fn scotopia(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_scotopia"))
+        .args(args)
+        .output()
+        .expect("run scotopia");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// A small night scene: D65 grey at `y` cd/m² with a lamp, as an XYZV′ EXR.
+fn night_exr(dir: &Path, y: f32) -> PathBuf {
+    let (w, h) = (64, 48);
+    let mut px = vec![[0.9505 * y, y, 1.089 * y, 2.4645 * y]; w * h];
+    px[24 * w + 32] = [9.5e4, 1e5, 1.09e5, 2.4e5];
+    let chan = |c: usize| px.iter().map(|p| p[c]).collect::<Vec<f32>>();
+    let path = dir.join(format!("night-{y}.exr"));
+    scotopia_image::write_exr(
+        &path,
+        w,
+        h,
+        vec![
+            ("X".into(), chan(0)),
+            ("Y".into(), chan(1)),
+            ("Z".into(), chan(2)),
+            ("V".into(), chan(3)),
+        ],
+        &[("fovHorizontalDegrees", scotopia_image::Meta::F32(30.0))],
+    )
+    .unwrap();
+    path
+}
+
+#[test]
+fn info_names_the_mode_and_outputs_are_written() {
+    let dir = out_dir("ok");
+    let exr = night_exr(&dir, 0.002);
+    let png = dir.join("out.png");
+    let sheet = dir.join("sheet.png");
+    let (code, out, err) = scotopia(&[
+        "display",
+        exr.to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
+        "--compare",
+        sheet.to_str().unwrap(),
+        "--info",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("mode          scotopic"), "{out}");
+    assert!(out.contains("glare         applied"), "{out}");
+    let img = scotopia_image::read_rgb(&png).unwrap();
+    assert_eq!((img.width, img.height), (64, 48));
+    assert!(scotopia_image::read_rgb(&sheet).unwrap().width > 5 * 64);
+    // A fixed adaptation luminance is reported as given.
+    let (code, out, _) = scotopia(&[
+        "display",
+        exr.to_str().unwrap(),
+        "--info",
+        "--adaptation",
+        "50",
+    ]);
+    assert_eq!(code, 0);
+    assert!(
+        out.contains("5.0000e1 cd/m²") && out.contains("photopic"),
+        "{out}"
+    );
+}
+
+#[test]
+fn bad_input_is_a_clear_error() {
+    let dir = out_dir("bad");
+    let exr = night_exr(&dir, 1.0);
+    let e = exr.to_str().unwrap();
+    for (args, expect) in [
+        (vec!["display", e], "nothing to do"),
+        (
+            vec!["display", e, "--info", "--tonemap", "filmic"],
+            "--tonemap filmic",
+        ),
+        (
+            vec!["display", e, "--info", "--adaptation", "bright"],
+            "--adaptation bright",
+        ),
+        (
+            vec!["display", e, "--info", "--glare", "maybe"],
+            "--glare maybe",
+        ),
+        (
+            vec!["display", e, "--info", "--gamut", "acescg"],
+            "not a display gamut",
+        ),
+        (
+            vec!["display", e, "--info", "--display-peak=-5"],
+            "--display-peak",
+        ),
+        (vec!["display", e, "--info", "--bits", "12"], "--bits 12"),
+        (
+            vec!["display", "/nonexistent.exr", "--info"],
+            "/nonexistent.exr",
+        ),
+    ] {
+        let (code, _, err) = scotopia(&args);
+        assert_ne!(code, 0, "{args:?}");
+        assert!(err.contains(expect), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    let out = dir.join("o.tiff");
+    let (code, _, err) = scotopia(&["display", e, "-o", out.to_str().unwrap()]);
+    assert_ne!(code, 0);
+    assert!(err.contains(".png or .exr"), "{err}");
+}
+
+#[test]
+fn render_display_runs_the_pipeline_after_rendering() {
+    let dir = out_dir("render");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.xml");
+    let exr = dir.join("c.exr");
+    let png = dir.join("c.png");
+    let (code, _, err) = scotopia(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-D",
+        "res=16",
+        "--spp",
+        "2",
+        "-o",
+        exr.to_str().unwrap(),
+        "--display",
+        png.to_str().unwrap(),
+        "--tonemap",
+        "reinhard",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("displayed"), "{err}");
+    assert_eq!(scotopia_image::read_rgb(&png).unwrap().width, 16);
+}
