@@ -45,7 +45,9 @@ pytest: python
 test: fmt lint cargo-test pytest
 
 ## The bundled scenes rendered (X, Y, Z, V′ EXRs with auto-exposed sRGB
-## previews), and the colorimetry of the demo lamps, with plots.
+## previews, and as the eye sees them: *-seen.png), the colorimetry of the
+## demo lamps with plots, and the vision pipeline's stages for the night
+## street at three light levels (*-stages.png, shown in docs/vision.md).
 DEMO_SCENES := cornell-box material-showcase night-street prism
 
 demo:
@@ -57,6 +59,12 @@ demo:
 	  $(BIN) spectrum --illuminant $$lamp --plot $(DEMO_OUT)/illuminant-$$lamp.png > /dev/null; done
 	@$(BIN) spectrum --file scenes/lamps/led-4000k.csv --plot $(DEMO_OUT)/led-4000k.png
 	@$(BIN) spectrum --file scenes/lamps/low-pressure-sodium.csv --plot $(DEMO_OUT)/low-pressure-sodium.png
+	@for s in $(DEMO_SCENES); do \
+	  $(BIN) display $(DEMO_OUT)/$$s.exr -o $(DEMO_OUT)/$$s-seen.png; done
+	@# The night street at daylight, dusk and moonlight (every light scaled).
+	@for level in day:800 dusk:4 moonlight:0.02; do \
+	  $(BIN) display $(DEMO_OUT)/night-street.exr --scale $${level#*:} \
+	    --compare $(DEMO_OUT)/night-street-$${level%%:*}-stages.png; done
 	@echo "renders and plots in $(DEMO_OUT)/"
 
 ## criterion benchmarks, the bundled scenes' render rates and memory, and
@@ -66,6 +74,7 @@ bench: python
 	$(CARGO) build --release -p scotopia
 	$(PY) bench/scenes.py --spp 16
 	$(PY) bench/vs_mitsuba.py
+	$(PY) bench/vision.py
 
 ## Regenerates the Jakob–Hanika coefficient tables in data/rgb2spec.
 tables:

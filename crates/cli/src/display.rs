@@ -148,6 +148,10 @@ pub struct Args {
     /// For an RGB input: cd/m² of luminance per unit.
     #[arg(long, value_name = "CD")]
     units: Option<f64>,
+    /// Multiply the input by K: the scene as if every light were K times
+    /// brighter (light transport is linear, so this is exact).
+    #[arg(long, value_name = "K")]
+    scale: Option<f64>,
     /// For an RGB input: its primaries (linear srgb or acescg).
     #[arg(long, default_value = "srgb", value_name = "srgb|acescg")]
     input_space: String,
@@ -161,13 +165,21 @@ pub fn run(args: Args) -> Result<()> {
     }
     let space = RgbSpace::from_name(&args.input_space)
         .with_context(|| format!("--input-space {}", args.input_space))?;
-    let image = read_xyzv(
+    let mut image = read_xyzv(
         &args.input,
         RgbInput {
             units: args.units,
             space,
         },
     )?;
+    if let Some(k) = args.scale {
+        if !(k.is_finite() && k > 0.0) {
+            bail!("--scale {k}: must be a positive factor");
+        }
+        for p in &mut image.pixels {
+            *p = p.map(|v| v * k as f32);
+        }
+    }
     for note in &image.notes {
         eprintln!("scotopia: note: {}: {note}", args.input.display());
     }

@@ -8,6 +8,8 @@ use rustfft::FftDirection;
 
 use super::fft2::fft2;
 use super::psf::{scatter, weights, Halo};
+use crate::pyramid::{expand, Plane};
+use rayon::prelude::*;
 
 /// How the glare is applied.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -107,10 +109,40 @@ pub fn apply_glare(pixels: &mut [[f32; 4]], width: usize, height: usize, p: &Gla
     if excess.iter().all(|e| e[1] == 0.0) {
         return false;
     }
+    // The PSF beyond its central pixel is smooth, so on large images it is
+    // convolved on a grid coarser by `f` (block sums of the excess, so
+    // nothing is lost) and brought back bilinearly; the share of the PSF
+    // inside the central coarse cell stays where it fell, at full
+    // resolution, so lamps keep their sharp core.
+    let f = coarse_factor(width, height);
+    let (cw, ch) = (width.div_ceil(f), height.div_ceil(f));
+    let mut coarse = vec![[0.0f32; 4]; cw * ch];
+    for (i, e) in excess.iter().enumerate() {
+        let (x, y) = (i % width, i / width);
+        let cell = &mut coarse[(y / f) * cw + x / f];
+        for c in 0..4 {
+            cell[c] += e[c];
+        }
+    }
+    let cp = GlareParams {
+        degrees_per_pixel: p.degrees_per_pixel * f as f64,
+        ..*p
+    };
     // Padding to twice the image keeps the circular convolution from
     // wrapping light from one edge onto the other.
-    let (pw, ph) = (2 * width, 2 * height);
-    let kernels: Vec<Vec<Complex32>> = kernels(p, pw, ph)
+    let (pw, ph) = (2 * cw, 2 * ch);
+    let mut kernels = kernels(&cp, pw, ph);
+    let kept: Vec<f32> = kernels
+        .iter_mut()
+        .map(|k| {
+            if f > 1 {
+                std::mem::take(&mut k[0])
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let spectra: Vec<Vec<Complex32>> = kernels
         .into_iter()
         .map(|kernel| {
             let mut k: Vec<Complex32> = kernel.iter().map(|&v| Complex32::new(v, 0.0)).collect();
@@ -118,27 +150,48 @@ pub fn apply_glare(pixels: &mut [[f32; 4]], width: usize, height: usize, p: &Gla
             k
         })
         .collect();
-    let scale = 1.0 / (pw * ph) as f32;
+    let scale = 1.0 / (pw * ph * f * f) as f32;
     for c in 0..4 {
-        let k = &kernels[c.min(kernels.len() - 1)];
+        let which = c.min(spectra.len() - 1);
         let mut img = vec![Complex32::new(0.0, 0.0); pw * ph];
-        for y in 0..height {
-            for x in 0..width {
-                img[y * pw + x].re = excess[y * width + x][c];
+        for y in 0..ch {
+            for x in 0..cw {
+                img[y * pw + x].re = coarse[y * cw + x][c];
             }
         }
         fft2(&mut img, pw, ph, FftDirection::Forward);
-        for (a, b) in img.iter_mut().zip(k) {
+        for (a, b) in img.iter_mut().zip(&spectra[which]) {
             *a *= b;
         }
         fft2(&mut img, pw, ph, FftDirection::Inverse);
-        for y in 0..height {
-            for x in 0..width {
-                pixels[y * width + x][c] += img[y * pw + x].re * scale;
-            }
-        }
+        let glare = Plane::new(
+            cw,
+            ch,
+            (0..cw * ch)
+                .map(|i| img[(i / cw) * pw + i % cw].re * scale)
+                .collect(),
+        );
+        let glare = if f > 1 {
+            expand(&glare, width, height)
+        } else {
+            glare
+        };
+        pixels.par_iter_mut().enumerate().for_each(|(i, px)| {
+            px[c] += glare.data[i] + kept[which] * excess[i][c];
+        });
     }
     true
+}
+
+/// The coarsening of the glare grid: 1 up to about 130 000 pixels, then
+/// the smallest factor that brings the image under it (full HD: 4, so a
+/// coarse cell is 0.12° at a 60° field of view).
+fn coarse_factor(width: usize, height: usize) -> usize {
+    const MAX_PIXELS: f64 = 2.0 * 256.0 * 256.0;
+    ((width * height) as f64 / MAX_PIXELS)
+        .sqrt()
+        .ceil()
+        .max(1.0) as usize
 }
 
 #[cfg(test)]
@@ -184,6 +237,27 @@ mod tests {
         // Light reaches pixels far from the lamp, falling with distance.
         let at = |d: usize| px[c * w + c + d][1];
         assert!(at(2) > at(8) && at(8) > at(30) && at(30) > 0.0);
+    }
+
+    #[test]
+    fn the_coarse_grid_conserves_light_and_keeps_the_core_sharp() {
+        // 1024² pixels of 0.125° (±64°): glare is convolved on a 3× coarser
+        // grid; the total is still conserved and the lamp stays a point.
+        let (w, h) = (1024, 1024);
+        assert_eq!(coarse_factor(w, h), 3);
+        let c = 512;
+        let mut px = vec![[0.0f32; 4]; w * h];
+        px[c * w + c] = [9.0e5, 1.0e6, 8.0e5, 2.0e6];
+        let p = GlareParams {
+            degrees_per_pixel: 0.125,
+            ..params()
+        };
+        assert!(apply_glare(&mut px, w, h, &p));
+        let total: f64 = px.iter().map(|p| p[1] as f64).sum();
+        assert!((total / 1.0e6 - 1.0).abs() < 0.01, "{total}");
+        let at = |d: usize| px[c * w + c + d][1];
+        assert!(at(0) > 10.0 * at(1), "{} {}", at(0), at(1));
+        assert!(at(3) > at(12) && at(12) > at(60) && at(60) > 0.0);
     }
 
     #[test]

@@ -151,11 +151,28 @@ pub fn multiscale(
         let y = m.xyz.0[1];
         (y[0] * lms[0] as f64 + y[1] * lms[1] as f64 + y[2] * lms[2] as f64) as f32
     };
+    // Each cone type's von Kries ratio G(L_c)/G(L_Y) on the coarsest level
+    // (one value per receptor with a global adaptation).
+    let chroma_ratio: Vec<Plane> = {
+        let last = &pyramids[0][n - 1];
+        let cells = last.width * last.height;
+        let mut planes = vec![Vec::with_capacity(cells); 3];
+        for i in 0..cells {
+            let wide: [f32; 3] =
+                std::array::from_fn(|c| global.map_or(pyramids[c][n - 1].data[i], |g| g[c]));
+            let wide_y = p.cones.gain(luminance(wide));
+            for c in 0..3 {
+                planes[c].push(p.cones.gain(wide[c]) / wide_y);
+            }
+        }
+        planes
+            .into_iter()
+            .map(|d| Plane::new(last.width, last.height, d))
+            .collect()
+    };
     for level in 0..n - 1 {
         let (w, h) = (pyramids[0][level].width, pyramids[0][level].height);
-        // The coarsest level at this size: the large-scale adaptation each
-        // cone type's chromatic (von Kries) gain is taken from.
-        let widest: Vec<Plane> = (0..3).map(|c| expand(&pyramids[c][n - 1], w, h)).collect();
+        let ratio: Vec<Plane> = chroma_ratio.iter().map(|r| expand(r, w, h)).collect();
         let mut out = [
             vec![0.0f32; w * h],
             vec![0.0f32; w * h],
@@ -169,18 +186,15 @@ pub fn multiscale(
             .for_each(|(i, ((l, mm), s))| {
                 let adapt: [f32; 4] =
                     std::array::from_fn(|c| global.map_or(coarse[c][level].data[i], |g| g[c]));
-                let wide: [f32; 3] =
-                    std::array::from_fn(|c| global.map_or(widest[c].data[i], |g| g[c]));
                 // Cones: luminance gain at this scale's local adaptation,
                 // times each cone's chromatic gain ratio at the widest
                 // scale (see the module notes).
                 let local = p.cones.gain(luminance([adapt[0], adapt[1], adapt[2]]));
-                let wide_y = p.cones.gain(luminance(wide));
                 let x: [f32; 4] = std::array::from_fn(|c| {
                     let gain = if c == 3 {
                         p.rods.gain(adapt[3])
                     } else {
-                        local * p.cones.gain(wide[c]) / wide_y
+                        local * ratio[c].data[i]
                     };
                     (pyramids[c][level].data[i] - coarse[c][level].data[i]) * gain
                 });
