@@ -156,7 +156,7 @@ pub fn multiscale(
     let chroma_ratio: Vec<Plane> = {
         let last = &pyramids[0][n - 1];
         let cells = last.width * last.height;
-        let mut planes = vec![Vec::with_capacity(cells); 3];
+        let mut planes: Vec<Vec<f32>> = (0..3).map(|_| Vec::with_capacity(cells)).collect();
         for i in 0..cells {
             let wide: [f32; 3] =
                 std::array::from_fn(|c| global.map_or(pyramids[c][n - 1].data[i], |g| g[c]));
