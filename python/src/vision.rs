@@ -230,18 +230,11 @@ fn display<'py>(
     if !(fov.is_finite() && fov > 0.0 && fov < 360.0) {
         return Err(err(format!("fov {fov}: must be between 0 and 360 degrees")));
     }
-    let adaptation = match adaptation {
-        "global" => Adaptation::Global,
-        "local" => Adaptation::Local,
-        other => match other.parse::<f64>() {
-            Ok(l) if l.is_finite() && l > 0.0 => Adaptation::Fixed(l),
-            _ => {
-                return Err(err(format!(
-                    "adaptation '{other}': use 'global', 'local' or a luminance in cd/m²"
-                )))
-            }
-        },
-    };
+    let adaptation = Adaptation::parse(adaptation).ok_or_else(|| {
+        err(format!(
+            "adaptation '{adaptation}': use 'global', 'local' or a luminance in cd/m²"
+        ))
+    })?;
     let tonemap = ToneOperator::from_name(tonemap).ok_or_else(|| {
         err(format!(
             "tonemap '{tonemap}': use multiscale, reinhard or exposure"

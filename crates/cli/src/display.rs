@@ -82,17 +82,12 @@ impl VisionArgs {
         if !(peak.is_finite() && peak > 0.0 && peak <= 10_000.0) {
             bail!("--display-peak {peak}: must be in (0, 10000] cd/m²");
         }
-        let adaptation = match self.adaptation.to_ascii_lowercase().as_str() {
-            "global" => Adaptation::Global,
-            "local" => Adaptation::Local,
-            other => match other.parse::<f64>() {
-                Ok(l) if l.is_finite() && l > 0.0 => Adaptation::Fixed(l),
-                _ => bail!(
-                    "--adaptation {}: use global, local or a luminance in cd/m²",
-                    self.adaptation
-                ),
-            },
-        };
+        let adaptation = Adaptation::parse(&self.adaptation).with_context(|| {
+            format!(
+                "--adaptation {}: use global, local or a luminance in cd/m²",
+                self.adaptation
+            )
+        })?;
         let tonemap = ToneOperator::from_name(&self.tonemap).with_context(|| {
             format!(
                 "--tonemap {}: use multiscale, reinhard or exposure",

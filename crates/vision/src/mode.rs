@@ -87,6 +87,21 @@ pub enum Adaptation {
     Fixed(f64),
 }
 
+impl Adaptation {
+    /// Parses `global`, `local` or a positive luminance in cd/m².
+    pub fn parse(text: &str) -> Option<Self> {
+        match text.to_ascii_lowercase().as_str() {
+            "global" => Some(Adaptation::Global),
+            "local" => Some(Adaptation::Local),
+            other => other
+                .parse::<f64>()
+                .ok()
+                .filter(|l| l.is_finite() && *l > 0.0)
+                .map(Adaptation::Fixed),
+        }
+    }
+}
+
 /// Luminance statistics of an image.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ImageStatistics {
