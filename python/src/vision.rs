@@ -18,7 +18,9 @@ use scotopia_vision::glare::{apply_glare, GlareParams};
 use scotopia_vision::mode::{image_statistics, Adaptation, VisualState};
 use scotopia_vision::multiscale::{multiscale as run_multiscale, GainAdaptation, MultiscaleParams};
 use scotopia_vision::night::night_shift as shift;
-use scotopia_vision::output::{compare_sheet, write_display, PngOptions};
+use scotopia_vision::output::{
+    compare_sheet, display_gamut, display_peak as peak, write_display, PngOptions,
+};
 use scotopia_vision::{display as run_display, DisplayParams, ToneOperator};
 
 fn err(e: impl ToString) -> PyErr {
@@ -240,17 +242,11 @@ fn display<'py>(
             "tonemap '{tonemap}': use multiscale, reinhard or exposure"
         ))
     })?;
-    let gamut = match gamut {
-        Some(g) => RgbSpace::from_name(g).map_err(err)?,
-        None if hdr => RgbSpace::Rec2020,
-        None => RgbSpace::Srgb,
-    };
-    if bits != 8 && bits != 16 {
-        return Err(err(format!("bits {bits}: use 8 or 16")));
-    }
+    let gamut = display_gamut(gamut, hdr).map_err(err)?;
+    let png = PngOptions::new(bits, hdr).map_err(err)?;
     let p = DisplayParams {
         degrees_per_pixel: fov / w.max(1) as f64,
-        display_peak: display_peak.unwrap_or(if hdr { 1000.0 } else { 100.0 }),
+        display_peak: peak(display_peak, hdr).map_err(err)?,
         adaptation,
         glare,
         night_shift,
@@ -267,10 +263,6 @@ fn display<'py>(
     });
     let shown = shown.map_err(err)?;
     if let Some(out) = output {
-        let png = PngOptions {
-            sixteen_bit: bits == 16,
-            hdr,
-        };
         write_display(&out, &shown, &p, png).map_err(err)?;
     }
     let r = &shown.report;

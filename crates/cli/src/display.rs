@@ -8,7 +8,9 @@ use anyhow::{bail, Context, Result};
 use scotopia_color::RgbSpace;
 use scotopia_image::{read_xyzv, write_png_rgb8, RgbInput};
 use scotopia_vision::mode::Adaptation;
-use scotopia_vision::output::{compare_sheet, write_display, PngOptions};
+use scotopia_vision::output::{
+    compare_sheet, display_gamut, display_peak, write_display, PngOptions,
+};
 use scotopia_vision::{display, DisplayParams, Displayed, ToneOperator};
 
 /// The pipeline's switches, shared by `display` and `render --display`.
@@ -76,12 +78,8 @@ impl VisionArgs {
                 45.0
             }
         };
-        let peak = self
-            .display_peak
-            .unwrap_or(if self.hdr { 1000.0 } else { 100.0 });
-        if !(peak.is_finite() && peak > 0.0 && peak <= 10_000.0) {
-            bail!("--display-peak {peak}: must be in (0, 10000] cd/m²");
-        }
+        let flag = |e: String| anyhow::anyhow!("--{e}");
+        let peak = display_peak(self.display_peak, self.hdr).map_err(flag)?;
         let adaptation = Adaptation::parse(&self.adaptation).with_context(|| {
             format!(
                 "--adaptation {}: use global, local or a luminance in cd/m²",
@@ -94,20 +92,8 @@ impl VisionArgs {
                 self.tonemap
             )
         })?;
-        let gamut = match &self.gamut {
-            Some(g) => {
-                let space = RgbSpace::from_name(g).with_context(|| format!("--gamut {g}"))?;
-                if space == RgbSpace::AcesCg {
-                    bail!("--gamut {g}: not a display gamut; use srgb, p3 or rec2020");
-                }
-                space
-            }
-            None if self.hdr => RgbSpace::Rec2020,
-            None => RgbSpace::Srgb,
-        };
-        if self.bits != 8 && self.bits != 16 {
-            bail!("--bits {}: use 8 or 16", self.bits);
-        }
+        let gamut = display_gamut(self.gamut.as_deref(), self.hdr).map_err(flag)?;
+        let png = PngOptions::new(self.bits, self.hdr).map_err(flag)?;
         let params = DisplayParams {
             degrees_per_pixel: fov / width.max(1) as f64,
             display_peak: peak,
@@ -117,10 +103,6 @@ impl VisionArgs {
             tonemap,
             gamut,
             ..DisplayParams::default()
-        };
-        let png = PngOptions {
-            sixteen_bit: self.bits == 16,
-            hdr: self.hdr,
         };
         Ok((params, png, notes))
     }

@@ -19,6 +19,47 @@ pub struct PngOptions {
     pub hdr: bool,
 }
 
+impl PngOptions {
+    /// From the command line's `--bits` and `--hdr`.
+    pub fn new(bits: u8, hdr: bool) -> Result<Self, String> {
+        match bits {
+            8 | 16 => Ok(Self {
+                sixteen_bit: bits == 16,
+                hdr,
+            }),
+            _ => Err(format!("bits {bits}: use 8 or 16")),
+        }
+    }
+}
+
+/// The display's peak luminance: `given`, or 100 cd/m² (1000 for HDR);
+/// it must lie in (0, 10 000] cd/m², PQ's range.
+pub fn display_peak(given: Option<f64>, hdr: bool) -> Result<f64, String> {
+    let peak = given.unwrap_or(if hdr { 1000.0 } else { 100.0 });
+    if peak.is_finite() && peak > 0.0 && peak <= 10_000.0 {
+        Ok(peak)
+    } else {
+        Err(format!("display-peak {peak}: must be in (0, 10000] cd/m²"))
+    }
+}
+
+/// The display's gamut by name, or sRGB (Rec. 2020 for HDR); ACEScg is a
+/// working space, not a display's.
+pub fn display_gamut(given: Option<&str>, hdr: bool) -> Result<RgbSpace, String> {
+    let space = match given {
+        Some(name) => RgbSpace::from_name(name).map_err(|e| e.to_string())?,
+        None if hdr => RgbSpace::Rec2020,
+        None => RgbSpace::Srgb,
+    };
+    if space == RgbSpace::AcesCg {
+        return Err(format!(
+            "gamut {}: not a display gamut; use srgb, p3 or rec2020",
+            given.unwrap_or_default()
+        ));
+    }
+    Ok(space)
+}
+
 /// Writes `d` to `path` by its extension: `.png` (see [`PngOptions`]) or
 /// `.exr` (linear RGB in the target gamut, 1 = the display's peak).
 pub fn write_display(

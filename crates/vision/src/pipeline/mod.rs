@@ -134,7 +134,7 @@ pub struct Displayed {
 
 /// Runs the pipeline on `pixels` ([X, Y, Z, V′] absolute).
 pub fn display(pixels: &[[f32; 4]], width: usize, height: usize, p: &DisplayParams) -> Displayed {
-    display_observed(pixels, width, height, p, &mut |_, _| {})
+    run(pixels, width, height, p, None)
 }
 
 /// As [`display`], calling `observe` with each stage's image as
@@ -146,6 +146,25 @@ pub fn display_observed(
     p: &DisplayParams,
     observe: &mut dyn FnMut(Stage, &[[f32; 3]]),
 ) -> Displayed {
+    run(pixels, width, height, p, Some(observe))
+}
+
+/// Receives each stage's image (display-relative X, Y, Z).
+type Observer<'a> = dyn FnMut(Stage, &[[f32; 3]]) + 'a;
+
+/// The pipeline; each stage's snapshot is made only when someone observes.
+fn run(
+    pixels: &[[f32; 4]],
+    width: usize,
+    height: usize,
+    p: &DisplayParams,
+    mut observer: Option<&mut Observer>,
+) -> Displayed {
+    let mut observe = |stage: Stage, snapshot: &dyn Fn() -> Vec<[f32; 3]>| {
+        if let Some(o) = observer.as_mut() {
+            o(stage, &snapshot());
+        }
+    };
     let mut timings = Vec::new();
     let mut clock = Instant::now();
     let mut lap = |name: &'static str, timings: &mut Vec<(&'static str, f64)>| {
@@ -168,7 +187,7 @@ pub fn display_observed(
             .map(|q| [q[0] * k, q[1] * k, q[2] * k])
             .collect()
     };
-    observe(Stage::Input, &xyz_at(pixels, exposure));
+    observe(Stage::Input, &|| xyz_at(pixels, exposure));
     lap("visual mode", &mut timings);
 
     // 2. Glare.
@@ -184,12 +203,12 @@ pub fn display_observed(
                 threshold: glare_threshold(p, la),
             },
         );
-    observe(Stage::Glare, &xyz_at(&scene, exposure));
+    observe(Stage::Glare, &|| xyz_at(&scene, exposure));
     lap("glare", &mut timings);
 
     // 3. Adaptation: display-relative X, Y, Z and V′ on the same scale.
     let mut shown = tone_map(&scene, width, height, p, la, &statistics);
-    observe(Stage::Adaptation, &xyz_of(&shown));
+    observe(Stage::Adaptation, &|| xyz_of(&shown));
     lap("adaptation", &mut timings);
 
     // 4. Night shift and acuity.
@@ -203,7 +222,7 @@ pub fn display_observed(
         blur_pixels = scotopic_blur_degrees(la, display_adaptation(p)) / p.degrees_per_pixel;
         gaussian_blur(&mut shown, width, height, blur_pixels);
     }
-    observe(Stage::NightShift, &xyz_of(&shown));
+    observe(Stage::NightShift, &|| xyz_of(&shown));
     lap("night shift", &mut timings);
 
     // 5. Gamut mapping.
@@ -212,11 +231,11 @@ pub fn display_observed(
         .par_iter()
         .map(|q| map_to_gamut([q[0], q[1], q[2]].map(f64::from), space).map(|v| v as f32))
         .collect();
-    let back: Vec<[f32; 3]> = rgb
-        .par_iter()
-        .map(|c| space.rgb_to_xyz(c.map(f64::from)).map(|v| v as f32))
-        .collect();
-    observe(Stage::Final, &back);
+    observe(Stage::Final, &|| {
+        rgb.par_iter()
+            .map(|c| space.rgb_to_xyz(c.map(f64::from)).map(|v| v as f32))
+            .collect()
+    });
     lap("gamut mapping", &mut timings);
 
     Displayed {
