@@ -37,14 +37,22 @@ fn pixels<const C: usize>(a: &PyReadonlyArray3<f32>) -> PyResult<(usize, usize, 
             a.shape()
         )));
     }
-    let px = a
-        .outer_iter()
-        .flat_map(|row| {
-            row.outer_iter()
-                .map(|p| std::array::from_fn(|k| p[k]))
-                .collect::<Vec<[f32; C]>>()
-        })
-        .collect();
+    // A C-contiguous array (the usual case) is copied straight; any other
+    // layout element by element.
+    let px = match a.as_slice() {
+        Some(flat) => flat
+            .chunks_exact(C)
+            .map(|p| std::array::from_fn(|k| p[k]))
+            .collect(),
+        None => a
+            .outer_iter()
+            .flat_map(|row| {
+                row.outer_iter()
+                    .map(|p| std::array::from_fn(|k| p[k]))
+                    .collect::<Vec<[f32; C]>>()
+            })
+            .collect(),
+    };
     Ok((w, h, px))
 }
 

@@ -141,3 +141,15 @@ def test_display_cli_files(street, tmp_path):
         scotopia.display(img)
     with pytest.raises(ValueError, match="tonemap"):
         scotopia.display(img, fov=fov, tonemap="filmic")
+
+
+def test_any_array_layout_reads_the_same():
+    # A strided view (every second column of a wider image) and its
+    # contiguous copy give the same display.
+    rng = np.random.default_rng(3)
+    wide = rng.uniform(0.0, 50.0, (16, 48, 4)).astype(np.float32)
+    view = wide[:, ::2]
+    assert not view.flags["C_CONTIGUOUS"]
+    a, _ = scotopia.display(view, fov=30.0)
+    b, _ = scotopia.display(np.ascontiguousarray(view), fov=30.0)
+    assert np.array_equal(a, b)

@@ -28,10 +28,6 @@ impl Plane {
     pub fn filled(width: usize, height: usize, value: f32) -> Self {
         Self::new(width, height, vec![value; width * height])
     }
-
-    fn at(&self, x: usize, y: usize) -> f32 {
-        self.data[y * self.width + x]
-    }
 }
 
 /// The binomial kernel [1 4 6 4 1]/16.
@@ -43,50 +39,96 @@ pub fn reduce(p: &Plane) -> Plane {
     let (w, h) = (p.width, p.height);
     let (nw, nh) = (w.div_ceil(2), h.div_ceil(2));
     let clamp = |i: i64, n: usize| i.clamp(0, n as i64 - 1) as usize;
-    // Horizontal pass on every row, keeping even columns.
+    // Horizontal pass on every row, keeping even columns; the taps are
+    // clamped only near the ends.
     let mut rows = vec![0.0f32; nw * h];
-    rows.par_chunks_mut(nw).enumerate().for_each(|(y, out)| {
-        for (i, o) in out.iter_mut().enumerate() {
-            let x = 2 * i as i64;
-            *o = (0..5)
-                .map(|k| TAPS[k] * p.at(clamp(x + k as i64 - 2, w), y))
-                .sum();
-        }
-    });
-    // Vertical pass, keeping even rows.
+    rows.par_chunks_mut(nw)
+        .zip(p.data.par_chunks(w))
+        .for_each(|(out, row)| {
+            for (i, o) in out.iter_mut().enumerate() {
+                let x = 2 * i;
+                *o = if x >= 2 && x + 2 < w {
+                    let t = &row[x - 2..x + 3];
+                    TAPS[0] * (t[0] + t[4]) + TAPS[1] * (t[1] + t[3]) + TAPS[2] * t[2]
+                } else {
+                    (0..5)
+                        .map(|k| TAPS[k] * row[clamp(x as i64 + k as i64 - 2, w)])
+                        .sum()
+                };
+            }
+        });
+    // Vertical pass, keeping even rows: five whole rows combined.
     let mut data = vec![0.0f32; nw * nh];
     data.par_chunks_mut(nw).enumerate().for_each(|(j, out)| {
         let y = 2 * j as i64;
+        let r: [&[f32]; 5] = std::array::from_fn(|k| {
+            let yy = clamp(y + k as i64 - 2, h);
+            &rows[yy * nw..(yy + 1) * nw]
+        });
         for (x, o) in out.iter_mut().enumerate() {
-            *o = (0..5)
-                .map(|k| TAPS[k] * rows[clamp(y + k as i64 - 2, h) * nw + x])
-                .sum();
+            *o = TAPS[0] * (r[0][x] + r[4][x]) + TAPS[1] * (r[1][x] + r[3][x]) + TAPS[2] * r[2][x];
         }
     });
     Plane::new(nw, nh, data)
 }
 
-/// Brings a coarser level up to `width` × `height` by bilinear
-/// interpolation (sample centres aligned: fine pixel x sits at coarse
-/// coordinate (x + ½)/2 − ½).
-pub fn expand(p: &Plane, width: usize, height: usize) -> Plane {
-    let sx = p.width as f32 / width as f32;
-    let sy = p.height as f32 / height as f32;
-    let coord = |i: usize, s: f32, n: usize| {
-        let c = ((i as f32 + 0.5) * s - 0.5).clamp(0.0, (n - 1) as f32);
-        let i0 = c.floor() as usize;
-        (i0, (i0 + 1).min(n - 1), c - i0 as f32)
-    };
-    let cols: Vec<(usize, usize, f32)> = (0..width).map(|x| coord(x, sx, p.width)).collect();
-    let mut data = vec![0.0f32; width * height];
-    data.par_chunks_mut(width).enumerate().for_each(|(y, out)| {
-        let (y0, y1, fy) = coord(y, sy, p.height);
-        for (o, &(x0, x1, fx)) in out.iter_mut().zip(&cols) {
-            let top = p.at(x0, y0) + fx * (p.at(x1, y0) - p.at(x0, y0));
-            let bottom = p.at(x0, y1) + fx * (p.at(x1, y1) - p.at(x0, y1));
-            *o = top + fy * (bottom - top);
+/// Bilinear resampling between two grid sizes, sample centres aligned
+/// (destination pixel x sits at source coordinate (x + ½)·w_src/w_dst − ½,
+/// clamped at the edges), row by row so callers can fuse it with their own
+/// per-pixel work instead of holding whole expanded planes.
+pub struct Bilinear {
+    src_width: usize,
+    cols: Vec<(usize, usize, f32)>,
+    rows: Vec<(usize, usize, f32)>,
+}
+
+impl Bilinear {
+    pub fn new(src: (usize, usize), dst: (usize, usize)) -> Self {
+        let taps = |n_src: usize, n_dst: usize| -> Vec<(usize, usize, f32)> {
+            let s = n_src as f32 / n_dst as f32;
+            (0..n_dst)
+                .map(|i| {
+                    let c = ((i as f32 + 0.5) * s - 0.5).clamp(0.0, (n_src - 1) as f32);
+                    let i0 = c.floor() as usize;
+                    (i0, (i0 + 1).min(n_src - 1), c - i0 as f32)
+                })
+                .collect()
+        };
+        Self {
+            src_width: src.0,
+            cols: taps(src.0, dst.0),
+            rows: taps(src.1, dst.1),
         }
-    });
+    }
+
+    /// Row `y` of the resampled `src` (row-major, the source size) into
+    /// `out` (the destination width): the two source rows blended
+    /// vertically at source width first, then interpolated across.
+    pub fn row(&self, src: &[f32], y: usize, out: &mut [f32]) {
+        let (y0, y1, fy) = self.rows[y];
+        let w = self.src_width;
+        let top = &src[y0 * w..(y0 + 1) * w];
+        let bottom = &src[y1 * w..(y1 + 1) * w];
+        let blended: Vec<f32> = top
+            .iter()
+            .zip(bottom)
+            .map(|(t, b)| t + fy * (b - t))
+            .collect();
+        for (o, &(x0, x1, fx)) in out.iter_mut().zip(&self.cols) {
+            let (a, b) = (blended[x0], blended[x1]);
+            *o = a + fx * (b - a);
+        }
+    }
+}
+
+/// Brings a coarser level up to `width` × `height` by bilinear
+/// interpolation ([`Bilinear`]).
+pub fn expand(p: &Plane, width: usize, height: usize) -> Plane {
+    let b = Bilinear::new((p.width, p.height), (width, height));
+    let mut data = vec![0.0f32; width * height];
+    data.par_chunks_mut(width)
+        .enumerate()
+        .for_each(|(y, out)| b.row(&p.data, y, out));
     Plane::new(width, height, data)
 }
 
@@ -128,12 +170,19 @@ pub fn collapse_with(
 ) -> Plane {
     let mut acc = coarsest;
     for band in bands.iter().rev() {
-        let mut up = expand(&acc, band.width, band.height);
-        up.data
-            .par_iter_mut()
-            .zip(&band.data)
-            .for_each(|(u, &b)| *u = combine(*u, b));
-        acc = up;
+        let (w, h) = (band.width, band.height);
+        let up = Bilinear::new((acc.width, acc.height), (w, h));
+        let mut data = vec![0.0f32; w * h];
+        data.par_chunks_mut(w)
+            .zip(band.data.par_chunks(w))
+            .enumerate()
+            .for_each(|(y, (out, b))| {
+                up.row(&acc.data, y, out);
+                for (o, &b) in out.iter_mut().zip(b) {
+                    *o = combine(*o, b);
+                }
+            });
+        acc = Plane::new(w, h, data);
     }
     acc
 }

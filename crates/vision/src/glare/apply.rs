@@ -3,13 +3,12 @@
 //! keeps that maximum and its excess is spread by the PSF, convolved by
 //! FFT with zero padding, one PSF per channel (the halo differs).
 
-use rustfft::num_complex::Complex32;
-use rustfft::FftDirection;
-
-use super::fft2::fft2;
-use super::psf::{scatter, weights, Halo};
-use crate::pyramid::{expand, Plane};
 use rayon::prelude::*;
+use rustfft::num_complex::Complex32;
+
+use super::fft2::{smooth_size, Fft2};
+use super::kernel::KernelSpectra;
+use crate::pyramid::Bilinear;
 
 /// How the glare is applied.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -23,75 +22,13 @@ pub struct GlareParams {
     pub threshold: f64,
 }
 
-/// Pixels within this distance of the PSF's centre (in pixels) are
-/// integrated over their area (the core is 0.02° wide, often sub-pixel).
-const SUPERSAMPLED_RADIUS: i64 = 4;
-const SUBSAMPLES: usize = 8;
-
-/// `f` of the visual angle (degrees) on a `pw` × `ph` grid centred at
-/// (0, 0) and wrapped, each pixel near the centre averaged over its area.
-fn grid(pw: usize, ph: usize, degrees_per_pixel: f64, f: impl Fn(f64) -> f64) -> Vec<f64> {
-    let signed = |i: usize, n: usize| {
-        if i <= n / 2 {
-            i as i64
-        } else {
-            i as i64 - n as i64
-        }
-    };
-    let at = |x: f64, y: f64| f(x.hypot(y) * degrees_per_pixel);
-    let n = SUBSAMPLES as f64;
-    let mut k = vec![0.0f64; pw * ph];
-    for j in 0..ph {
-        let dy = signed(j, ph);
-        for i in 0..pw {
-            let dx = signed(i, pw);
-            k[j * pw + i] = if dx.abs() <= SUPERSAMPLED_RADIUS && dy.abs() <= SUPERSAMPLED_RADIUS {
-                let mut sum = 0.0;
-                for sy in 0..SUBSAMPLES {
-                    for sx in 0..SUBSAMPLES {
-                        let ox = (sx as f64 + 0.5) / n - 0.5;
-                        let oy = (sy as f64 + 0.5) / n - 0.5;
-                        sum += at(dx as f64 + ox, dy as f64 + oy);
-                    }
-                }
-                sum / (n * n)
-            } else {
-                at(dx as f64, dy as f64)
-            };
-        }
-    }
-    k
-}
-
-/// The PSF on a `pw` × `ph` grid, normalised to sum 1: one kernel when the
-/// halo has no weight (every channel alike), else one per channel (the
-/// shared scatter computed once, each channel's halo added to it).
-fn kernels(p: &GlareParams, pw: usize, ph: usize) -> Vec<Vec<f32>> {
-    let w = weights(p.s);
-    let normalised = |k: Vec<f64>| {
-        let total: f64 = k.iter().sum();
-        k.iter().map(|v| (v / total) as f32).collect::<Vec<f32>>()
-    };
-    let shared = grid(pw, ph, p.degrees_per_pixel, |t| scatter(t, &w));
-    if w[3] == 0.0 {
-        return vec![normalised(shared)];
-    }
-    let halo = Halo::new();
-    (0..4)
-        .map(|c| {
-            let ring = grid(pw, ph, p.degrees_per_pixel, |t| w[3] * halo.eval(c, t));
-            normalised(shared.iter().zip(ring).map(|(a, b)| a + b).collect())
-        })
-        .collect()
-}
-
 /// Adds glare to `pixels` ([X, Y, Z, V′], row-major, `width` × `height`)
 /// in place. Returns whether any pixel exceeded the threshold.
 pub fn apply_glare(pixels: &mut [[f32; 4]], width: usize, height: usize, p: &GlareParams) -> bool {
     // Split each pixel into what the display shows and the excess, by the
     // same factor on all channels so the excess keeps the pixel's colour.
     let excess: Vec<[f32; 4]> = pixels
-        .iter_mut()
+        .par_iter_mut()
         .map(|px| {
             let y = px[1] as f64;
             if y > p.threshold && y.is_finite() {
@@ -106,7 +43,7 @@ pub fn apply_glare(pixels: &mut [[f32; 4]], width: usize, height: usize, p: &Gla
             }
         })
         .collect();
-    if excess.iter().all(|e| e[1] == 0.0) {
+    if excess.par_iter().all(|e| e[1] == 0.0) {
         return false;
     }
     // The PSF beyond its central pixel is smooth, so on large images it is
@@ -117,70 +54,97 @@ pub fn apply_glare(pixels: &mut [[f32; 4]], width: usize, height: usize, p: &Gla
     let f = coarse_factor(width, height);
     let (cw, ch) = (width.div_ceil(f), height.div_ceil(f));
     let mut coarse = vec![[0.0f32; 4]; cw * ch];
-    for (i, e) in excess.iter().enumerate() {
-        let (x, y) = (i % width, i / width);
-        let cell = &mut coarse[(y / f) * cw + x / f];
-        for c in 0..4 {
-            cell[c] += e[c];
-        }
-    }
-    let cp = GlareParams {
-        degrees_per_pixel: p.degrees_per_pixel * f as f64,
-        ..*p
-    };
-    // Padding to twice the image keeps the circular convolution from
-    // wrapping light from one edge onto the other.
-    let (pw, ph) = (2 * cw, 2 * ch);
-    let mut kernels = kernels(&cp, pw, ph);
-    let kept: Vec<f32> = kernels
-        .iter_mut()
-        .map(|k| {
-            if f > 1 {
-                std::mem::take(&mut k[0])
-            } else {
-                0.0
+    coarse
+        .par_chunks_mut(cw)
+        .enumerate()
+        .for_each(|(cy, cells)| {
+            for y in cy * f..((cy + 1) * f).min(height) {
+                for (x, e) in excess[y * width..(y + 1) * width].iter().enumerate() {
+                    let cell = &mut cells[x / f];
+                    for c in 0..4 {
+                        cell[c] += e[c];
+                    }
+                }
             }
-        })
-        .collect();
-    let spectra: Vec<Vec<Complex32>> = kernels
-        .into_iter()
-        .map(|kernel| {
-            let mut k: Vec<Complex32> = kernel.iter().map(|&v| Complex32::new(v, 0.0)).collect();
-            fft2(&mut k, pw, ph, FftDirection::Forward);
-            k
-        })
-        .collect();
-    let scale = 1.0 / (pw * ph * f * f) as f32;
-    for c in 0..4 {
-        let which = c.min(spectra.len() - 1);
-        let mut img = vec![Complex32::new(0.0, 0.0); pw * ph];
-        for y in 0..ch {
-            for x in 0..cw {
-                img[y * pw + x].re = coarse[y * cw + x][c];
-            }
-        }
-        fft2(&mut img, pw, ph, FftDirection::Forward);
-        for (a, b) in img.iter_mut().zip(&spectra[which]) {
-            *a *= b;
-        }
-        fft2(&mut img, pw, ph, FftDirection::Inverse);
-        let glare = Plane::new(
-            cw,
-            ch,
-            (0..cw * ch)
-                .map(|i| img[(i / cw) * pw + i % cw].re * scale)
-                .collect(),
-        );
-        let glare = if f > 1 {
-            expand(&glare, width, height)
-        } else {
-            glare
-        };
-        pixels.par_iter_mut().enumerate().for_each(|(i, px)| {
-            px[c] += glare.data[i] + kept[which] * excess[i][c];
         });
-    }
+    // Padding to at least twice the image keeps the circular convolution
+    // from wrapping light from one edge onto the other.
+    let fft = Fft2::new(smooth_size(2 * cw), smooth_size(2 * ch));
+    let kernels = KernelSpectra::new(&fft, p.degrees_per_pixel * f as f64, p.s, f > 1);
+    let kept = if f > 1 { kernels.centre } else { [0.0; 4] };
+    let glare = convolve(&coarse, cw, ch, &fft, &kernels);
+    // Per pixel: the coarse glare (per coarse cell, so shared by its f²
+    // pixels) brought back up, plus the kept central share.
+    let up = Bilinear::new((cw, ch), (width, height));
+    let scale = 1.0 / (f * f) as f32;
+    pixels
+        .par_chunks_mut(width)
+        .zip(excess.par_chunks(width))
+        .enumerate()
+        .for_each_init(
+            || vec![0.0f32; width],
+            |row_glare, (y, (row, ex))| {
+                for c in 0..4 {
+                    up.row(&glare[c], y, row_glare);
+                    for ((px, e), g) in row.iter_mut().zip(ex).zip(row_glare.iter()) {
+                        px[c] += g * scale + kept[c] * e[c];
+                    }
+                }
+            },
+        );
     true
+}
+
+/// Each channel of the `cw` × `ch` image `img` convolved with its PSF on
+/// `fft`'s padded grid. Two real channels travel in one complex FFT
+/// (X + iY, Z + iV′): with P = F(a + ib), the transforms of a and b are
+/// (P(k) + P̄(−k))/2 and (P(k) − P̄(−k))/2i, so filtering them by the real
+/// spectra Ka, Kb gives P(k)·(Ka + Kb)/2 + P̄(−k)·(Ka − Kb)/2, whose
+/// inverse holds a's result in its real part and b's in its imaginary.
+fn convolve(
+    img: &[[f32; 4]],
+    cw: usize,
+    ch: usize,
+    fft: &Fft2,
+    kernels: &KernelSpectra,
+) -> [Vec<f32>; 4] {
+    let (pw, ph) = (fft.width, fft.height);
+    let norm = 1.0 / (pw * ph) as f32;
+    let mut out: [Vec<f32>; 4] = Default::default();
+    for (a, b) in [(0, 1), (2, 3)] {
+        let mut packed = vec![Complex32::new(0.0, 0.0); pw * ch];
+        packed.par_chunks_mut(pw).enumerate().for_each(|(y, row)| {
+            for (v, px) in row.iter_mut().zip(&img[y * cw..(y + 1) * cw]) {
+                *v = Complex32::new(px[a], px[b]);
+            }
+        });
+        packed.resize(pw * ph, Complex32::new(0.0, 0.0));
+        let spectrum = fft.forward(&mut packed, ch);
+        let (ka, kb) = (kernels.channel(a), kernels.channel(b));
+        // Column-major: index kx·ph + ky; −k wraps on both axes.
+        let mut filtered = vec![Complex32::new(0.0, 0.0); pw * ph];
+        filtered
+            .par_chunks_mut(ph)
+            .enumerate()
+            .for_each(|(kx, col)| {
+                let mirror = ((pw - kx) % pw) * ph;
+                for (ky, r) in col.iter_mut().enumerate() {
+                    let k = kx * ph + ky;
+                    let conj_neg = spectrum[mirror + (ph - ky) % ph].conj();
+                    *r = spectrum[k] * (0.5 * (ka[k] + kb[k])) + conj_neg * (0.5 * (ka[k] - kb[k]));
+                }
+            });
+        let result = fft.inverse(&mut filtered, ch);
+        let plane = |part: fn(&Complex32) -> f32| -> Vec<f32> {
+            result
+                .par_chunks(pw)
+                .flat_map_iter(|row| row[..cw].iter().map(move |z| part(z) * norm))
+                .collect()
+        };
+        out[a] = plane(|z| z.re);
+        out[b] = plane(|z| z.im);
+    }
+    out
 }
 
 /// The coarsening of the glare grid: 1 up to about 130 000 pixels, then
@@ -203,6 +167,43 @@ mod tests {
             degrees_per_pixel: 0.05,
             s: 1.0,
             threshold: 100.0,
+        }
+    }
+
+    #[test]
+    fn the_packed_fft_convolution_equals_the_direct_sum() {
+        // Four different channels through four different (scotopic halo)
+        // kernels: the FFT result equals the convolution summed directly.
+        let (cw, ch) = (9, 7);
+        let img: Vec<[f32; 4]> = (0..cw * ch)
+            .map(|i| {
+                let v = ((i * 37 % 11) as f32).powi(2);
+                [v, 0.5 * v + 1.0, (i % 5) as f32, (i % 3) as f32 * 2.0]
+            })
+            .collect();
+        let fft = Fft2::new(smooth_size(2 * cw), smooth_size(2 * ch));
+        let (pw, ph) = (fft.width, fft.height);
+        let kernels = KernelSpectra::new(&fft, 0.7, 0.0, false);
+        let got = convolve(&img, cw, ch, &fft, &kernels);
+        let (k, _) = super::super::kernel::sample(pw, ph, 0.7, 0.0);
+        for c in 0..4 {
+            let total: f64 = k.iter().map(|v| v[c]).sum();
+            for y in 0..ch {
+                for x in 0..cw {
+                    let mut sum = 0.0f64;
+                    for (i, px) in img.iter().enumerate() {
+                        let (sx, sy) = (i % cw, i / cw);
+                        let kx = (x + pw - sx) % pw;
+                        let ky = (y + ph - sy) % ph;
+                        sum += px[c] as f64 * k[ky * pw + kx][c] / total;
+                    }
+                    let g = got[c][y * cw + x] as f64;
+                    assert!(
+                        (g - sum).abs() < 1e-4 * (1.0 + sum.abs()),
+                        "{c} {x} {y}: {g} {sum}"
+                    );
+                }
+            }
         }
     }
 

@@ -3,6 +3,7 @@
 
 mod apply;
 mod fft2;
+mod kernel;
 pub mod psf;
 
 pub use apply::{apply_glare, GlareParams};

@@ -96,14 +96,22 @@ impl Halo {
 
     /// f3 for channel `c` (0 X, 1 Y, 2 Z, 3 V′) at θ degrees.
     pub fn eval(&self, c: usize, theta: f64) -> f64 {
+        self.eval_all(theta)[c]
+    }
+
+    /// f3 for all four channels at θ degrees.
+    pub fn eval_all(&self, theta: f64) -> [f64; 4] {
         let x = theta / Self::STEP;
-        let t = &self.table[c];
-        if x.is_nan() || x < 0.0 || x >= (t.len() - 1) as f64 {
-            return 0.0;
+        let n = self.table[0].len();
+        if x.is_nan() || x < 0.0 || x >= (n - 1) as f64 {
+            return [0.0; 4];
         }
         let i = x as usize;
         let f = x - i as f64;
-        t[i] + f * (t[i + 1] - t[i])
+        std::array::from_fn(|c| {
+            let t = &self.table[c];
+            t[i] + f * (t[i + 1] - t[i])
+        })
     }
 }
 

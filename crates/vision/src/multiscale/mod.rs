@@ -33,7 +33,7 @@ use rayon::prelude::*;
 use scotopia_color::space::Cat;
 use scotopia_color::{Mat3, RgbSpace};
 
-use crate::pyramid::{collapse_with, expand, expanded_coarser, gaussian, Plane};
+use crate::pyramid::{collapse_with, gaussian, Bilinear, Plane};
 
 /// What the eye adapts to in the model's gain control.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -75,12 +75,18 @@ impl Default for MultiscaleParams {
 }
 
 /// XYZ → LMS (Hunt–Pointer–Estévez rows scaled so D65 gives 1, 1, 1), its
-/// inverse, and the opponent transform with its inverse.
+/// inverse, the cones' luminance, and the display cones a unit of rod
+/// signal asks for.
 struct Matrices {
-    lms: Mat3,
-    xyz: Mat3,
-    opponent: Mat3,
-    from_opponent: Mat3,
+    lms: [[f32; 3]; 3],
+    xyz: [[f32; 3]; 3],
+    /// The Y row of LMS → XYZ: the achromatic channel A of the cones.
+    luminance: [f32; 3],
+    /// Rods join the achromatic channel: A += R, C1 and C2 unchanged. Back
+    /// through the inverse opponent transform that is the cone signals plus
+    /// R times the inverse's first column (the cones of unit A and no
+    /// chroma), so the opponent round trip itself is never evaluated.
+    rod_cones: [f32; 3],
 }
 
 impl Matrices {
@@ -89,22 +95,28 @@ impl Matrices {
         let white = hpe.apply(RgbSpace::Srgb.def().white_xyz());
         let lms = Mat3::diagonal(white.map(|w| 1.0 / w)) * hpe;
         let xyz = lms.inverse().expect("the cone matrix is invertible");
-        // A is the cones' luminance: the Y row of LMS → XYZ.
+        // Opponent channels: A (the cones' luminance), C1 = L − M,
+        // C2 = (L + M)/2 − S.
         let opponent = Mat3([xyz.0[1], [1.0, -1.0, 0.0], [0.5, 0.5, -1.0]]);
         let from_opponent = opponent
             .inverse()
             .expect("the opponent matrix is invertible");
+        let f32s = |m: Mat3| m.0.map(|row| row.map(|v| v as f32));
         Self {
-            lms,
-            xyz,
-            opponent,
-            from_opponent,
+            lms: f32s(lms),
+            xyz: f32s(xyz),
+            luminance: xyz.0[1].map(|v| v as f32),
+            rod_cones: from_opponent.apply([1.0, 0.0, 0.0]).map(|v| v as f32),
         }
     }
 }
 
-fn apply32(m: &Mat3, v: [f32; 3]) -> [f32; 3] {
-    m.apply(v.map(f64::from)).map(|x| x as f32)
+fn apply(m: &[[f32; 3]; 3], v: [f32; 3]) -> [f32; 3] {
+    m.map(|row| row[0] * v[0] + row[1] * v[1] + row[2] * v[2])
+}
+
+fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// Runs the model on `pixels` ([X, Y, Z, V′] in cd/m² and scotopic cd/m²,
@@ -117,130 +129,244 @@ pub fn multiscale(
     height: usize,
     p: &MultiscaleParams,
 ) -> Vec<[f32; 3]> {
-    let m = Matrices::new();
-    // Receptor planes L, M, S, R.
-    let mut planes: [Vec<f32>; 4] = Default::default();
-    for plane in planes.iter_mut() {
-        plane.reserve(pixels.len());
-    }
-    for px in pixels {
-        let clean = px.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 });
-        let lms = apply32(&m.lms, [clean[0], clean[1], clean[2]]);
-        for c in 0..3 {
-            planes[c].push(lms[c]);
-        }
-        planes[3].push(clean[3]);
-    }
-    let pyramids: Vec<Vec<Plane>> = planes
-        .into_iter()
-        .map(|data| gaussian(Plane::new(width, height, data), p.levels))
-        .collect();
-    let global = match p.adaptation {
-        GainAdaptation::Local => None,
-        GainAdaptation::Global(la) => Some(global_adaptation(pixels, &m, la)),
+    let model = Model::new(pixels, width, height, p);
+    let n = model.pyramids[0].len();
+    // Combining a display band with the collapsed coarser levels: one gain
+    // per receptor scales bands and mean alike, so a plain sum is exact
+    // and cannot undershoot; local gains need the contrast roll-off.
+    let combine = match model.fixed_gains {
+        Some(_) => |m: f32, b: f32| m + b,
+        None => add_contrast,
     };
-    let la_d = p.display_adaptation.unwrap_or(p.display_peak / 2.0) as f32;
-    let display_gain = p.cones.gain(la_d);
-    let gains = [p.cones, p.cones, p.cones, p.rods];
-
-    let n = pyramids[0].len();
-    let coarse: Vec<Vec<Plane>> = pyramids.iter().map(|g| expanded_coarser(g)).collect();
-    // Display L, M, S per band.
-    let mut bands: [Vec<Plane>; 3] = Default::default();
-    let luminance = |lms: [f32; 3]| -> f32 {
-        let y = m.xyz.0[1];
-        (y[0] * lms[0] as f64 + y[1] * lms[1] as f64 + y[2] * lms[2] as f64) as f32
-    };
-    // Each cone type's von Kries ratio G(L_c)/G(L_Y) on the coarsest level
-    // (one value per receptor with a global adaptation).
-    let chroma_ratio: Vec<Plane> = {
-        let last = &pyramids[0][n - 1];
-        let cells = last.width * last.height;
-        let mut planes: Vec<Vec<f32>> = (0..3).map(|_| Vec::with_capacity(cells)).collect();
-        for i in 0..cells {
-            let wide: [f32; 3] =
-                std::array::from_fn(|c| global.map_or(pyramids[c][n - 1].data[i], |g| g[c]));
-            let wide_y = p.cones.gain(luminance(wide));
-            for c in 0..3 {
-                planes[c].push(p.cones.gain(wide[c]) / wide_y);
-            }
-        }
-        planes
-            .into_iter()
-            .map(|d| Plane::new(last.width, last.height, d))
-            .collect()
-    };
-    for level in 0..n - 1 {
-        let (w, h) = (pyramids[0][level].width, pyramids[0][level].height);
-        let ratio: Vec<Plane> = chroma_ratio.iter().map(|r| expand(r, w, h)).collect();
-        let mut out = [
-            vec![0.0f32; w * h],
-            vec![0.0f32; w * h],
-            vec![0.0f32; w * h],
-        ];
-        let [o0, o1, o2] = &mut out;
-        o0.par_iter_mut()
-            .zip(o1.par_iter_mut())
-            .zip(o2.par_iter_mut())
-            .enumerate()
-            .for_each(|(i, ((l, mm), s))| {
-                let adapt: [f32; 4] =
-                    std::array::from_fn(|c| global.map_or(coarse[c][level].data[i], |g| g[c]));
-                // Cones: luminance gain at this scale's local adaptation,
-                // times each cone's chromatic gain ratio at the widest
-                // scale (see the module notes).
-                let local = p.cones.gain(luminance([adapt[0], adapt[1], adapt[2]]));
-                let x: [f32; 4] = std::array::from_fn(|c| {
-                    let gain = if c == 3 {
-                        p.rods.gain(adapt[3])
-                    } else {
-                        local * ratio[c].data[i]
-                    };
-                    (pyramids[c][level].data[i] - coarse[c][level].data[i]) * gain
-                });
-                let lms = to_display_cones(&m, x);
-                [*l, *mm, *s] = lms.map(|v| v / display_gain);
-            });
-        for (c, o) in out.into_iter().enumerate() {
-            bands[c].push(Plane::new(w, h, o));
-        }
-    }
-    // The coarsest level: gain at its own luminance, rods added linearly.
-    let last = n - 1;
-    let (w, h) = (pyramids[0][last].width, pyramids[0][last].height);
+    // The display cones of the coarsest level, then every band but the
+    // finest collapsed onto it.
+    let (cw, ch) = model.size(n - 1);
     let mut residual: [Vec<f32>; 3] = Default::default();
-    for i in 0..w * h {
-        let x: [f32; 4] = std::array::from_fn(|c| {
-            let v = pyramids[c][last].data[i];
-            v * gains[c].gain(global.map_or(v, |g| g[c]))
-        });
-        let lms = to_display_cones(&m, x);
+    for i in 0..cw * ch {
+        let cones = model.coarsest(i);
         for c in 0..3 {
-            residual[c].push(lms[c] / display_gain);
+            residual[c].push(cones[c]);
         }
     }
-    let lms: Vec<Plane> = residual
-        .into_iter()
-        .zip(bands)
-        .map(|(r, b)| {
-            let coarsest = Plane::new(w, h, r);
-            // One gain per receptor scales bands and mean alike: a plain
-            // sum is exact and cannot undershoot.
-            match global {
-                Some(_) => collapse_with(&b, coarsest, |m, b| m + b),
-                None => collapse_with(&b, coarsest, add_contrast),
-            }
-        })
-        .collect();
-    (0..width * height)
+    let mut bands: [Vec<Plane>; 3] = Default::default();
+    for level in 1..n.max(1) - 1 {
+        for (c, plane) in model.band_planes(level).into_iter().enumerate() {
+            bands[c].push(plane);
+        }
+    }
+    let coarser: Vec<Plane> = residual
         .into_par_iter()
-        .map(|i| {
-            // Cone signals cannot be negative (a band's undershoot next
-            // to a bright edge); clamping there, not in XYZ, keeps hues.
-            let cones = [lms[0].data[i], lms[1].data[i], lms[2].data[i]].map(|v| v.max(0.0));
-            apply32(&m.xyz, cones).map(|c| c.max(0.0))
-        })
-        .collect()
+        .zip(bands)
+        .map(|(r, b)| collapse_with(&b, Plane::new(cw, ch, r), combine))
+        .collect();
+    let to_xyz = |cones: [f32; 3]| {
+        // Cone signals cannot be negative (a band's undershoot next to a
+        // bright edge); clamping there, not in XYZ, keeps hues.
+        apply(&model.m.xyz, cones.map(|v| v.max(0.0))).map(|c| c.max(0.0))
+    };
+    let mut out = vec![[0.0f32; 3]; width * height];
+    if n == 1 {
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = to_xyz(std::array::from_fn(|c| coarser[c].data[i]));
+        }
+        return out;
+    }
+    // The finest band, fused with the last collapse step and the return
+    // to X, Y, Z so no full-size band plane is ever stored.
+    let up = Bilinear::new(model.size(1), (width, height));
+    out.par_chunks_mut(width).enumerate().for_each_init(
+        || (Scratch::new(width), vec![vec![0.0f32; width]; 3]),
+        |(scratch, mean), (y, row)| {
+            for (c, m) in mean.iter_mut().enumerate() {
+                up.row(&coarser[c].data, y, m);
+            }
+            model.band_row(0, y, scratch, |x, band| {
+                row[x] = to_xyz(std::array::from_fn(|c| combine(mean[c][x], band[c])));
+            });
+        },
+    );
+    out
+}
+
+/// The model's state: receptor pyramids and the gains that depend on them.
+struct Model<'a> {
+    p: &'a MultiscaleParams,
+    m: Matrices,
+    /// Gaussian pyramids of L, M, S, R.
+    pyramids: Vec<Vec<Plane>>,
+    /// Per level but the last, the expansion of the next coarser level
+    /// to it, and of the coarsest level to it.
+    up: Vec<Bilinear>,
+    up_widest: Vec<Bilinear>,
+    /// Each cone type's von Kries ratio G(L_c)/G(L_Y) on the coarsest
+    /// level.
+    chroma_ratio: [Vec<f32>; 3],
+    /// With a global adaptation, every band's four gains.
+    fixed_gains: Option<[f32; 4]>,
+    display_gain: f32,
+}
+
+/// Per-thread rows of the expanded local means and chroma ratios.
+struct Scratch {
+    mean: [Vec<f32>; 4],
+    ratio: [Vec<f32>; 3],
+}
+
+impl Scratch {
+    fn new(width: usize) -> Self {
+        Self {
+            mean: std::array::from_fn(|_| vec![0.0; width]),
+            ratio: std::array::from_fn(|_| vec![0.0; width]),
+        }
+    }
+}
+
+impl<'a> Model<'a> {
+    fn new(pixels: &[[f32; 4]], width: usize, height: usize, p: &'a MultiscaleParams) -> Self {
+        let m = Matrices::new();
+        let mut planes: [Vec<f32>; 4] = std::array::from_fn(|_| vec![0.0f32; pixels.len()]);
+        {
+            let [l, mm, s, r] = &mut planes;
+            l.par_iter_mut()
+                .zip(mm.par_iter_mut())
+                .zip(s.par_iter_mut())
+                .zip(r.par_iter_mut())
+                .zip(pixels.par_iter())
+                .for_each(|((((l, mm), s), r), px)| {
+                    let clean = px.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 });
+                    [*l, *mm, *s] = apply(&m.lms, [clean[0], clean[1], clean[2]]);
+                    *r = clean[3];
+                });
+        }
+        let pyramids: Vec<Vec<Plane>> = planes
+            .into_par_iter()
+            .map(|data| gaussian(Plane::new(width, height, data), p.levels))
+            .collect();
+        let n = pyramids[0].len();
+        let size = |l: usize| (pyramids[0][l].width, pyramids[0][l].height);
+        let up = (0..n - 1)
+            .map(|l| Bilinear::new(size(l + 1), size(l)))
+            .collect();
+        let up_widest = (0..n - 1)
+            .map(|l| Bilinear::new(size(n - 1), size(l)))
+            .collect();
+        let fixed_gains = match p.adaptation {
+            GainAdaptation::Local => None,
+            GainAdaptation::Global(la) => {
+                let g = global_adaptation(pixels, &m, la);
+                Some([
+                    p.cones.gain(g[0]),
+                    p.cones.gain(g[1]),
+                    p.cones.gain(g[2]),
+                    p.rods.gain(g[3]),
+                ])
+            }
+        };
+        let mut chroma_ratio: [Vec<f32>; 3] = Default::default();
+        for i in 0..pyramids[0][n - 1].data.len() {
+            let wide: [f32; 3] = std::array::from_fn(|c| pyramids[c][n - 1].data[i]);
+            let wide_y = p.cones.gain(dot(m.luminance, wide));
+            for c in 0..3 {
+                chroma_ratio[c].push(p.cones.gain(wide[c]) / wide_y);
+            }
+        }
+        let la_d = p.display_adaptation.unwrap_or(p.display_peak / 2.0) as f32;
+        Self {
+            p,
+            m,
+            pyramids,
+            up,
+            up_widest,
+            chroma_ratio,
+            fixed_gains,
+            display_gain: p.cones.gain(la_d),
+        }
+    }
+
+    fn size(&self, level: usize) -> (usize, usize) {
+        let g = &self.pyramids[0][level];
+        (g.width, g.height)
+    }
+
+    /// Display cones of pixel `i` of the coarsest level: gain at its own
+    /// luminance, rods added.
+    fn coarsest(&self, i: usize) -> [f32; 3] {
+        let n = self.pyramids[0].len();
+        let gains = [self.p.cones, self.p.cones, self.p.cones, self.p.rods];
+        let x: [f32; 4] = std::array::from_fn(|c| {
+            let v = self.pyramids[c][n - 1].data[i];
+            v * self.fixed_gains.map_or_else(|| gains[c].gain(v), |g| g[c])
+        });
+        to_display_cones(&self.m, x).map(|v| v / self.display_gain)
+    }
+
+    /// Row `y` of band `level` as display cones, given to `emit(x, cones)`:
+    /// each receptor's band (the level minus the next coarser one
+    /// expanded) gain-controlled at that local mean, rods joined, over the
+    /// display's gain.
+    fn band_row(
+        &self,
+        level: usize,
+        y: usize,
+        scratch: &mut Scratch,
+        mut emit: impl FnMut(usize, [f32; 3]),
+    ) {
+        let (w, _) = self.size(level);
+        for (c, row) in scratch.mean.iter_mut().enumerate() {
+            self.up[level].row(&self.pyramids[c][level + 1].data, y, &mut row[..w]);
+        }
+        if self.fixed_gains.is_none() {
+            for (c, row) in scratch.ratio.iter_mut().enumerate() {
+                self.up_widest[level].row(&self.chroma_ratio[c], y, &mut row[..w]);
+            }
+        }
+        let (mean, ratio) = (&scratch.mean, &scratch.ratio);
+        for x in 0..w {
+            let local: [f32; 4] = std::array::from_fn(|c| mean[c][x]);
+            // Cones: luminance gain at this scale's local adaptation times
+            // each cone's chromatic ratio at the widest scale (see the
+            // module notes).
+            let gains = self.fixed_gains.unwrap_or_else(|| {
+                let g = self
+                    .p
+                    .cones
+                    .gain(dot(self.m.luminance, [local[0], local[1], local[2]]));
+                [
+                    g * ratio[0][x],
+                    g * ratio[1][x],
+                    g * ratio[2][x],
+                    self.p.rods.gain(local[3]),
+                ]
+            });
+            let i = y * w + x;
+            let band: [f32; 4] =
+                std::array::from_fn(|c| (self.pyramids[c][level].data[i] - local[c]) * gains[c]);
+            emit(
+                x,
+                to_display_cones(&self.m, band).map(|v| v / self.display_gain),
+            );
+        }
+    }
+
+    /// Band `level`'s display cone signals as three planes.
+    fn band_planes(&self, level: usize) -> [Plane; 3] {
+        let (w, h) = self.size(level);
+        let mut out: [Vec<f32>; 3] = std::array::from_fn(|_| vec![0.0f32; w * h]);
+        let [l, m, s] = &mut out;
+        l.par_chunks_mut(w)
+            .zip(m.par_chunks_mut(w))
+            .zip(s.par_chunks_mut(w))
+            .enumerate()
+            .for_each_init(
+                || Scratch::new(w),
+                |scratch, (y, ((l, m), s))| {
+                    self.band_row(level, y, scratch, |x, cones| {
+                        [l[x], m[x], s[x]] = cones;
+                    })
+                },
+            );
+        out.map(|data| Plane::new(w, h, data))
+    }
 }
 
 /// Adds a display band to the display's local mean `mean` as a contrast,
@@ -258,27 +384,39 @@ fn add_contrast(mean: f32, band: f32) -> f32 {
     mean * (band / mean).exp()
 }
 
-/// Gain-controlled receptor signals [L, M, S, R] → opponent channels (the
-/// rods join the achromatic one) → the cone signals a photopic display
-/// must produce to give the same responses (its rods are saturated).
+/// Gain-controlled receptor signals [L, M, S, R] → the cone signals a
+/// photopic display must produce to give the same opponent responses (its
+/// rods are saturated): the rods' share of the achromatic channel moves
+/// to the cones.
 fn to_display_cones(m: &Matrices, x: [f32; 4]) -> [f32; 3] {
-    let opp = apply32(&m.opponent, [x[0], x[1], x[2]]);
-    apply32(&m.from_opponent, [opp[0] + x[3], opp[1], opp[2]])
+    std::array::from_fn(|c| x[c] + x[3] * m.rod_cones[c])
 }
 
 /// Per-receptor adaptation for a global photopic luminance `la`: the
 /// image's mean cone signals and S/P ratio scaled to it.
 fn global_adaptation(pixels: &[[f32; 4]], m: &Matrices, la: f64) -> [f32; 4] {
-    let mut sum = [0.0f64; 4];
-    for px in pixels.iter().filter(|p| p.iter().all(|v| v.is_finite())) {
-        for c in 0..4 {
-            sum[c] += px[c].max(0.0) as f64;
-        }
-    }
+    let sum = pixels
+        .par_iter()
+        .filter(|p| p.iter().all(|v| v.is_finite()))
+        .fold(
+            || [0.0f64; 4],
+            |mut a, px| {
+                for c in 0..4 {
+                    a[c] += px[c].max(0.0) as f64;
+                }
+                a
+            },
+        )
+        .reduce(|| [0.0; 4], |a, b| std::array::from_fn(|c| a[c] + b[c]));
     if sum[1] <= 0.0 {
         return [la as f32; 4];
     }
-    let lms = m.lms.apply([sum[0], sum[1], sum[2]]);
+    let lms = m.lms.map(|row| {
+        row.iter()
+            .zip(&sum)
+            .map(|(a, b)| *a as f64 * b)
+            .sum::<f64>()
+    });
     [
         (la * lms[0] / sum[1]) as f32,
         (la * lms[1] / sum[1]) as f32,

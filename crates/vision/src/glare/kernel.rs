@@ -1,0 +1,171 @@
+//! The glare PSF sampled on the (padded, wrapped) convolution grid and
+//! transformed: one real spectrum per channel. The PSF is real and even,
+//! so its spectrum is real, and two kernels share one complex FFT (one in
+//! the real part, one in the imaginary part).
+
+use rayon::prelude::*;
+use rustfft::num_complex::Complex32;
+
+use super::fft2::Fft2;
+use super::psf::{scatter, weights, Halo};
+
+/// Pixels within this distance of the PSF's centre (in pixels) are
+/// integrated over their area (the core is 0.02° wide, often sub-pixel).
+const SUPERSAMPLED_RADIUS: i64 = 4;
+const SUBSAMPLES: usize = 8;
+
+/// The PSF's transform on `fft`'s grid, per channel X, Y, Z, V′.
+pub struct KernelSpectra {
+    /// Real spectra, column-major like `Fft2`'s; one when every channel
+    /// has the same PSF (no halo), else four.
+    spectra: Vec<Vec<f32>>,
+    /// Each channel's PSF value at the centre (a share of the total 1).
+    pub centre: [f32; 4],
+}
+
+impl KernelSpectra {
+    /// The spectrum that filters channel `c`.
+    pub fn channel(&self, c: usize) -> &[f32] {
+        &self.spectra[c.min(self.spectra.len() - 1)]
+    }
+
+    /// The PSF for scotopic sensitivity `s` at `degrees_per_pixel`,
+    /// normalised to sum 1 per channel; with `without_centre`, its centre
+    /// sample is left out of the spectra (reported in `centre`) for the
+    /// caller to apply at a finer resolution.
+    pub fn new(fft: &Fft2, degrees_per_pixel: f64, s: f64, without_centre: bool) -> Self {
+        let (mut k, has_halo) = sample(fft.width, fft.height, degrees_per_pixel, s);
+        let total = k
+            .par_iter()
+            .fold(
+                || [0.0f64; 4],
+                |mut a, v| {
+                    for c in 0..4 {
+                        a[c] += v[c];
+                    }
+                    a
+                },
+            )
+            .reduce(|| [0.0; 4], |a, b| std::array::from_fn(|c| a[c] + b[c]));
+        let centre: [f32; 4] = std::array::from_fn(|c| (k[0][c] / total[c]) as f32);
+        if without_centre {
+            k[0] = [0.0; 4];
+        }
+        // Channel pairs packed as real + i·imaginary; a real, even kernel's
+        // spectrum is real, so the two come back as the real and the
+        // imaginary parts.
+        let pairs: &[(usize, usize)] = if has_halo {
+            &[(0, 1), (2, 3)]
+        } else {
+            &[(0, 0)]
+        };
+        let mut spectra = Vec::new();
+        for &(a, b) in pairs {
+            let mut packed: Vec<Complex32> = k
+                .par_iter()
+                .map(|v| {
+                    let im = if a == b { 0.0 } else { v[b] / total[b] };
+                    Complex32::new((v[a] / total[a]) as f32, im as f32)
+                })
+                .collect();
+            let spectrum = fft.forward(&mut packed, fft.height);
+            spectra.push(spectrum.iter().map(|z| z.re).collect());
+            if a != b {
+                spectra.push(spectrum.iter().map(|z| z.im).collect());
+            }
+        }
+        Self { spectra, centre }
+    }
+}
+
+/// The PSF (X, Y, Z, V′) on a `pw` × `ph` grid centred at index (0, 0) and
+/// wrapped, pixels near the centre averaged over their area; and whether
+/// the channels differ (a halo).
+pub(super) fn sample(
+    pw: usize,
+    ph: usize,
+    degrees_per_pixel: f64,
+    s: f64,
+) -> (Vec<[f64; 4]>, bool) {
+    let w = weights(s);
+    let halo = (w[3] > 0.0).then(Halo::new);
+    // Signed offset of grid index i on an n-long wrapped axis.
+    let signed = |i: usize, n: usize| {
+        if i <= n / 2 {
+            i as i64
+        } else {
+            i as i64 - n as i64
+        }
+    };
+    let psf = |dx: f64, dy: f64| -> [f64; 4] {
+        let theta = dx.hypot(dy) * degrees_per_pixel;
+        let shared = scatter(theta, &w);
+        match &halo {
+            Some(h) => h.eval_all(theta).map(|f| shared + w[3] * f),
+            None => [shared; 4],
+        }
+    };
+    let mut k = vec![[0.0f64; 4]; pw * ph];
+    k.par_chunks_mut(pw).enumerate().for_each(|(j, row)| {
+        let dy = signed(j, ph);
+        for (i, v) in row.iter_mut().enumerate() {
+            let dx = signed(i, pw);
+            *v = if dx.abs() <= SUPERSAMPLED_RADIUS && dy.abs() <= SUPERSAMPLED_RADIUS {
+                let n = SUBSAMPLES as f64;
+                let mut sum = [0.0; 4];
+                for sy in 0..SUBSAMPLES {
+                    for sx in 0..SUBSAMPLES {
+                        let ox = (sx as f64 + 0.5) / n - 0.5;
+                        let oy = (sy as f64 + 0.5) / n - 0.5;
+                        let f = psf(dx as f64 + ox, dy as f64 + oy);
+                        for c in 0..4 {
+                            sum[c] += f[c] / (n * n);
+                        }
+                    }
+                }
+                sum
+            } else {
+                psf(dx as f64, dy as f64)
+            };
+        }
+    });
+    (k, halo.is_some())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn packed_spectra_equal_each_kernel_transformed_alone() {
+        let fft = Fft2::new(40, 30);
+        let (k, has_halo) = sample(40, 30, 0.2, 0.0);
+        assert!(has_halo);
+        let packed = KernelSpectra::new(&fft, 0.2, 0.0, false);
+        for c in 0..4 {
+            let total: f64 = k.iter().map(|v| v[c]).sum();
+            let mut alone: Vec<Complex32> = k
+                .iter()
+                .map(|v| Complex32::new((v[c] / total) as f32, 0.0))
+                .collect();
+            let alone = fft.forward(&mut alone, 30);
+            for (a, b) in alone.iter().zip(packed.channel(c)) {
+                assert!((a.re - b).abs() < 1e-5 && a.im.abs() < 1e-5, "{c}: {a} {b}");
+            }
+        }
+        assert!(
+            packed.channel(0) != packed.channel(2),
+            "the halo differs by channel"
+        );
+        // Without the centre, the zero frequency (the sum) drops by it.
+        let cut = KernelSpectra::new(&fft, 0.2, 0.0, true);
+        for c in 0..4 {
+            let dc = cut.channel(c)[0];
+            assert!((dc - (1.0 - cut.centre[c])).abs() < 1e-5, "{c}: {dc}");
+            assert!(cut.centre[c] > 0.1);
+        }
+        // Photopic: no halo, one spectrum for all.
+        let photopic = KernelSpectra::new(&fft, 0.2, 1.0, false);
+        assert_eq!(photopic.channel(0), photopic.channel(3));
+    }
+}
