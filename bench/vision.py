@@ -5,7 +5,7 @@ The image is the bundled night street rendered at 640 × 360 (8 spp, seed 0)
 and enlarged 3× by pixel repetition: a real night scene's luminance range
 and lamps at full-HD size. Usage:
 
-    python bench/vision.py [--runs 3] [--tonemap multiscale]
+    python bench/vision.py [--runs 5] [--tonemap multiscale]
 """
 
 import argparse
@@ -21,7 +21,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--runs", type=int, default=3)
+    ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--tonemap", default="multiscale")
     args = ap.parse_args()
     img, meta = scotopia.render(str(ROOT / "scenes/night-street.xml"), spp=8, seed=0)

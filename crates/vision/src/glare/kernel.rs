@@ -88,7 +88,7 @@ pub(super) fn sample(
     s: f64,
 ) -> (Vec<[f64; 4]>, bool) {
     let w = weights(s);
-    let halo = (w[3] > 0.0).then(Halo::new);
+    let halo = (w[3] > 0.0).then(Halo::shared);
     // Signed offset of grid index i on an n-long wrapped axis.
     let signed = |i: usize, n: usize| {
         if i <= n / 2 {
@@ -98,7 +98,7 @@ pub(super) fn sample(
         }
     };
     let psf = |dx: f64, dy: f64| -> [f64; 4] {
-        let theta = dx.hypot(dy) * degrees_per_pixel;
+        let theta = (dx * dx + dy * dy).sqrt() * degrees_per_pixel;
         let shared = scatter(theta, &w);
         match &halo {
             Some(h) => h.eval_all(theta).map(|f| shared + w[3] * f),

@@ -20,11 +20,13 @@ use scotopia_color::cie;
 /// The core, flare and bloom terms f0, f1, f2 at θ degrees.
 pub fn scatter_terms(theta: f64) -> [f64; 3] {
     let t = theta + 0.02;
-    [
-        2.61e6 * (-(theta / 0.02).powi(2)).exp(),
-        20.91 / (t * t * t),
-        72.37 / (t * t),
-    ]
+    // The core is below 1e-300 of its peak beyond 0.53°: not evaluated.
+    let core = if theta < 0.53 {
+        2.61e6 * (-(theta / 0.02).powi(2)).exp()
+    } else {
+        0.0
+    };
+    [core, 20.91 / (t * t * t), 72.37 / (t * t)]
 }
 
 /// The lenticular halo f3 at θ degrees and λ nm.
@@ -69,6 +71,12 @@ pub struct Halo {
 impl Halo {
     const STEP: f64 = 0.005;
     const MAX: f64 = 8.0;
+
+    /// The table, computed once per process (1.3 M evaluations of f3).
+    pub fn shared() -> &'static Self {
+        static HALO: std::sync::OnceLock<Halo> = std::sync::OnceLock::new();
+        HALO.get_or_init(Self::new)
+    }
 
     pub fn new() -> Self {
         let n = (Self::MAX / Self::STEP) as usize + 1;

@@ -130,62 +130,13 @@ pub fn multiscale(
     p: &MultiscaleParams,
 ) -> Vec<[f32; 3]> {
     let model = Model::new(pixels, width, height, p);
-    let n = model.pyramids[0].len();
     // Combining a display band with the collapsed coarser levels: one gain
     // per receptor scales bands and mean alike, so a plain sum is exact
     // and cannot undershoot; local gains need the contrast roll-off.
-    let combine = match model.fixed_gains {
-        Some(_) => |m: f32, b: f32| m + b,
-        None => add_contrast,
-    };
-    // The display cones of the coarsest level, then every band but the
-    // finest collapsed onto it.
-    let (cw, ch) = model.size(n - 1);
-    let mut residual: [Vec<f32>; 3] = Default::default();
-    for i in 0..cw * ch {
-        let cones = model.coarsest(i);
-        for c in 0..3 {
-            residual[c].push(cones[c]);
-        }
+    match model.fixed_gains {
+        Some(_) => model.display(|m, b| m + b),
+        None => model.display(add_contrast),
     }
-    let mut bands: [Vec<Plane>; 3] = Default::default();
-    for level in 1..n.max(1) - 1 {
-        for (c, plane) in model.band_planes(level).into_iter().enumerate() {
-            bands[c].push(plane);
-        }
-    }
-    let coarser: Vec<Plane> = residual
-        .into_par_iter()
-        .zip(bands)
-        .map(|(r, b)| collapse_with(&b, Plane::new(cw, ch, r), combine))
-        .collect();
-    let to_xyz = |cones: [f32; 3]| {
-        // Cone signals cannot be negative (a band's undershoot next to a
-        // bright edge); clamping there, not in XYZ, keeps hues.
-        apply(&model.m.xyz, cones.map(|v| v.max(0.0))).map(|c| c.max(0.0))
-    };
-    let mut out = vec![[0.0f32; 3]; width * height];
-    if n == 1 {
-        for (i, o) in out.iter_mut().enumerate() {
-            *o = to_xyz(std::array::from_fn(|c| coarser[c].data[i]));
-        }
-        return out;
-    }
-    // The finest band, fused with the last collapse step and the return
-    // to X, Y, Z so no full-size band plane is ever stored.
-    let up = Bilinear::new(model.size(1), (width, height));
-    out.par_chunks_mut(width).enumerate().for_each_init(
-        || (Scratch::new(width), vec![vec![0.0f32; width]; 3]),
-        |(scratch, mean), (y, row)| {
-            for (c, m) in mean.iter_mut().enumerate() {
-                up.row(&coarser[c].data, y, m);
-            }
-            model.band_row(0, y, scratch, |x, band| {
-                row[x] = to_xyz(std::array::from_fn(|c| combine(mean[c][x], band[c])));
-            });
-        },
-    );
-    out
 }
 
 /// The model's state: receptor pyramids and the gains that depend on them.
@@ -346,6 +297,61 @@ impl<'a> Model<'a> {
                 to_display_cones(&self.m, band).map(|v| v / self.display_gain),
             );
         }
+    }
+
+    /// Display X, Y, Z: the coarsest level's display cones, every band
+    /// but the finest collapsed onto it with `combine`, and the finest band
+    /// fused with the last collapse step and the return to X, Y, Z so no
+    /// full-size band plane is ever stored.
+    fn display(&self, combine: impl Fn(f32, f32) -> f32 + Sync + Copy) -> Vec<[f32; 3]> {
+        let (width, height) = self.size(0);
+        let n = self.pyramids[0].len();
+        // The display cones of the coarsest level, then every band but the
+        // finest collapsed onto it.
+        let (cw, ch) = self.size(n - 1);
+        let mut residual: [Vec<f32>; 3] = Default::default();
+        for i in 0..cw * ch {
+            let cones = self.coarsest(i);
+            for c in 0..3 {
+                residual[c].push(cones[c]);
+            }
+        }
+        let mut bands: [Vec<Plane>; 3] = Default::default();
+        for level in 1..n.max(1) - 1 {
+            for (c, plane) in self.band_planes(level).into_iter().enumerate() {
+                bands[c].push(plane);
+            }
+        }
+        let coarser: Vec<Plane> = residual
+            .into_par_iter()
+            .zip(bands)
+            .map(|(r, b)| collapse_with(&b, Plane::new(cw, ch, r), combine))
+            .collect();
+        let to_xyz = |cones: [f32; 3]| {
+            // Cone signals cannot be negative (a band's undershoot next to a
+            // bright edge); clamping there, not in XYZ, keeps hues.
+            apply(&self.m.xyz, cones.map(|v| v.max(0.0))).map(|c| c.max(0.0))
+        };
+        let mut out = vec![[0.0f32; 3]; width * height];
+        if n == 1 {
+            for (i, o) in out.iter_mut().enumerate() {
+                *o = to_xyz(std::array::from_fn(|c| coarser[c].data[i]));
+            }
+            return out;
+        }
+        let up = Bilinear::new(self.size(1), (width, height));
+        out.par_chunks_mut(width).enumerate().for_each_init(
+            || (Scratch::new(width), vec![vec![0.0f32; width]; 3]),
+            |(scratch, mean), (y, row)| {
+                for (c, m) in mean.iter_mut().enumerate() {
+                    up.row(&coarser[c].data, y, m);
+                }
+                self.band_row(0, y, scratch, |x, band| {
+                    row[x] = to_xyz(std::array::from_fn(|c| combine(mean[c][x], band[c])));
+                });
+            },
+        );
+        out
     }
 
     /// Band `level`'s display cone signals as three planes.

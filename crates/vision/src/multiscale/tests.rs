@@ -139,3 +139,34 @@ fn global_adaptation_is_a_single_gain_per_receptor() {
     let ratio = out[16 * W + 56][1] / out[16 * W + 40][1];
     assert!((ratio - 5.0).abs() < 0.05, "{ratio}");
 }
+
+#[test]
+fn rods_join_the_achromatic_channel_only() {
+    // to_display_cones equals the explicit route: cones → opponent A, C1,
+    // C2; A += R; back through the inverse.
+    let m = Matrices::new();
+    let y = m.luminance.map(f64::from);
+    let opponent = Mat3([y, [1.0, -1.0, 0.0], [0.5, 0.5, -1.0]]);
+    let back = opponent.inverse().unwrap();
+    for x in [
+        [0.3f32, 0.5, 0.2, 0.7],
+        [2.0, 0.1, 0.05, 0.0],
+        [0.0, 0.0, 0.0, 1.0],
+    ] {
+        let opp = opponent.apply([x[0], x[1], x[2]].map(f64::from));
+        let want = back.apply([opp[0] + x[3] as f64, opp[1], opp[2]]);
+        let got = to_display_cones(&m, x);
+        for c in 0..3 {
+            assert!(
+                (got[c] as f64 - want[c]).abs() < 1e-5,
+                "{x:?}: {got:?} vs {want:?}"
+            );
+        }
+    }
+    // The rods' column is achromatic: equal L, M, S (D65-normalised cones).
+    let r = m.rod_cones;
+    assert!(
+        (r[0] - r[1]).abs() < 1e-4 && (r[1] - r[2]).abs() < 1e-4,
+        "{r:?}"
+    );
+}
