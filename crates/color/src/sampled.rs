@@ -54,6 +54,15 @@ impl<const K: usize> SampledWavelengths<K> {
         self.pdf[i]
     }
 
+    /// Moves member `i` to wavelength `lambda`, keeping its density: a
+    /// fluorescent surface re-emits at the path's wavelength what it
+    /// absorbed at `lambda`, so the path continues there while the
+    /// estimate stays that of the wavelength it started with.
+    #[inline]
+    pub fn set_lambda(&mut self, i: usize, lambda: f32) {
+        self.lambda[i] = lambda;
+    }
+
     /// Rotates the cluster so member `first` comes first. Drawn uniformly at
     /// the start of a path, it makes the member a dispersive event keeps a
     /// uniform choice among the K, whose density is then the one stored,

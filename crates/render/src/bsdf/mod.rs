@@ -11,6 +11,7 @@
 mod conductor;
 mod dielectric;
 mod diffuse;
+mod fluorescent;
 mod fresnel;
 mod microfacet;
 mod plastic;
@@ -20,6 +21,7 @@ mod rough_plastic;
 pub use conductor::Conductor;
 pub use dielectric::{Dielectric, Ior, ThinDielectric};
 pub use diffuse::Diffuse;
+pub use fluorescent::Fluorescent;
 pub use fresnel::{fresnel_conductor, fresnel_dielectric};
 pub use microfacet::Ggx;
 pub use plastic::{diffuse_fresnel_reflectance, Plastic};
@@ -63,6 +65,9 @@ pub enum Bsdf {
     RoughDielectric(RoughDielectric),
     Plastic(Plastic),
     RoughPlastic(RoughPlastic),
+    /// Lambertian with fluorescence: changes the path's wavelengths
+    /// ([`Bsdf::reradiate`]) before scattering.
+    Fluorescent(Fluorescent),
     /// The inner BSDF on both sides (Mitsuba's `twosided`).
     TwoSided(Box<Bsdf>),
 }
@@ -96,6 +101,7 @@ impl Bsdf {
             Bsdf::RoughDielectric(b) => b.eval(wl, uv, wi, wo, mode),
             Bsdf::Plastic(b) => b.eval(wl, uv, wi, wo),
             Bsdf::RoughPlastic(b) => b.eval(wl, uv, wi, wo),
+            Bsdf::Fluorescent(b) => b.eval(wi, wo),
             Bsdf::TwoSided(inner) => {
                 let (wi, wo) = two_sided(wi, wo);
                 inner.eval(wl, uv, wi, wo, mode)
@@ -113,6 +119,7 @@ impl Bsdf {
             Bsdf::RoughDielectric(b) => b.pdf(wl, wi, wo),
             Bsdf::Plastic(b) => b.pdf(wi, wo),
             Bsdf::RoughPlastic(b) => b.pdf(wi, wo),
+            Bsdf::Fluorescent(b) => b.pdf(wi, wo),
             Bsdf::TwoSided(inner) => {
                 let (wi, wo) = two_sided(wi, wo);
                 inner.pdf(wl, wi, wo)
@@ -138,6 +145,7 @@ impl Bsdf {
             Bsdf::RoughDielectric(b) => b.sample(wl, uv, wi, u_lobe, u, mode),
             Bsdf::Plastic(b) => b.sample(wl, uv, wi, u_lobe, u),
             Bsdf::RoughPlastic(b) => b.sample(wl, uv, wi, u_lobe, u),
+            Bsdf::Fluorescent(b) => b.sample(wi, u),
             Bsdf::TwoSided(inner) => {
                 let flip = wi.z < 0.0;
                 let wi = if flip {
@@ -154,10 +162,29 @@ impl Bsdf {
         }
     }
 
+    /// For a wavelength-changing (fluorescent) BSDF: moves the members of
+    /// `wl` that are re-emitted light to the wavelengths they were
+    /// absorbed at, and returns the factor the throughput takes (see
+    /// [`Fluorescent::reradiate`]); `None` for every other BSDF. Called
+    /// once per vertex, before light sampling and `sample`, whose values
+    /// are then those of the surface's directional part alone.
+    pub fn reradiate<const K: usize>(
+        &self,
+        wl: &mut SampledWavelengths<K>,
+        uv: [f32; 2],
+        u: f32,
+    ) -> Option<SampledSpectrum<K>> {
+        match self {
+            Bsdf::Fluorescent(b) => Some(b.reradiate(wl, uv, u)),
+            Bsdf::TwoSided(inner) => inner.reradiate(wl, uv, u),
+            _ => None,
+        }
+    }
+
     /// Whether every lobe is a delta (no `eval`, no light sampling).
     pub fn is_delta(&self) -> bool {
         match self {
-            Bsdf::Diffuse(_) => false,
+            Bsdf::Diffuse(_) | Bsdf::Fluorescent(_) => false,
             Bsdf::Conductor(c) => c.alpha == 0.0,
             Bsdf::Dielectric(_) | Bsdf::ThinDielectric(_) => true,
             Bsdf::RoughDielectric(_) | Bsdf::Plastic(_) | Bsdf::RoughPlastic(_) => false,

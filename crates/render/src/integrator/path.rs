@@ -93,12 +93,16 @@ impl Renderer<'_> {
         let mut bsdf_pdf = 0.0f32;
         let mut prev = ray.o;
         let mut depth = 1;
+        // The wavelengths the path carries now. Fluorescence moves members
+        // away from `wl`, the wavelengths the estimate is of (the light
+        // absorbed at one wavelength reaches the eye at another).
+        let mut now = *wl;
         loop {
             *rays += 1;
             let Some(hit) = scene.geometry.intersect(&ray) else {
                 // Escaped: lights at infinity.
                 for (i, light) in self.infinite_lights() {
-                    let le = light.radiance_at_infinity(wl, ray.d);
+                    let le = light.radiance_at_infinity(&now, ray.d);
                     if le.is_zero() {
                         continue;
                     }
@@ -119,7 +123,7 @@ impl Renderer<'_> {
             // Emission of an area light we landed on.
             if let Some(li) = scene.shape_light[hit.shape as usize] {
                 if let Light::Area(area) = &scene.lights[li as usize] {
-                    let le = area.radiance(wl, surface.n_geometric, wo_world);
+                    let le = area.radiance(&now, surface.n_geometric, wo_world);
                     if !le.is_zero() {
                         let w = if delta {
                             1.0
@@ -141,16 +145,24 @@ impl Renderer<'_> {
             let uv = surface.uv;
             let [u_light, u_select, u_l0, u_l1] = sampler.get_4d();
             let [u_lobe, u_rr, u_b0, u_b1] = sampler.get_4d();
+            // Fluorescence: members move to their excitation wavelengths
+            // before light is sampled there.
+            if let Some(f) = bsdf.reradiate(&mut now, uv, u_lobe) {
+                beta *= f;
+                if beta.is_zero() {
+                    break;
+                }
+            }
 
             // Next-event estimation: one light chosen by power.
             if !bsdf.is_delta() {
                 if let Some((i, p_choice, _)) = self.light_choice.sample_discrete(u_light) {
                     let light = &scene.lights[i];
                     if let Some(ls) =
-                        light.sample_li(&self.extent(), wl, surface.p, u_select, [u_l0, u_l1])
+                        light.sample_li(&self.extent(), &now, surface.p, u_select, [u_l0, u_l1])
                     {
                         let wo = frame.to_local(ls.wi);
-                        let f = bsdf.eval(wl, uv, wi, wo, Transport::Radiance);
+                        let f = bsdf.eval(&now, uv, wi, wo, Transport::Radiance);
                         if ls.pdf > 0.0 && !f.is_zero() && !ls.radiance.is_zero() {
                             let mut shadow = spawn(surface.p, surface.n_geometric, ls.wi);
                             // Stop short of the light's own surface.
@@ -161,7 +173,7 @@ impl Renderer<'_> {
                                 let w = if ls.delta {
                                     1.0
                                 } else {
-                                    power_heuristic(p_light, bsdf.pdf(wl, wi, wo))
+                                    power_heuristic(p_light, bsdf.pdf(&now, wi, wo))
                                 };
                                 l += beta * f * ls.radiance * (w / p_light);
                             }
@@ -171,12 +183,13 @@ impl Renderer<'_> {
             }
 
             // Continue by sampling the BSDF.
-            let Some(bs) = bsdf.sample(wl, uv, wi, u_lobe, [u_b0, u_b1], Transport::Radiance)
+            let Some(bs) = bsdf.sample(&now, uv, wi, u_lobe, [u_b0, u_b1], Transport::Radiance)
             else {
                 break;
             };
             if bs.collapse {
                 wl.terminate_secondary();
+                now.terminate_secondary();
             }
             beta *= bs.weight;
             if beta.is_zero() || !beta.max_value().is_finite() {

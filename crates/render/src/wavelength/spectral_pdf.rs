@@ -114,7 +114,42 @@ impl SpectralPdf {
     /// A wavelength distributed by the density, for u ∈ [0, 1).
     #[inline]
     pub fn sample(&self, u: f32) -> f32 {
-        let target = u.clamp(0.0, 1.0) as f64;
+        self.sample_mass(u.clamp(0.0, 1.0) as f64)
+    }
+
+    /// The probability mass below `lambda` (the CDF).
+    pub fn mass_below(&self, lambda: f32) -> f64 {
+        let n = &self.nodes;
+        if lambda <= n[0] {
+            return 0.0;
+        }
+        if lambda >= n[n.len() - 1] {
+            return 1.0;
+        }
+        let j = ((lambda - n[0]) as usize).min(self.by_nm.len() - 2);
+        let i = interval(
+            n,
+            lambda,
+            self.by_nm[j] as usize,
+            self.by_nm[j + 1] as usize,
+        );
+        // The density is linear on [n[i], λ]: a trapezoid.
+        let (v0, v) = (self.values[i], self.pdf(lambda));
+        self.cdf[i] + 0.5 * (v0 + v) as f64 * (lambda - n[i]) as f64
+    }
+
+    /// A wavelength distributed by the density restricted to wavelengths
+    /// below `upper`, for u ∈ [0, 1); its density there is
+    /// pdf(λ) / mass_below(upper).
+    #[inline]
+    pub fn sample_below(&self, u: f32, upper: f32) -> f32 {
+        let sampled = self.sample_mass(u.clamp(0.0, 1.0) as f64 * self.mass_below(upper));
+        sampled.min(upper)
+    }
+
+    /// The wavelength where the CDF reaches `target` ∈ [0, 1].
+    #[inline]
+    fn sample_mass(&self, target: f64) -> f32 {
         let buckets = self.by_mass.len() - 1;
         let j = ((target * buckets as f64) as usize).min(buckets - 1);
         let i = interval(
@@ -190,6 +225,38 @@ mod tests {
             );
         }
         assert!(SpectralPdf::new(&Spectrum::Constant(0.0)).is_none());
+    }
+
+    #[test]
+    fn restricted_sampling_stays_below_and_follows_the_density() {
+        let s = Spectrum::tabulated(
+            Tabulated::new(vec![360.0, 400.0, 450.0, 600.0], vec![1.0, 3.0, 0.5, 2.0]).unwrap(),
+        );
+        let p = SpectralPdf::new(&s).unwrap();
+        assert_eq!(p.mass_below(300.0), 0.0);
+        assert!((p.mass_below(900.0) - 1.0).abs() < 1e-12);
+        // The mass below 420 nm equals the integral of the density.
+        let m = 100_000;
+        let direct: f64 = (0..m)
+            .map(|j| p.pdf(360.0 + 60.0 * (j as f32 + 0.5) / m as f32) as f64 * 60.0 / m as f64)
+            .sum();
+        assert!((p.mass_below(420.0) - direct).abs() < 1e-5, "{direct}");
+        // Samples below 420 nm: all below, with the mean of the restricted
+        // density.
+        let n = 100_000;
+        let samples: Vec<f32> = (0..n)
+            .map(|i| p.sample_below((i as f32 + 0.5) / n as f32, 420.0))
+            .collect();
+        assert!(samples.iter().all(|&l| (360.0..=420.0).contains(&l)));
+        let mean = samples.iter().map(|&l| l as f64).sum::<f64>() / n as f64;
+        let want: f64 = (0..m)
+            .map(|j| {
+                let l = 360.0 + 60.0 * (j as f32 + 0.5) / m as f32;
+                l as f64 * p.pdf(l) as f64 * 60.0 / m as f64
+            })
+            .sum::<f64>()
+            / direct;
+        assert!((mean - want).abs() < 0.01, "{mean} vs {want}");
     }
 
     /// The guided lookups agree with the spectrum itself, normalised by
