@@ -2,6 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
+use scotopia_render::bsdf::Bsdf;
 use scotopia_render::math::Vec3;
 use scotopia_scene::load_scene;
 use scotopia_scene::mitsuba::Parameters;
@@ -90,6 +91,22 @@ fn load_errors_name_the_place() {
         (
             r#"<shape type="sphere"><emitter type="area"><rgb name="radiance" value="-1, 0, 0"/></emitter></shape>"#,
             "outside the srgb gamut",
+        ),
+        (
+            r#"<shape type="sphere"><bsdf type="fluorescent"><float name="reflectance" value="0.8"/><spectrum name="excitation" value="360:0.5, 400:0.1"/><spectrum name="emission" value="420:0, 450:1, 500:0"/></bsdf></shape>"#,
+            "reflectance + excitation is 1.3000 at 360 nm",
+        ),
+        (
+            r#"<shape type="sphere"><bsdf type="fluorescent"><spectrum name="excitation" value="360:0.5, 400:0.1"/></bsdf></shape>"#,
+            "needs an 'emission' spectrum",
+        ),
+        (
+            r#"<shape type="sphere"><bsdf type="fluorescent"><spectrum name="excitation" value="360:0.5, 400:0.1"/><spectrum name="emission" value="420:0, 450:1, 500:0"/><float name="quantum_yield" value="1.5"/></bsdf></shape>"#,
+            "quantum_yield 1.5",
+        ),
+        (
+            r#"<shape type="sphere"><bsdf type="fluorescent"><string name="matrix" value="paper.csv"/></bsdf></shape>"#,
+            "Donaldson",
         ),
     ];
     let sensor = r#"<sensor type="perspective"><float name="fov" value="40"/></sensor>"#;
@@ -218,4 +235,33 @@ fn bundled_scenes_load_without_warnings() {
     for (y, want) in levels.iter().zip([15000.0, 15000.0, 13000.0]) {
         assert!((y - want).abs() < 1e-3 * want, "{levels:?}");
     }
+}
+
+#[test]
+fn a_fluorescent_bsdf_loads_with_its_spectra() {
+    let dir = std::env::temp_dir().join(format!("scotopia-fluor-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let f = dir.join("f.xml");
+    std::fs::write(
+        &f,
+        r#"<scene version="3.0.0">
+<sensor type="perspective"><float name="fov" value="40"/></sensor>
+<shape type="sphere"><bsdf type="fluorescent">
+  <float name="reflectance" value="0.4"/>
+  <spectrum name="excitation" value="360:0.5, 400:0.3, 420:0"/>
+  <spectrum name="emission" value="420:0, 450:2, 500:0"/>
+  <float name="quantum_yield" value="0.9"/>
+</bsdf></shape>
+</scene>"#,
+    )
+    .unwrap();
+    let s = load_scene(&f, &Parameters::new()).unwrap();
+    let Bsdf::Fluorescent(b) = &s.materials[0] else {
+        panic!("{:?}", s.materials[0]);
+    };
+    assert!((b.excitation(380.0) - 0.4).abs() < 1e-4);
+    assert_eq!(b.quantum_yield(), 0.9);
+    // The emission is normalised: a triangle 80 nm wide peaks at 1/40.
+    assert!((b.emission(450.0) - 1.0 / 40.0).abs() < 1e-4, "{}", b.emission(450.0));
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
 }

@@ -2,9 +2,10 @@
 
 use scotopia_color::Spectrum;
 use scotopia_render::bsdf::{
-    Bsdf, Conductor, Dielectric, Diffuse, Ior, Plastic, RoughDielectric, RoughPlastic,
-    ThinDielectric,
+    Bsdf, Conductor, Dielectric, Diffuse, Fluorescent, Ior, Plastic, RoughDielectric,
+    RoughPlastic, ThinDielectric,
 };
+use scotopia_render::texture::Texture;
 
 use super::ior::read_ior;
 use super::Builder;
@@ -103,6 +104,7 @@ pub fn build_bsdf(b: &mut Builder, node: &Node) -> Result<Bsdf, SceneError> {
                 ))
             }
         }
+        "fluorescent" => fluorescent(b, &p, node)?,
         "twosided" => {
             let inner: Vec<&Node> = node
                 .children
@@ -145,4 +147,48 @@ fn roughness(b: &mut Builder, p: &Props, node: &Node) -> Result<f32, SceneError>
         return Err(node.error(format!("roughness alpha must be positive, got {au}")));
     }
     Ok(au)
+}
+
+/// `<bsdf type="fluorescent">`: elastic `reflectance`, `excitation` (the
+/// fraction absorbed for re-emission), `emission` (its shape, normalised
+/// here), `quantum_yield` (photons out per photon absorbed, default 1).
+fn fluorescent(b: &mut Builder, p: &Props, node: &Node) -> Result<Bsdf, SceneError> {
+    if let Some(m) = p.get("matrix") {
+        return Err(m.error(
+            "a reradiation (Donaldson) matrix is not supported yet; give 'excitation', \
+             'emission' and 'quantum_yield'",
+        ));
+    }
+    let reflectance = b.texture(p, "reflectance", Usage::Reflectance, 0.0)?;
+    let Texture::Constant(rho) = &reflectance else {
+        return Err(node.error(
+            "a fluorescent 'reflectance' must be a <spectrum>, <rgb> or <float>, not a texture",
+        ));
+    };
+    let excitation = p
+        .spectrum("excitation", Usage::Reflectance)?
+        .ok_or_else(|| node.error("a fluorescent BSDF needs an 'excitation' spectrum"))?;
+    let emission = p
+        .spectrum("emission", Usage::Unbounded)?
+        .ok_or_else(|| node.error("a fluorescent BSDF needs an 'emission' spectrum"))?;
+    let q = p.float("quantum_yield", 1.0)?;
+    if !(0.0..=1.0).contains(&q) {
+        return Err(node.error(format!(
+            "quantum_yield {q}: a ratio of photons, between 0 and 1"
+        )));
+    }
+    // Light reflected and light absorbed for re-emission cannot exceed
+    // the light arriving.
+    for l in 360..=830 {
+        let (r, e) = (rho.eval(l as f32), excitation.eval(l as f32));
+        if r + e > 1.0 + 1e-4 {
+            return Err(node.error(format!(
+                "reflectance + excitation is {:.4} at {l} nm: it must not exceed 1",
+                r + e
+            )));
+        }
+    }
+    let bsdf = Fluorescent::new(reflectance.clone(), &excitation, &emission, q)
+        .ok_or_else(|| node.error("the 'emission' spectrum has no positive value in 360–830 nm"))?;
+    Ok(Bsdf::Fluorescent(bsdf))
 }
