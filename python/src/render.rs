@@ -80,6 +80,7 @@ fn render<'py>(
         }
     }
     d.set_item("nonfiniteSamples", rendered.nonfinite)?;
+    d.set_item("collapsedFraction", rendered.collapsed_fraction())?;
     Ok((image.into_pyarray(py), d))
 }
 

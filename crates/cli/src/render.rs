@@ -154,6 +154,10 @@ pub fn run(args: Args) -> Result<()> {
         rendered.rays as f64 / secs.max(1e-9) * 1e-6,
         args.output.display()
     );
+    eprintln!(
+        "scotopia: {:.2} % of samples had their wavelength cluster collapsed by a dispersive refraction",
+        100.0 * rendered.collapsed_fraction()
+    );
     if rendered.nonfinite > 0 {
         eprintln!(
             "scotopia: warning: {} samples had NaN or infinite values and were dropped",

@@ -50,6 +50,11 @@ fn renders_an_exr_with_channels_and_metadata() {
         png.to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{err}");
+    // No glass in the Cornell box: no cluster collapses, and it says so.
+    assert!(
+        err.contains("0.00 % of samples had their wavelength cluster collapsed"),
+        "{err}"
+    );
     let img = scotopia_image::read_exr(&exr).unwrap();
     assert_eq!((img.width, img.height), (16, 16));
     let names: Vec<&str> = img.channels.iter().map(|c| c.0.as_str()).collect();

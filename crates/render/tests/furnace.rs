@@ -233,6 +233,26 @@ fn a_dispersive_glass_sphere_vanishes_under_a_uniform_sky() {
             2e-3,
         );
     }
+    // Clusters collapse on the dispersive sphere, never on one of
+    // constant index (nor with one wavelength per path).
+    let collapsed = |s: &Scene, strategy| {
+        let options = RenderOptions {
+            spp: Some(16),
+            strategy,
+            ..RenderOptions::default()
+        };
+        render(s, &options, &AtomicBool::new(false), &|_, _| {})
+            .unwrap()
+            .collapsed_fraction()
+    };
+    let dispersive_share = collapsed(&s, WavelengthStrategy::Swc);
+    assert!(dispersive_share > 0.5, "{dispersive_share}");
+    assert_eq!(collapsed(&s, WavelengthStrategy::Single), 0.0);
+    if let Bsdf::Dielectric(d) = &mut s.materials[0] {
+        d.ior.interior = Spectrum::Constant(1.5);
+    }
+    assert_eq!(collapsed(&s, WavelengthStrategy::Swc), 0.0);
+    assert_eq!(collapsed(&s, WavelengthStrategy::Hero), 0.0);
 }
 
 #[test]

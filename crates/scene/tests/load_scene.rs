@@ -262,6 +262,10 @@ fn a_fluorescent_bsdf_loads_with_its_spectra() {
     assert!((b.excitation(380.0) - 0.4).abs() < 1e-4);
     assert_eq!(b.quantum_yield(), 0.9);
     // The emission is normalised: a triangle 80 nm wide peaks at 1/40.
-    assert!((b.emission(450.0) - 1.0 / 40.0).abs() < 1e-4, "{}", b.emission(450.0));
+    assert!(
+        (b.emission(450.0) - 1.0 / 40.0).abs() < 1e-4,
+        "{}",
+        b.emission(450.0)
+    );
     assert!(s.warnings.is_empty(), "{:?}", s.warnings);
 }

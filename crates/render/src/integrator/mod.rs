@@ -60,9 +60,36 @@ pub struct Rendered {
     pub nonfinite: u64,
     /// Rays traced (camera, continuation and shadow rays).
     pub rays: u64,
+    /// Samples (kept ones) whose cluster of several wavelengths collapsed
+    /// to one at a dispersive refraction.
+    pub collapsed: u64,
     pub elapsed: Duration,
     /// Stopped by `cancel` rather than by `spp` or time.
     pub cancelled: bool,
+}
+
+impl Rendered {
+    /// The share of kept samples whose cluster collapsed (0 with one
+    /// wavelength per path, where there is nothing to collapse).
+    pub fn collapsed_fraction(&self) -> f64 {
+        let kept = self.spp as u64 * self.film.width as u64 * self.film.height as u64;
+        let kept = kept.saturating_sub(self.nonfinite);
+        if kept == 0 {
+            0.0
+        } else {
+            self.collapsed as f64 / kept as f64
+        }
+    }
+}
+
+/// What a pass counted.
+#[derive(Debug, Clone, Copy, Default)]
+struct PassCounts {
+    /// Samples whose estimate was not finite, dropped.
+    dropped: u64,
+    rays: u64,
+    /// Samples whose whole cluster collapsed at a dispersive refraction.
+    collapsed: u64,
 }
 
 /// Errors in the options.
@@ -136,15 +163,14 @@ impl<'a> Renderer<'a> {
         self.infinite.iter().map(|&i| (i, &self.scene.lights[i]))
     }
 
-    /// Adds samples `first..first + count` to every pixel of the film,
-    /// returning (samples dropped, rays traced).
+    /// Adds samples `first..first + count` to every pixel of the film.
     fn pass<const K: usize>(
         &self,
         seed: u32,
         film: &mut Film,
         first: u32,
         count: u32,
-    ) -> (u64, u64) {
+    ) -> PassCounts {
         let width = film.width as usize;
         let stride = film.row_stride();
         let bands = film.bands;
@@ -154,25 +180,32 @@ impl<'a> Renderer<'a> {
             .enumerate()
             .map(|(y, (row, spectral))| {
                 let mut sampler = Sampler::new(seed);
-                let (mut dropped, mut rays) = (0, 0);
+                let mut counts = PassCounts::default();
                 for (x, px) in row.iter_mut().enumerate() {
                     for i in first..first + count {
                         let pixel = [x as u32, y as u32];
-                        match self.sample_pixel::<K>(&mut sampler, pixel, i, &mut rays) {
+                        let sample =
+                            self.sample_pixel::<K>(&mut sampler, pixel, i, &mut counts.rays);
+                        match sample {
                             Some(s) => {
+                                counts.collapsed += s.collapsed as u64;
                                 px.add(s.xyzv);
                                 if let Some(b) = bands {
                                     let sums = &mut spectral[x * b.0..(x + 1) * b.0];
                                     b.add(sums, &s.radiance, &s.wl);
                                 }
                             }
-                            None => dropped += 1,
+                            None => counts.dropped += 1,
                         }
                     }
                 }
-                (dropped, rays)
+                counts
             })
-            .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+            .reduce(PassCounts::default, |a, b| PassCounts {
+                dropped: a.dropped + b.dropped,
+                rays: a.rays + b.rays,
+                collapsed: a.collapsed + b.collapsed,
+            })
     }
 }
 
@@ -217,7 +250,7 @@ fn render_k<const K: usize>(
         None => None,
     };
     let mut film = Film::new(scene.camera.width, scene.camera.height, bands);
-    let (mut dropped, mut rays) = (0, 0);
+    let mut counts = PassCounts::default();
     let mut done = 0;
     let mut cancelled = false;
     // Passes grow from 1 spp so that progress, time limits and Ctrl-C are
@@ -246,9 +279,10 @@ fn render_k<const K: usize>(
                 count = count.min(fits);
             }
         }
-        let (d, r) = renderer.pass::<K>(options.seed, &mut film, done, count);
-        dropped += d;
-        rays += r;
+        let c = renderer.pass::<K>(options.seed, &mut film, done, count);
+        counts.dropped += c.dropped;
+        counts.rays += c.rays;
+        counts.collapsed += c.collapsed;
         done += count;
         step = (step * 2).min(16);
         progress(done, total);
@@ -256,8 +290,9 @@ fn render_k<const K: usize>(
     Ok(Rendered {
         film,
         spp: done,
-        nonfinite: dropped,
-        rays,
+        nonfinite: counts.dropped,
+        rays: counts.rays,
+        collapsed: counts.collapsed,
         elapsed: start.elapsed(),
         cancelled,
     })

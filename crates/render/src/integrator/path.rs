@@ -18,6 +18,9 @@ pub struct CameraSample<const K: usize> {
     pub xyzv: [f32; 4],
     pub radiance: SampledSpectrum<K>,
     pub wl: SampledWavelengths<K>,
+    /// The path started with several wavelengths and a dispersive
+    /// refraction collapsed them to one.
+    pub collapsed: bool,
 }
 
 /// The power heuristic's weight of a strategy with density `a` against `b`.
@@ -66,11 +69,18 @@ impl Renderer<'_> {
             // the cluster (stratum 0 alone would bias towards the blue).
             wl.rotate_to_front(((u_first * K as f32) as usize).min(K - 1));
         }
+        let whole = !wl.secondary_terminated();
         let ray = self.scene.camera.generate_ray(film, lens);
         let radiance = self.trace(sampler, &mut wl, ray, rays);
         let xyzv = estimate_xyzv(&radiance, &wl);
         let finite = xyzv.iter().all(|v| v.is_finite()) && radiance.0.iter().all(|v| v.is_finite());
-        finite.then_some(CameraSample { xyzv, radiance, wl })
+        let collapsed = whole && wl.secondary_terminated();
+        finite.then_some(CameraSample {
+            xyzv,
+            radiance,
+            wl,
+            collapsed,
+        })
     }
 
     /// Radiance arriving along `ray` on the cluster `wl` (which a

@@ -2,8 +2,8 @@
 
 use scotopia_color::Spectrum;
 use scotopia_render::bsdf::{
-    Bsdf, Conductor, Dielectric, Diffuse, Fluorescent, Ior, Plastic, RoughDielectric,
-    RoughPlastic, ThinDielectric,
+    Bsdf, Conductor, Dielectric, Diffuse, Fluorescent, Ior, Plastic, RoughDielectric, RoughPlastic,
+    ThinDielectric,
 };
 use scotopia_render::texture::Texture;
 
