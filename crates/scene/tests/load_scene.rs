@@ -74,6 +74,10 @@ fn load_errors_name_the_place() {
             r#"<shape type="sphere"><bsdf type="dielectric"><string name="int_ior" value="glass"/></bsdf></shape>"#,
             "unknown index of refraction 'glass'",
         ),
+        (
+            r#"<shape type="sphere"><bsdf type="dielectric"><string name="int_ior" value="cauchy: 1.5"/></bsdf></shape>"#,
+            "int_ior 'cauchy: 1.5': cauchy takes A B or A B C",
+        ),
         (r#"<emitter type="point"/>"#, "missing 'intensity'"),
         (
             r#"<bsdf type="twosided" id="m"><ref id="m"/></bsdf><shape type="sphere"><ref id="m"/></shape>"#,
