@@ -447,3 +447,33 @@ fn brightened_paper_is_bluer_under_d65_than_under_a() {
     // has far more than A, lies outside scotopia's range.
     assert!(a < 0.0 && d65 < a - 0.5, "Δb* D65 {d65}, A {a}");
 }
+
+#[test]
+fn a_paint_under_a_black_light_glows_with_every_strategy() {
+    // Only UV arrives (360–390 nm, nearly invisible); what the eye sees is
+    // re-emitted green. swc draws clusters from the paint's emission too
+    // (measured at 256 spp: relative standard error of Y 0.52 % for swc,
+    // 1.6 % hero, 2.5 % single).
+    let uv = Spectrum::tabulated(
+        Tabulated::new(vec![360.0, 365.0, 385.0, 390.0], vec![0.0, 0.05, 0.05, 0.0]).unwrap(),
+    );
+    let rho = Spectrum::Constant(0.05);
+    let e = Spectrum::tabulated(Tabulated::new(vec![360.0, 480.0], vec![0.8, 0.0]).unwrap());
+    let emission = Spectrum::tabulated(
+        Tabulated::new(vec![490.0, 520.0, 560.0], vec![0.0, 1.0, 0.0]).unwrap(),
+    );
+    let want = xyzv(&fluorescent_radiance(&rho, &e, &emission, 0.9, &uv));
+    let seen_uv = xyzv(&Spectrum::tabulated(Tabulated::from_fn(
+        360.0,
+        830.0,
+        1.0,
+        |l| 0.05 * uv.eval(l),
+    )));
+    // The glow is far brighter than the UV the paint reflects.
+    assert!(want[1] > 100.0 * seen_uv[1], "{want:?} vs {seen_uv:?}");
+    let paint = Fluorescent::new(Texture::Constant(rho), &e, &emission, 0.9).unwrap();
+    let s = fluorescent_sphere(uv, Bsdf::Fluorescent(paint));
+    for strategy in WavelengthStrategy::ALL {
+        check(strategy.name(), mean_and_se(&s, strategy, 256), want, 2e-3);
+    }
+}

@@ -99,6 +99,11 @@ impl Fluorescent {
         self.emission.pdf(lambda)
     }
 
+    /// η as a density to sample wavelengths from.
+    pub fn emission_density(&self) -> &SpectralPdf {
+        &self.emission
+    }
+
     pub fn quantum_yield(&self) -> f32 {
         self.quantum_yield
     }

@@ -181,6 +181,15 @@ impl Bsdf {
         }
     }
 
+    /// The fluorescent BSDF inside, if any.
+    pub fn fluorescent(&self) -> Option<&Fluorescent> {
+        match self {
+            Bsdf::Fluorescent(f) => Some(f),
+            Bsdf::TwoSided(inner) => inner.fluorescent(),
+            _ => None,
+        }
+    }
+
     /// Whether every lobe is a delta (no `eval`, no light sampling).
     pub fn is_delta(&self) -> bool {
         match self {

@@ -137,7 +137,16 @@ impl<'a> Renderer<'a> {
             .map(|l| l.power(&extent).watts as f32)
             .collect();
         Self {
-            wavelengths: WavelengthSampler::new(strategy, &scene.lights, &power),
+            wavelengths: WavelengthSampler::new(
+                strategy,
+                &scene.lights,
+                &power,
+                &scene
+                    .materials
+                    .iter()
+                    .filter_map(|m| m.fluorescent())
+                    .collect::<Vec<_>>(),
+            ),
             light_choice: Distribution1D::new(power),
             filter: FilterSampler::new(scene.filter),
             infinite: (0..scene.lights.len())

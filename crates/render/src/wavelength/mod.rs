@@ -22,6 +22,7 @@ pub use visible::{sample_visible, visible_pdf};
 
 use scotopia_color::{SampledWavelengths, LAMBDA_MAX, LAMBDA_MIN};
 
+use crate::bsdf::Fluorescent;
 use crate::light::Light;
 
 /// The strategy names the CLI and Python accept.
@@ -58,10 +59,15 @@ pub enum WavelengthSampler {
 
 impl WavelengthSampler {
     /// `power[i]` is light i's radiant power (W), as the renderer's light
-    /// choice has it.
-    pub fn new(strategy: WavelengthStrategy, lights: &[Light], power: &[f32]) -> Self {
+    /// choice has it; `fluorescent` the scene's fluorescent materials.
+    pub fn new(
+        strategy: WavelengthStrategy,
+        lights: &[Light],
+        power: &[f32],
+        fluorescent: &[&Fluorescent],
+    ) -> Self {
         match strategy {
-            WavelengthStrategy::Swc => Self::Swc(Box::new(Swc::new(lights, power))),
+            WavelengthStrategy::Swc => Self::Swc(Box::new(Swc::new(lights, power, fluorescent))),
             WavelengthStrategy::Hero => Self::Hero,
             WavelengthStrategy::Single => Self::Single,
         }

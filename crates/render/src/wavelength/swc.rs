@@ -1,10 +1,21 @@
 //! Stratified wavelength clusters (Evans & McCool 1999, Graphics Interface,
 //! pp. 42–49): the cluster is drawn from one light's spectrum, chosen by
 //! radiant power, and weighed by the mixture density of all lights.
+//!
+//! Fluorescence (scotopia's extension): light can reach the eye at
+//! wavelengths no lamp emits, so each fluorescent material's emission
+//! shape joins the mixture as a source of its own, weighted by the share
+//! of the lights' power it would re-emit were all of it to fall on it,
+//! r = Q·∫ p_lights(λ)·e(λ) dλ. With R = Σ r the lights keep 1/(1 + R) of
+//! the (non-defensive) mixture and each material r/(1 + R): a white paper
+//! with a little brightener barely changes it, a black-light poster lit
+//! only in the UV (r near Q) draws half its clusters from the paints'
+//! emission, where the eye sees.
 
 use scotopia_color::SampledWavelengths;
 
 use super::{sample_visible, visible_pdf, SpectralPdf};
+use crate::bsdf::Fluorescent;
 use crate::light::Light;
 use crate::sampling::distribution::Distribution1D;
 
@@ -15,11 +26,13 @@ pub const DEFENSIVE_SHARE: f32 = 0.1;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Swc {
-    /// Spectral densities of the lights with power.
+    /// Spectral densities of the lights with power, then of the
+    /// fluorescent materials' emission.
     pdfs: Vec<SpectralPdf>,
-    /// Choice among `pdfs`, by radiant power.
+    /// Choice among `pdfs`: lights by radiant power, materials by the
+    /// power they would re-emit.
     choice: Distribution1D,
-    /// Σ P(l)·p_l(λ), tabulated once on the union of the lights' nodes.
+    /// Σ P(source)·p_source(λ), tabulated once on the union of the nodes.
     lights: Option<SpectralPdf>,
     /// Probability of drawing from the visible density instead.
     defensive: f32,
@@ -27,8 +40,8 @@ pub struct Swc {
 
 impl Swc {
     /// `power[i]`: light i's radiant power, W.
-    pub fn new(lights: &[Light], power: &[f32]) -> Self {
-        let (pdfs, power): (Vec<SpectralPdf>, Vec<f32>) = lights
+    pub fn new(lights: &[Light], power: &[f32], fluorescent: &[&Fluorescent]) -> Self {
+        let (mut pdfs, mut weights): (Vec<SpectralPdf>, Vec<f32>) = lights
             .iter()
             .zip(power)
             .filter_map(|(l, &watts)| {
@@ -37,7 +50,33 @@ impl Swc {
                     .flatten()
             })
             .unzip();
-        let choice = Distribution1D::new(power);
+        let total: f32 = weights.iter().sum();
+        if total > 0.0 {
+            let lights_only = Distribution1D::new(weights.clone());
+            let parts: Vec<(f32, &SpectralPdf)> = pdfs
+                .iter()
+                .enumerate()
+                .map(|(i, p)| (lights_only.probability(i), p))
+                .collect();
+            let mix = SpectralPdf::mixture(&parts);
+            for f in fluorescent {
+                // r = Q·∫ p_lights·e dλ, at 1 nm.
+                let r: f32 = mix.as_ref().map_or(0.0, |m| {
+                    (360..830)
+                        .map(|l| {
+                            let l = l as f32 + 0.5;
+                            m.pdf(l) * f.excitation(l)
+                        })
+                        .sum::<f32>()
+                        * f.quantum_yield()
+                });
+                if r > 0.0 {
+                    pdfs.push(f.emission_density().clone());
+                    weights.push(r * total);
+                }
+            }
+        }
+        let choice = Distribution1D::new(weights);
         let parts: Vec<(f32, &SpectralPdf)> = pdfs
             .iter()
             .enumerate()

@@ -68,7 +68,7 @@ fn samplers() -> Vec<(&'static str, WavelengthSampler)> {
         .collect();
     WavelengthStrategy::ALL
         .into_iter()
-        .map(|s| (s.name(), WavelengthSampler::new(s, &lights, &power)))
+        .map(|s| (s.name(), WavelengthSampler::new(s, &lights, &power, &[])))
         .collect()
 }
 
@@ -145,4 +145,67 @@ fn hero_rotates_and_single_keeps_one() {
         Some(WavelengthStrategy::Hero)
     );
     assert_eq!(WavelengthStrategy::from_name("rgb"), None);
+}
+
+#[test]
+fn swc_covers_what_a_uv_lit_fluorescent_paint_emits() {
+    // A black light (360–390 nm only) and a paint that turns it green:
+    // without the paint in the mixture, clusters reach 520 nm only through
+    // the defensive share; with it, most of the non-defensive mass goes
+    // there, and the mixture still integrates to 1.
+    use crate::bsdf::Fluorescent;
+    use crate::texture::Texture;
+    use scotopia_color::Tabulated;
+    let uv = Spectrum::tabulated(
+        Tabulated::new(vec![360.0, 365.0, 385.0, 390.0], vec![0.0, 1.0, 1.0, 0.0]).unwrap(),
+    );
+    let lights = vec![Light::Constant(ConstantLight { radiance: uv })];
+    let paint = Fluorescent::new(
+        Texture::Constant(Spectrum::Constant(0.1)),
+        &Spectrum::tabulated(Tabulated::new(vec![360.0, 480.0], vec![0.8, 0.0]).unwrap()),
+        &Spectrum::tabulated(
+            Tabulated::new(vec![490.0, 520.0, 560.0], vec![0.0, 1.0, 0.0]).unwrap(),
+        ),
+        0.9,
+    )
+    .unwrap();
+    let plain = Swc::new(&lights, &[1.0], &[]);
+    let with = Swc::new(&lights, &[1.0], &[&paint]);
+    assert!(
+        with.pdf(520.0) > 20.0 * plain.pdf(520.0),
+        "{} vs {}",
+        with.pdf(520.0),
+        plain.pdf(520.0)
+    );
+    // r = Q·∫ p_lamp·e: the lamp's density is its trapezoid normalised
+    // (area 25 nm), e = 0.8·(480 − λ)/120. The paint takes r/(1 + r) of
+    // the non-defensive mass; the defensive share adds its own bit.
+    let lamp = |l: f32| ((l - 360.0) / 5.0).min(1.0).min((390.0 - l) / 5.0).max(0.0) / 25.0;
+    let r: f32 = (0..3000)
+        .map(|i| {
+            let l = 360.0 + (i as f32 + 0.5) * 0.01;
+            lamp(l) * 0.8 * (480.0 - l) / 120.0 * 0.01
+        })
+        .sum::<f32>()
+        * 0.9;
+    let defensive: f32 = (4900..5600)
+        .map(|i| visible_pdf(i as f32 * 0.1) * 0.1)
+        .sum();
+    let want = 0.9 * r / (1.0 + r) + 0.1 * defensive;
+    let band: f32 = (4900..5600).map(|i| with.pdf(i as f32 * 0.1) * 0.1).sum();
+    assert!((band - want).abs() < 0.005, "{band} vs {want} (r = {r})");
+    let total: f32 = (0..47_000)
+        .map(|i| with.pdf(360.0 + (i as f32 + 0.5) * 0.01) * 0.01)
+        .sum();
+    assert!((total - 1.0).abs() < 1e-3, "{total}");
+    // Clusters drawn from it land in the paint's band about as often.
+    let mut rng = Rng(9);
+    let n = 20_000;
+    let hits = (0..n)
+        .filter(|_| {
+            let wl: SampledWavelengths<1> = with.sample(rng.next(), rng.next());
+            (490.0..560.0).contains(&wl.lambda(0))
+        })
+        .count();
+    assert!((hits as f32 / n as f32 - band).abs() < 0.02, "{hits}");
 }
