@@ -2,25 +2,13 @@
 //! and clear errors for bad input.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
+
+mod common;
+
+use common::scotopia;
 
 fn out_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("scotopia-display-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-/// (exit code, stdout, stderr).
-fn scotopia(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_scotopia"))
-        .args(args)
-        .output()
-        .expect("run scotopia");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    common::out_dir("display", name)
 }
 
 /// A small night scene: D65 grey at `y` cd/m² with a lamp, as an XYZV′ EXR.
@@ -129,7 +117,7 @@ fn bad_input_is_a_clear_error() {
 #[test]
 fn render_display_runs_the_pipeline_after_rendering() {
     let dir = out_dir("render");
-    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.xml");
+    let scene = common::scenes().join("cornell-box.xml");
     let exr = dir.join("c.exr");
     let png = dir.join("c.png");
     let (code, _, err) = scotopia(&[

@@ -1,28 +1,15 @@
 //! `scotopia render` end to end: the EXR and its metadata, bad options,
 //! and SIGTERM writing what was accumulated.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
 
-fn scenes() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
-}
+mod common;
+
+use common::{scenes, scotopia};
 
 fn out_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("scotopia-render-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn scotopia(args: &[&str]) -> (i32, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_scotopia"))
-        .args(args)
-        .output()
-        .expect("run scotopia");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    common::out_dir("render", name)
 }
 
 #[test]
@@ -31,7 +18,7 @@ fn renders_an_exr_with_channels_and_metadata() {
     let exr = dir.join("c.exr");
     let png = dir.join("c.png");
     let scene = scenes().join("cornell-box.xml");
-    let (code, err) = scotopia(&[
+    let (code, _, err) = scotopia(&[
         "render",
         scene.to_str().unwrap(),
         "-D",
@@ -83,7 +70,7 @@ fn bad_options_are_clear_errors() {
     ] {
         let mut all = vec!["render", s, "-o", "/nonexistent/x.exr"];
         all.extend(args);
-        let (code, err) = scotopia(&all);
+        let (code, _, err) = scotopia(&all);
         assert_ne!(code, 0);
         assert!(err.contains(needle), "{err}");
     }
@@ -96,7 +83,7 @@ fn a_time_limit_ends_the_render_by_itself() {
     let dir = out_dir("time");
     let exr = dir.join("t.exr");
     let scene = scenes().join("cornell-box.xml");
-    let (code, err) = scotopia(&[
+    let (code, _, err) = scotopia(&[
         "render",
         scene.to_str().unwrap(),
         "-D",
@@ -173,7 +160,7 @@ fn spectral_exr_follows_fichet_2021_and_integrates_to_y() {
     let dir = out_dir("spectral");
     let (exr, spectral) = (dir.join("c.exr"), dir.join("s.exr"));
     let scene = scenes().join("cornell-box.xml");
-    let (code, err) = scotopia(&[
+    let (code, _, err) = scotopia(&[
         "render",
         scene.to_str().unwrap(),
         "-D",

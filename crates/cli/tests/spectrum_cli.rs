@@ -1,18 +1,8 @@
 //! `scotopia spectrum` end to end: the binary, its JSON, its errors.
 
-use std::process::Command;
+mod common;
 
-fn scotopia(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_scotopia"))
-        .args(args)
-        .output()
-        .expect("run scotopia");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::scotopia;
 
 #[test]
 fn json_report_has_the_documented_fields() {

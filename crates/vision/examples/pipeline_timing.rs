@@ -5,26 +5,45 @@
 use scotopia_vision::pipeline::{display, DisplayParams};
 
 fn main() {
-    let a: Vec<String> = std::env::args().collect();
-    if a.len() < 5 {
+    if let Err(e) = run() {
+        eprintln!("pipeline_timing: {e}");
         eprintln!("usage: pipeline_timing FILE WIDTH HEIGHT FOV_DEGREES [RUNS]");
         std::process::exit(2);
     }
-    let bytes = std::fs::read(&a[1]).expect("readable file");
-    let (w, h): (usize, usize) = (a[2].parse().expect("width"), a[3].parse().expect("height"));
-    let fov: f64 = a[4].parse().expect("fov");
-    let runs: usize = a.get(5).map_or(5, |r| r.parse().expect("runs"));
+}
+
+fn run() -> Result<(), String> {
+    let a: Vec<String> = std::env::args().collect();
+    if a.len() < 5 {
+        return Err("missing arguments".into());
+    }
+    let number = |i: usize, what: &str| -> Result<f64, String> {
+        a[i].parse()
+            .map_err(|_| format!("{what} '{}' is not a number", a[i]))
+    };
+    let bytes = std::fs::read(&a[1]).map_err(|e| format!("{}: {e}", a[1]))?;
+    let (w, h) = (number(2, "width")? as usize, number(3, "height")? as usize);
+    let fov = number(4, "field of view")?;
+    let runs = if a.len() > 5 {
+        number(5, "runs")? as usize
+    } else {
+        5
+    };
+    if bytes.len() != w * h * 16 || w == 0 {
+        return Err(format!(
+            "{}: {} bytes, not {w} × {h} pixels of four f32",
+            a[1],
+            bytes.len()
+        ));
+    }
     let px: Vec<[f32; 4]> = bytes
         .chunks_exact(16)
         .map(|c| {
-            std::array::from_fn(|k| f32::from_le_bytes(c[4 * k..4 * k + 4].try_into().unwrap()))
+            std::array::from_fn(|k| {
+                f32::from_le_bytes([c[4 * k], c[4 * k + 1], c[4 * k + 2], c[4 * k + 3]])
+            })
         })
         .collect();
-    assert_eq!(
-        px.len(),
-        w * h,
-        "file size must be WIDTH × HEIGHT × 16 bytes"
-    );
     let p = DisplayParams {
         degrees_per_pixel: fov / w as f64,
         ..Default::default()
@@ -41,4 +60,5 @@ fn main() {
             .collect();
         println!("{:.0} ms: {}", total * 1e3, stages.join(", "));
     }
+    Ok(())
 }

@@ -54,14 +54,8 @@ impl Fluorescent {
     ) -> Option<Self> {
         let emission = SpectralPdf::new(emission)?;
         let excitation_pdf = SpectralPdf::new(excitation);
-        let total = |s: &Spectrum| -> f64 {
-            let n = 4 * (LAMBDA_MAX - LAMBDA_MIN) as usize;
-            let h = (LAMBDA_MAX - LAMBDA_MIN) as f64 / n as f64;
-            (0..n)
-                .map(|i| s.eval(LAMBDA_MIN + (i as f32 + 0.5) * h as f32).max(0.0) as f64 * h)
-                .sum()
-        };
-        let excitation_total = excitation_pdf.as_ref().map_or(0.0, |_| total(excitation));
+        // The density's own normaliser, so e = pdf·total exactly.
+        let excitation_total = excitation_pdf.as_ref().map_or(0.0, |p| p.integral());
         let steps = (LAMBDA_MAX - LAMBDA_MIN) as usize;
         let mut stokes_mass = vec![0.0f64; steps + 1];
         if let Some(p) = &excitation_pdf {

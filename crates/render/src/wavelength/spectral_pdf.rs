@@ -19,6 +19,8 @@ pub struct SpectralPdf {
     by_nm: Vec<u32>,
     /// by_mass[j]: the interval holding the CDF value j / by_mass.len().
     by_mass: Vec<u32>,
+    /// ∫ of the function the density was made from (its normaliser).
+    integral: f64,
 }
 
 /// Index of the interval [x[i], x[i + 1]] that holds `v` (x increasing,
@@ -90,7 +92,14 @@ impl SpectralPdf {
             cdf,
             by_nm,
             by_mass,
+            integral: sum,
         })
+    }
+
+    /// The integral of the function this density normalises (nm × its
+    /// unit): the function is pdf(λ)·integral().
+    pub fn integral(&self) -> f64 {
+        self.integral
     }
 
     /// Density at `lambda` (per nm).
