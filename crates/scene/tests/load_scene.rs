@@ -110,9 +110,38 @@ fn load_errors_name_the_place() {
         ),
         (
             r#"<shape type="sphere"><bsdf type="fluorescent"><string name="matrix" value="paper.csv"/></bsdf></shape>"#,
-            "Donaldson",
+            "paper.csv: ",
+        ),
+        (
+            r#"<shape type="sphere"><bsdf type="fluorescent"><string name="matrix" value="hot.csv"/><spectrum name="excitation" value="0.1"/></bsdf></shape>"#,
+            "'excitation' and 'matrix' are two descriptions",
+        ),
+        (
+            r#"<shape type="sphere"><bsdf type="fluorescent"><string name="matrix" value="hot.csv"/></bsdf></shape>"#,
+            "re-emitted from 365 nm is 1.2000",
+        ),
+        (
+            r#"<shape type="sphere"><bsdf type="fluorescent"><string name="matrix" value="nodiag.csv"/></bsdf></shape>"#,
+            "add a 'reflectance'",
+        ),
+        (
+            r#"<shape type="sphere"><bsdf type="fluorescent"><string name="matrix" value="bad.csv"/></bsdf></shape>"#,
+            "bad.csv:3: expected 3 fields",
+        ),
+        (
+            r#"<shape type="sphere"><bsdf type="fluorescent"><texture type="checkerboard" name="reflectance"><float name="color0" value="0.9"/><float name="color1" value="0.1"/></texture><spectrum name="excitation" value="360:0.3, 400:0"/><spectrum name="emission" value="420:0, 450:1, 500:0"/></bsdf></shape>"#,
+            "reflectance + excitation is 1.2000 at 360 nm",
         ),
     ];
+    // Matrices: too much light out of the 370 nm column (its 380 nm row is
+    // interior, so it re-emits its cell, 0.4); no diagonal; a short row.
+    std::fs::write(
+        dir.join("hot.csv"),
+        "nm,360,370,380,390\n360,0.8,0,0,0\n370,0,0.8,0,0\n380,0,0.4,0.8,0\n390,0,0,0,0.8\n",
+    )
+    .unwrap();
+    std::fs::write(dir.join("nodiag.csv"), "nm,360,370\n400,0,0.1\n410,0,0.1\n").unwrap();
+    std::fs::write(dir.join("bad.csv"), "nm,360,370\n360,0.5,0\n370,0.5\n").unwrap();
     let sensor = r#"<sensor type="perspective"><float name="fov" value="40"/></sensor>"#;
     for (body, needle) in cases {
         let f = dir.join("s.xml");
@@ -263,13 +292,59 @@ fn a_fluorescent_bsdf_loads_with_its_spectra() {
     let Bsdf::Fluorescent(b) = &s.materials[0] else {
         panic!("{:?}", s.materials[0]);
     };
-    assert!((b.excitation(380.0) - 0.4).abs() < 1e-4);
-    assert_eq!(b.quantum_yield(), 0.9);
+    assert!((b.separable().unwrap().excitation(380.0) - 0.4).abs() < 1e-4);
+    assert_eq!(b.separable().unwrap().quantum_yield(), 0.9);
     // The emission is normalised: a triangle 80 nm wide peaks at 1/40.
     assert!(
-        (b.emission(450.0) - 1.0 / 40.0).abs() < 1e-4,
+        (b.separable().unwrap().emission(450.0) - 1.0 / 40.0).abs() < 1e-4,
         "{}",
-        b.emission(450.0)
+        b.separable().unwrap().emission(450.0)
     );
     assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+}
+
+#[test]
+fn a_reradiation_matrix_and_a_textured_reflectance_load() {
+    let dir = std::env::temp_dir().join(format!("scotopia-matrix-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // Reflectance 0.6 on the diagonal; 380 nm re-emitted at 400–420 nm;
+    // one negative cell of noise.
+    std::fs::write(
+        dir.join("paper.csv"),
+        "emission\\excitation,360,380,400,420\n\
+         360,0.6,0,0,0\n380,0,0.6,0,-0.001\n400,0,0.05,0.6,0\n420,0,0.1,0,0.6\n",
+    )
+    .unwrap();
+    let f = dir.join("m.xml");
+    std::fs::write(
+        &f,
+        r#"<scene version="3.0.0">
+<sensor type="perspective"><float name="fov" value="40"/></sensor>
+<shape type="sphere"><bsdf type="fluorescent"><string name="matrix" value="paper.csv"/></bsdf></shape>
+<shape type="sphere"><bsdf type="fluorescent">
+  <texture type="checkerboard" name="reflectance"><float name="color0" value="0.2"/><float name="color1" value="0.6"/></texture>
+  <spectrum name="excitation" value="360:0.3, 400:0"/>
+  <spectrum name="emission" value="420:0, 450:1, 500:0"/>
+</bsdf></shape>
+</scene>"#,
+    )
+    .unwrap();
+    let s = load_scene(&f, &Parameters::new()).unwrap();
+    let Bsdf::Fluorescent(m) = &s.materials[0] else {
+        panic!("{:?}", s.materials[0]);
+    };
+    assert_eq!(m.reflectance.max_over_surface(&[390.0]), vec![0.6]);
+    // Cells are per 20 nm band of excitation: F = 0.1/20 at (380 → 420).
+    assert!((m.eval_reradiation(385.0, 420.0) - 0.005).abs() < 1e-6);
+    assert!((m.fluorescent_albedo(410.0) - 0.075).abs() < 1e-6);
+    assert!(
+        s.warnings.iter().any(|w| w.contains("1 negative cells")),
+        "{:?}",
+        s.warnings
+    );
+    let Bsdf::Fluorescent(t) = &s.materials[1] else {
+        panic!("{:?}", s.materials[1]);
+    };
+    assert!(t.reflectance.is_varying());
+    assert_eq!(s.warnings.len(), 1, "{:?}", s.warnings);
 }

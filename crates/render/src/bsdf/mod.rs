@@ -21,7 +21,7 @@ mod rough_plastic;
 pub use conductor::Conductor;
 pub use dielectric::{Dielectric, Ior, ThinDielectric};
 pub use diffuse::Diffuse;
-pub use fluorescent::Fluorescent;
+pub use fluorescent::{Donaldson, Fluorescent, Reradiation, Separable};
 pub use fresnel::{fresnel_conductor, fresnel_dielectric};
 pub use microfacet::Ggx;
 pub use plastic::{diffuse_fresnel_reflectance, Plastic};

@@ -131,6 +131,23 @@ impl Bitmap {
         self.mean
     }
 
+    /// The largest value any texel takes at each of `lambdas`.
+    pub fn max_over_texels(&self, lambdas: &[f32]) -> Vec<f32> {
+        lambdas
+            .par_iter()
+            .map(|&l| {
+                let t = normalised_lambda(l);
+                let white = self.illuminant.as_ref().map_or(1.0, |ill| ill.eval(l));
+                self.texels
+                    .iter()
+                    .map(|&Texel { coeffs: c, scale }| {
+                        scale * white * sigmoid((c[0] * t + c[1]) * t + c[2])
+                    })
+                    .fold(0.0, f32::max)
+            })
+            .collect()
+    }
+
     /// Texel (x, y)'s spectrum on `wl`, given the wavelengths' normalised
     /// positions `t` and the illuminant's values there.
     #[inline]
@@ -296,6 +313,21 @@ mod tests {
             SpectrumKind::Reflectance
         )
         .is_err());
+    }
+
+    #[test]
+    fn the_maximum_over_texels_is_the_brightest_texel_per_wavelength() {
+        let b = two_by_two();
+        let lambdas = [450.0, 520.0, 600.0, 680.0];
+        let max = b.max_over_texels(&lambdas);
+        let texels = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [0.5; 3]];
+        for (i, m) in max.iter().enumerate() {
+            let want = texels.iter().map(|&c| reference(c)[i]).fold(0.0, f32::max);
+            assert!((m - want).abs() < 1e-5, "{lambdas:?}: {max:?}");
+        }
+        // Blue wins at 450 nm, red at 680 nm: different texels.
+        assert!((max[0] - reference([0.0, 0.0, 1.0])[0]).abs() < 1e-5);
+        assert!((max[3] - reference([1.0, 0.0, 0.0])[3]).abs() < 1e-5);
     }
 
     #[test]

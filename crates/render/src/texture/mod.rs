@@ -73,6 +73,21 @@ impl Texture {
         }
     }
 
+    /// The largest value over the surface at each of `lambdas`.
+    pub fn max_over_surface(&self, lambdas: &[f32]) -> Vec<f32> {
+        match self {
+            Texture::Constant(s) => lambdas.iter().map(|&l| s.eval(l)).collect(),
+            Texture::Bitmap(b) => b.max_over_texels(lambdas),
+            Texture::Checkerboard(c) => {
+                let (a, b) = (
+                    c.color0.max_over_surface(lambdas),
+                    c.color1.max_over_surface(lambdas),
+                );
+                a.iter().zip(&b).map(|(x, y)| x.max(*y)).collect()
+            }
+        }
+    }
+
     /// Whether the value depends on (u, v).
     pub fn is_varying(&self) -> bool {
         !matches!(self, Texture::Constant(_))

@@ -6,11 +6,13 @@
 //! wavelengths no lamp emits, so each fluorescent material's emission
 //! shape joins the mixture as a source of its own, weighted by the share
 //! of the lights' power it would re-emit were all of it to fall on it,
-//! r = Q·∫ p_lights(λ)·e(λ) dλ. With R = Σ r the lights keep 1/(1 + R) of
-//! the (non-defensive) mixture and each material r/(1 + R): a white paper
-//! with a little brightener barely changes it, a black-light poster lit
-//! only in the UV (r near Q) draws half its clusters from the paints'
-//! emission, where the eye sees.
+//! r = ∫ p_lights(λi)·∫ F(λi → λo) dλo dλi (for the separable model
+//! Q·∫ p_lights·e·λi·∫_{λo ≥ λi} η/λo dλo dλi, the Stokes loss included).
+//! With R = Σ r the lights keep 1/(1 + R) of the (non-defensive) mixture
+//! and each material r/(1 + R): a white paper with a little brightener
+//! barely changes it, a black-light poster lit only in the UV (r near Q
+//! times the Stokes factor) draws about 40 % of its clusters from the
+//! paints' emission, where the eye sees.
 
 use scotopia_color::SampledWavelengths;
 
@@ -60,15 +62,14 @@ impl Swc {
                 .collect();
             let mix = SpectralPdf::mixture(&parts);
             for f in fluorescent {
-                // r = Q·∫ p_lights·e dλ, at 1 nm.
+                // r = ∫ p_lights(λ)·∫F(λ → λo) dλo dλ, at 1 nm.
                 let r: f32 = mix.as_ref().map_or(0.0, |m| {
                     (360..830)
                         .map(|l| {
                             let l = l as f32 + 0.5;
-                            m.pdf(l) * f.excitation(l)
+                            m.pdf(l) * f.reemitted(l)
                         })
                         .sum::<f32>()
-                        * f.quantum_yield()
                 });
                 if r > 0.0 {
                     pdfs.push(f.emission_density().clone());

@@ -177,14 +177,25 @@ fn swc_covers_what_a_uv_lit_fluorescent_paint_emits() {
         with.pdf(520.0),
         plain.pdf(520.0)
     );
-    // r = Q·∫ p_lamp·e: the lamp's density is its trapezoid normalised
+    // r = Q·∫ p_lamp·e·(Stokes share): the lamp's density is its trapezoid normalised
     // (area 25 nm), e = 0.8·(480 − λ)/120. The paint takes r/(1 + r) of
     // the non-defensive mass; the defensive share adds its own bit.
     let lamp = |l: f32| ((l - 360.0) / 5.0).min(1.0).min((390.0 - l) / 5.0).max(0.0) / 25.0;
-    let r: f32 = (0..3000)
+    // Energy re-emitted per unit absorbed at λ: Q·∫ η(λo)·λ/λo dλo with
+    // η the triangle 490–520–560 nm normalised (area 35 nm).
+    let eta = |l: f32| ((l - 490.0) / 30.0).min((560.0 - l) / 40.0).max(0.0) / 35.0;
+    let stokes = |l: f32| -> f32 {
+        (0..7000)
+            .map(|i| {
+                let lo = 490.0 + (i as f32 + 0.5) * 0.01;
+                eta(lo) * l / lo * 0.01
+            })
+            .sum()
+    };
+    let r: f32 = (0..300)
         .map(|i| {
-            let l = 360.0 + (i as f32 + 0.5) * 0.01;
-            lamp(l) * 0.8 * (480.0 - l) / 120.0 * 0.01
+            let l = 360.0 + (i as f32 + 0.5) * 0.1;
+            lamp(l) * 0.8 * (480.0 - l) / 120.0 * stokes(l) * 0.1
         })
         .sum::<f32>()
         * 0.9;

@@ -1,16 +1,18 @@
 //! `<bsdf>` elements.
 
-use scotopia_color::Spectrum;
+use std::sync::Arc;
+
+use scotopia_color::{io, Spectrum};
 use scotopia_render::bsdf::{
-    Bsdf, Conductor, Dielectric, Diffuse, Fluorescent, Ior, Plastic, RoughDielectric, RoughPlastic,
-    ThinDielectric,
+    Bsdf, Conductor, Dielectric, Diffuse, Donaldson, Fluorescent, Ior, Plastic, RoughDielectric,
+    RoughPlastic, ThinDielectric,
 };
 use scotopia_render::texture::Texture;
 
 use super::ior::read_ior;
 use super::Builder;
 use crate::materials::{named_conductor, CONDUCTOR_NAMES};
-use crate::mitsuba::{Node, Props, SceneError, Usage};
+use crate::mitsuba::{resolve, Node, Props, SceneError, Usage};
 
 pub fn build_bsdf(b: &mut Builder, node: &Node) -> Result<Bsdf, SceneError> {
     let kind = node.require("type")?;
@@ -149,25 +151,22 @@ fn roughness(b: &mut Builder, p: &Props, node: &Node) -> Result<f32, SceneError>
     Ok(au)
 }
 
-/// `<bsdf type="fluorescent">`: elastic `reflectance`, `excitation` (the
-/// fraction absorbed for re-emission), `emission` (its shape, normalised
-/// here), `quantum_yield` (photons out per photon absorbed, default 1).
+/// `<bsdf type="fluorescent">`: elastic `reflectance` (spectrum or
+/// texture) and either `excitation` (the fraction absorbed for
+/// re-emission), `emission` (its shape, normalised here) and
+/// `quantum_yield` (photons out per photon absorbed, default 1), or a
+/// measured reradiation `matrix` (a CSV file; its diagonal is the
+/// reflectance unless `reflectance` is given).
 fn fluorescent(b: &mut Builder, p: &Props, node: &Node) -> Result<Bsdf, SceneError> {
-    if let Some(m) = p.get("matrix") {
-        return Err(m.error(
-            "a reradiation (Donaldson) matrix is not supported yet; give 'excitation', \
-             'emission' and 'quantum_yield'",
-        ));
+    if let Some(file) = p.string("matrix")? {
+        return fluorescent_matrix(b, p, node, file);
     }
     let reflectance = b.texture(p, "reflectance", Usage::Reflectance, 0.0)?;
-    let Texture::Constant(rho) = &reflectance else {
-        return Err(node.error(
-            "a fluorescent 'reflectance' must be a <spectrum>, <rgb> or <float>, not a texture",
-        ));
-    };
     let excitation = p
         .spectrum("excitation", Usage::Reflectance)?
-        .ok_or_else(|| node.error("a fluorescent BSDF needs an 'excitation' spectrum"))?;
+        .ok_or_else(|| {
+            node.error("a fluorescent BSDF needs an 'excitation' spectrum (or a 'matrix')")
+        })?;
     let emission = p
         .spectrum("emission", Usage::Unbounded)?
         .ok_or_else(|| node.error("a fluorescent BSDF needs an 'emission' spectrum"))?;
@@ -179,16 +178,103 @@ fn fluorescent(b: &mut Builder, p: &Props, node: &Node) -> Result<Bsdf, SceneErr
     }
     // Light reflected and light absorbed for re-emission cannot exceed
     // the light arriving.
-    for l in 360..=830 {
-        let (r, e) = (rho.eval(l as f32), excitation.eval(l as f32));
-        if r + e > 1.0 + 1e-4 {
-            return Err(node.error(format!(
-                "reflectance + excitation is {:.4} at {l} nm: it must not exceed 1",
-                r + e
+    check_energy(
+        &reflectance,
+        |l| excitation.eval(l),
+        |l, total| {
+            node.error(format!(
+                "reflectance + excitation is {total:.4} at {l} nm: it must not exceed 1"
+            ))
+        },
+    )?;
+    let bsdf = Fluorescent::new(reflectance, &excitation, &emission, q)
+        .ok_or_else(|| node.error("the 'emission' spectrum has no positive value in 360–830 nm"))?;
+    Ok(Bsdf::Fluorescent(bsdf))
+}
+
+fn fluorescent_matrix(
+    b: &mut Builder,
+    p: &Props,
+    node: &Node,
+    file: &str,
+) -> Result<Bsdf, SceneError> {
+    for name in ["excitation", "emission", "quantum_yield"] {
+        if let Some(n) = p.get(name) {
+            return Err(n.error(format!(
+                "'{name}' and 'matrix' are two descriptions of the same reradiation: give one"
             )));
         }
     }
-    let bsdf = Fluorescent::new(reflectance.clone(), &excitation, &emission, q)
-        .ok_or_else(|| node.error("the 'emission' spectrum has no positive value in 360–830 nm"))?;
-    Ok(Bsdf::Fluorescent(bsdf))
+    let at = p.get("matrix").unwrap_or(node);
+    let path = resolve(&node.dir, file);
+    let m = io::read_matrix_file(&path).map_err(|e| at.error(e.to_string()))?;
+    let (matrix, negative) = Donaldson::new(&m.excitation, &m.emission, &m.values)
+        .map_err(|e| at.error(format!("{}: {e}", path.display())))?;
+    if negative > 0 {
+        b.warn(
+            at,
+            format!(
+                "{}: {negative} negative cells (measurement noise) count as zero",
+                path.display()
+            ),
+        );
+    }
+    if m.excitation[0] < scotopia_color::LAMBDA_MIN {
+        b.warn(
+            at,
+            format!(
+                "{}: excitation below {} nm is outside scotopia's wavelength range; \
+                 those columns are ignored",
+                path.display(),
+                scotopia_color::LAMBDA_MIN
+            ),
+        );
+    }
+    let reflectance = match (p.get("reflectance"), matrix.diagonal()) {
+        (Some(_), _) => b.texture(p, "reflectance", Usage::Reflectance, 0.0)?,
+        (None, Some(d)) => Texture::Constant(d.clone()),
+        (None, None) => {
+            return Err(at.error(format!(
+                "{}: not every emission wavelength has an equal excitation wavelength, so \
+                 the diagonal cannot give the reflectance: add a 'reflectance'",
+                path.display()
+            )))
+        }
+    };
+    check_energy(
+        &reflectance,
+        |l| matrix.reemitted(l),
+        |l, total| {
+            at.error(format!(
+                "{}: reflectance plus the light re-emitted from {l} nm is {total:.4} of what \
+             arrives: it must not exceed 1",
+                path.display()
+            ))
+        },
+    )?;
+    Ok(Bsdf::Fluorescent(Fluorescent::from_matrix(
+        reflectance,
+        Arc::new(matrix),
+    )))
+}
+
+/// Refuses a material that sends back more light than arrives: the
+/// largest reflectance over the surface plus `taken(λ)` must not exceed 1
+/// (checked every nm; every 5 nm over a texture's texels, whose spectra
+/// are smooth).
+fn check_energy(
+    reflectance: &Texture,
+    taken: impl Fn(f32) -> f32,
+    error: impl Fn(u32, f32) -> SceneError,
+) -> Result<(), SceneError> {
+    let step = if reflectance.is_varying() { 5 } else { 1 };
+    let lambdas: Vec<f32> = (360..=830).step_by(step).map(|l| l as f32).collect();
+    let rho = reflectance.max_over_surface(&lambdas);
+    for (&l, r) in lambdas.iter().zip(rho) {
+        let total = r + taken(l);
+        if total > 1.0 + 1e-3 {
+            return Err(error(l as u32, total));
+        }
+    }
+    Ok(())
 }

@@ -1,25 +1,28 @@
 //! A Lambertian surface that fluoresces: it reflects ρ(λ) of the light at
-//! the same wavelength and absorbs e(λ) for re-emission at longer ones.
-//! The bispectral BRDF (per nm of excitation wavelength λi):
+//! the same wavelength and re-emits some of what it absorbs at other
+//! wavelengths. The bispectral BRDF (per nm of excitation wavelength λi):
 //!
-//!   f(λi → λo) = [ρ(λo)·δ(λi − λo) + Q·e(λi)·η(λo)·(λi/λo)·[λi ≤ λo]] / π
+//!   f(λi → λo) = [ρ(λo)·δ(λi − λo) + F(λi → λo)] / π
 //!
-//! with Q the quantum yield (photons out per photon absorbed), η the
-//! emission shape normalised to ∫η dλ = 1 (the emitted photons' spectrum)
-//! and λi/λo the Stokes factor: energy per photon falls as the wavelength
-//! grows. Light is re-emitted only at wavelengths at least as long as the
-//! one absorbed (scotopia's choice, Stokes' rule): photons whose emission
-//! would land below the excitation wavelength are lost, so the energy
-//! re-emitted never exceeds Q times the energy absorbed.
+//! with the reradiation F given either by an excitation spectrum, an
+//! emission shape and a quantum yield ([`Separable`], with the Stokes
+//! factor λi/λo) or by a measured Donaldson matrix ([`Donaldson`]).
 //!
 //! In the path tracer a path arriving at λo continues, per member of its
 //! cluster, either elastically (at λo) or from an excitation wavelength λi
-//! drawn ∝ e(λi) on [λmin, λo] ([`Fluorescent::reradiate`]); after that
-//! the surface scatters like a white Lambertian (`eval`, `sample`).
+//! drawn ∝ F(λi → λo) as well as the model allows ([`Fluorescent::reradiate`]);
+//! after that the surface scatters like a white Lambertian (`eval`, `sample`).
+
+mod donaldson;
+mod separable;
 
 use std::f32::consts::FRAC_1_PI;
+use std::sync::Arc;
 
-use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum, LAMBDA_MAX, LAMBDA_MIN};
+use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
+
+pub use donaldson::Donaldson;
+pub use separable::Separable;
 
 use super::BsdfSample;
 use crate::math::Vec3;
@@ -27,89 +30,96 @@ use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
 use crate::texture::Texture;
 use crate::wavelength::SpectralPdf;
 
+/// How absorbed light is re-emitted.
+#[derive(Debug, Clone, PartialEq)]
+/// Both are shared: the tables are large and materials are cloned.
+pub enum Reradiation {
+    Separable(Arc<Separable>),
+    Matrix(Arc<Donaldson>),
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct Fluorescent {
     /// ρ: elastic reflectance.
     pub reflectance: Texture,
-    /// e normalised to a density over wavelength (`None`: nothing excites).
-    excitation: Option<SpectralPdf>,
-    /// ∫ e dλ, nm: e(λ) = excitation.pdf(λ)·excitation_total.
-    excitation_total: f64,
-    /// η, the emission shape as a density (per nm).
-    emission: SpectralPdf,
-    /// Q.
-    quantum_yield: f32,
-    /// ∫ from λmin to λ of e(x)·x dx at 1 nm steps from λmin: how much
-    /// excitation, Stokes-weighted, can feed emission at λ.
-    stokes_mass: Vec<f64>,
+    pub reradiation: Reradiation,
 }
 
 impl Fluorescent {
-    /// `None` when the emission spectrum has no positive value.
+    /// The separable model; `None` when the emission spectrum has no
+    /// positive value.
     pub fn new(
         reflectance: Texture,
         excitation: &Spectrum,
         emission: &Spectrum,
         quantum_yield: f32,
     ) -> Option<Self> {
-        let emission = SpectralPdf::new(emission)?;
-        let excitation_pdf = SpectralPdf::new(excitation);
-        // The density's own normaliser, so e = pdf·total exactly.
-        let excitation_total = excitation_pdf.as_ref().map_or(0.0, |p| p.integral());
-        let steps = (LAMBDA_MAX - LAMBDA_MIN) as usize;
-        let mut stokes_mass = vec![0.0f64; steps + 1];
-        if let Some(p) = &excitation_pdf {
-            // e·λ integrated by the midpoint rule on quarter-nanometres.
-            for k in 0..steps {
-                let lo = LAMBDA_MIN + k as f32;
-                let piece: f64 = (0..4)
-                    .map(|j| {
-                        let l = lo + (j as f32 + 0.5) * 0.25;
-                        p.pdf(l) as f64 * excitation_total * l as f64 * 0.25
-                    })
-                    .sum();
-                stokes_mass[k + 1] = stokes_mass[k] + piece;
-            }
-        }
         Some(Self {
             reflectance,
-            excitation: excitation_pdf,
-            excitation_total,
-            emission,
-            quantum_yield,
-            stokes_mass,
+            reradiation: Reradiation::Separable(Arc::new(Separable::new(
+                excitation,
+                emission,
+                quantum_yield,
+            )?)),
         })
     }
 
-    /// The excitation e(λ) (fraction absorbed for re-emission).
-    pub fn excitation(&self, lambda: f32) -> f32 {
-        self.excitation.as_ref().map_or(0.0, |p| {
-            (p.pdf(lambda) as f64 * self.excitation_total) as f32
-        })
+    /// A measured reradiation matrix.
+    pub fn from_matrix(reflectance: Texture, matrix: Arc<Donaldson>) -> Self {
+        Self {
+            reflectance,
+            reradiation: Reradiation::Matrix(matrix),
+        }
     }
 
-    /// The emission shape η(λ), per nm, ∫η dλ = 1.
-    pub fn emission(&self, lambda: f32) -> f32 {
-        self.emission.pdf(lambda)
+    /// F(λi → λo), per nm of λi.
+    pub fn eval_reradiation(&self, lambda_i: f32, lambda_o: f32) -> f32 {
+        match &self.reradiation {
+            Reradiation::Separable(s) => s.eval(lambda_i, lambda_o),
+            Reradiation::Matrix(m) => m.eval(lambda_i, lambda_o),
+        }
     }
 
-    /// η as a density to sample wavelengths from.
-    pub fn emission_density(&self) -> &SpectralPdf {
-        &self.emission
-    }
-
-    pub fn quantum_yield(&self) -> f32 {
-        self.quantum_yield
-    }
-
-    /// The fluorescent albedo at λo under a flat spectrum of excitation:
-    /// Q·η(λo)/λo·∫ from λmin to λo of e(λ)·λ dλ, per nm of λo.
+    /// The fluorescent albedo at λo under a flat spectrum of excitation,
+    /// ∫ F(λi → λo) dλi, per nm of λo.
     pub fn fluorescent_albedo(&self, lambda_o: f32) -> f32 {
-        let x = (lambda_o - LAMBDA_MIN).clamp(0.0, (self.stokes_mass.len() - 1) as f32);
-        let i = (x as usize).min(self.stokes_mass.len() - 2);
-        let t = (x - i as f32) as f64;
-        let mass = self.stokes_mass[i] * (1.0 - t) + self.stokes_mass[i + 1] * t;
-        (self.quantum_yield as f64 * self.emission(lambda_o) as f64 * mass / lambda_o as f64) as f32
+        match &self.reradiation {
+            Reradiation::Separable(s) => s.albedo(lambda_o),
+            Reradiation::Matrix(m) => m.albedo(lambda_o),
+        }
+    }
+
+    /// ∫ F(λi → λo) dλo: the share of the energy arriving at λi that is
+    /// re-emitted at any wavelength.
+    pub fn reemitted(&self, lambda_i: f32) -> f32 {
+        match &self.reradiation {
+            Reradiation::Separable(s) => s.reemitted(lambda_i),
+            Reradiation::Matrix(m) => m.reemitted(lambda_i),
+        }
+    }
+
+    /// The density of the re-emitted light over λo, to sample
+    /// wavelengths from.
+    pub fn emission_density(&self) -> &SpectralPdf {
+        match &self.reradiation {
+            Reradiation::Separable(s) => s.emission_density(),
+            Reradiation::Matrix(m) => m.emission_density(),
+        }
+    }
+
+    /// The separable model's parts, when the material uses it.
+    pub fn separable(&self) -> Option<&Separable> {
+        match &self.reradiation {
+            Reradiation::Separable(s) => Some(s),
+            Reradiation::Matrix(_) => None,
+        }
+    }
+
+    fn sample_excitation(&self, u: f32, lambda_o: f32) -> Option<(f32, f32)> {
+        match &self.reradiation {
+            Reradiation::Separable(s) => s.sample(u, lambda_o),
+            Reradiation::Matrix(m) => m.sample(u, lambda_o),
+        }
     }
 
     /// Chooses, per live member of the cluster, whether the light leaving
@@ -140,18 +150,12 @@ impl Fluorescent {
             let p_fluoresce = b / (a + b);
             let uk = (u + k as f32 / K as f32).fract();
             factor.0[k] = if uk < p_fluoresce {
-                let Some(ex) = &self.excitation else {
+                let Some((lambda_i, weight)) = self.sample_excitation(uk / p_fluoresce, lambda_o)
+                else {
                     continue;
                 };
-                let below = ex.mass_below(lambda_o) * self.excitation_total;
-                let lambda_i = ex.sample_below(uk / p_fluoresce, lambda_o);
                 wl.set_lambda(k, lambda_i);
-                // Q·e(λi)·η(λo)·(λi/λo) over p(λi) = e(λi)/∫_{λmin}^{λo} e.
-                (self.quantum_yield as f64
-                    * self.emission(lambda_o) as f64
-                    * (lambda_i / lambda_o) as f64
-                    * below
-                    / p_fluoresce as f64) as f32
+                weight / p_fluoresce
             } else {
                 a / (1.0 - p_fluoresce)
             };
@@ -195,6 +199,10 @@ mod tests {
     use super::*;
     use scotopia_color::Tabulated;
 
+    fn sep(f: &Fluorescent) -> &Separable {
+        f.separable().unwrap()
+    }
+
     fn brightener() -> Fluorescent {
         // Absorbs in the near UV, emits in the blue.
         let excitation = Spectrum::tabulated(
@@ -231,17 +239,17 @@ mod tests {
         let integral: f64 = (0..m)
             .map(|j| {
                 let l = 360.0 + (j as f64 + 0.5) * h;
-                f.excitation(l as f32) as f64 * l * g(l as f32) as f64 * h
+                sep(&f).excitation(l as f32) as f64 * l * g(l as f32) as f64 * h
             })
             .sum();
         let want = 0.3 * g(lambda_o) as f64
-            + 0.9 * f.emission(lambda_o) as f64 / lambda_o as f64 * integral;
+            + 0.9 * sep(&f).emission(lambda_o) as f64 / lambda_o as f64 * integral;
         let got = sum / n as f64;
         assert!((got / want - 1.0).abs() < 2e-3, "{got} vs {want}");
         // Below the excitation band nothing fluoresces: the factor is ρ.
         let mut wl = SampledWavelengths::<1>::new([380.0], [1.0]);
         let factor = f.reradiate(&mut wl, [0.0, 0.0], 0.5);
-        assert!(f.emission(380.0) == 0.0 && (factor.0[0] - 0.3).abs() < 1e-6);
+        assert!(sep(&f).emission(380.0) == 0.0 && (factor.0[0] - 0.3).abs() < 1e-6);
         assert_eq!(wl.lambda(0), 380.0);
     }
 
@@ -278,7 +286,7 @@ mod tests {
             total_out += out;
             emitted += out - reflected;
             // Beyond the input band only emission leaves, and only where η > 0.
-            if (lambda_o - 380.0).abs() > 20.0 && f.emission(lambda_o) == 0.0 {
+            if (lambda_o - 380.0).abs() > 20.0 && sep(&f).emission(lambda_o) == 0.0 {
                 assert!(out.abs() < 1e-9, "{lambda_o}: {out}");
             }
         }
@@ -295,7 +303,7 @@ mod tests {
         let stokes: f64 = (0..15_000)
             .map(|i| {
                 let l = 380.0 + (i as f32 + 0.5) * 0.01;
-                f.emission(l) as f64 * 380.0 / l as f64 * 0.01
+                sep(&f).emission(l) as f64 * 380.0 / l as f64 * 0.01
             })
             .sum();
         assert!(
@@ -309,9 +317,77 @@ mod tests {
     fn the_normalised_emission_integrates_to_one() {
         let f = brightener();
         let total: f64 = (0..47_000)
-            .map(|i| f.emission(360.0 + (i as f32 + 0.5) * 0.01) as f64 * 0.01)
+            .map(|i| sep(&f).emission(360.0 + (i as f32 + 0.5) * 0.01) as f64 * 0.01)
             .sum();
         assert!((total - 1.0).abs() < 1e-4, "{total}");
-        assert!((f.excitation(370.0) - 0.55).abs() < 1e-3);
+        assert!((sep(&f).excitation(370.0) - 0.55).abs() < 1e-3);
+    }
+}
+
+#[cfg(test)]
+mod reemission_tests {
+    use super::*;
+    use scotopia_color::Tabulated;
+
+    #[test]
+    fn reemitted_is_the_integral_over_emission_wavelengths() {
+        let e = Spectrum::tabulated(Tabulated::new(vec![360.0, 420.0], vec![0.7, 0.0]).unwrap());
+        let emission = Spectrum::tabulated(
+            Tabulated::new(vec![380.0, 440.0, 520.0], vec![0.0, 1.0, 0.0]).unwrap(),
+        );
+        let f = Fluorescent::new(Texture::constant(0.2), &e, &emission, 0.8).unwrap();
+        for lambda_i in [365.0f32, 390.0, 410.0] {
+            let want: f64 = (0..47_000)
+                .map(|i| {
+                    let lo = 360.0 + (i as f32 + 0.5) * 0.01;
+                    f.eval_reradiation(lambda_i, lo) as f64 * 0.01
+                })
+                .sum();
+            let got = f.reemitted(lambda_i) as f64;
+            assert!(
+                (got - want).abs() < 1e-3 * want.max(1e-3),
+                "{lambda_i}: {got} vs {want}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_matrix_reradiates_without_bias() {
+        // A band 400–430 nm re-emitted at 480–560 nm on a 5 nm grid; the
+        // estimator's mean of factor·g(λ after) is ρ·g(λo) + ∫F·g.
+        let grid: Vec<f32> = (0..61).map(|i| 380.0 + 5.0 * i as f32).collect();
+        let n = grid.len();
+        let mut v = vec![0.0f32; n * n];
+        for (r, &lo) in grid.iter().enumerate() {
+            for (c, &li) in grid.iter().enumerate() {
+                if (400.0..=430.0).contains(&li) && (480.0..=560.0).contains(&lo) {
+                    v[r * n + c] = 0.02 * (li - 395.0) / 35.0;
+                }
+            }
+        }
+        let (m, _) = Donaldson::new(&grid, &grid, &v).unwrap();
+        let f = Fluorescent::from_matrix(Texture::constant(0.4), Arc::new(m));
+        let g = |l: f32| 2.0 - (l - 380.0) / 300.0;
+        let lambda_o = 512.5;
+        let samples = 100_000;
+        let mut sum = 0.0f64;
+        for i in 0..samples {
+            let mut wl = SampledWavelengths::<1>::new([lambda_o], [1.0]);
+            let factor = f.reradiate(&mut wl, [0.0, 0.0], (i as f32 + 0.5) / samples as f32);
+            sum += (factor.0[0] * g(wl.lambda(0))) as f64;
+        }
+        let integral: f64 = (0..10_000)
+            .map(|i| {
+                let l = 380.0 + (i as f32 + 0.5) * 0.01;
+                (f.eval_reradiation(l, lambda_o) * g(l)) as f64 * 0.01
+            })
+            .sum();
+        let want = 0.4 * g(lambda_o) as f64 + integral;
+        let got = sum / samples as f64;
+        assert!(
+            integral > 0.05 * want,
+            "the test needs fluorescence: {integral}"
+        );
+        assert!((got / want - 1.0).abs() < 2e-3, "{got} vs {want}");
     }
 }

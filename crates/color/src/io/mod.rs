@@ -8,6 +8,37 @@ use crate::error::ColorError;
 use crate::spectrum::Tabulated;
 use crate::{LAMBDA_MAX, LAMBDA_MIN};
 
+mod matrix;
+
+pub use matrix::{parse_matrix, read_matrix_file, Matrix};
+
+/// The non-empty lines of `text` with their 1-based numbers, split into
+/// fields (commas, semicolons, tabs or spaces), `#` comments removed.
+fn rows(text: &str) -> impl Iterator<Item = (usize, Vec<&str>)> {
+    text.lines().enumerate().filter_map(|(index, raw)| {
+        let content = raw.split('#').next().unwrap_or("").trim();
+        (!content.is_empty()).then(|| {
+            let fields = content
+                .split(|c: char| c == ',' || c == ';' || c.is_whitespace())
+                .filter(|f| !f.is_empty())
+                .collect();
+            (index + 1, fields)
+        })
+    })
+}
+
+/// The fields as finite numbers, or what is wrong with the first bad one.
+fn numbers(fields: &[&str]) -> Result<Vec<f64>, String> {
+    fields
+        .iter()
+        .map(|field| match field.parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            Ok(_) => Err(format!("'{field}' is not a finite number")),
+            Err(_) => Err(format!("'{field}' is not a number")),
+        })
+        .collect()
+}
+
 /// Columns of a spectral table: the wavelengths and one vector per value column.
 #[derive(Debug, Clone)]
 pub struct Table {
@@ -35,16 +66,7 @@ pub fn parse_table(
         columns: vec![Vec::new(); value_columns],
     };
     let mut seen_content = false;
-    for (index, raw) in text.lines().enumerate() {
-        let line_no = index + 1;
-        let content = raw.split('#').next().unwrap_or("").trim();
-        if content.is_empty() {
-            continue;
-        }
-        let fields: Vec<&str> = content
-            .split(|c: char| c == ',' || c == ';' || c.is_whitespace())
-            .filter(|f| !f.is_empty())
-            .collect();
+    for (line_no, fields) in rows(text) {
         // A first row whose leading field is not a number is a header.
         let first_row = !seen_content;
         seen_content = true;
@@ -63,16 +85,7 @@ pub fn parse_table(
                 ),
             ));
         }
-        let mut numbers = Vec::with_capacity(fields.len());
-        for field in &fields {
-            let v: f64 = field
-                .parse()
-                .map_err(|_| err(line_no, format!("'{field}' is not a number")))?;
-            if !v.is_finite() {
-                return Err(err(line_no, format!("'{field}' is not a finite number")));
-            }
-            numbers.push(v);
-        }
+        let numbers = numbers(&fields).map_err(|m| err(line_no, m))?;
         let lambda = numbers[0];
         if lambda <= 0.0 {
             return Err(err(
