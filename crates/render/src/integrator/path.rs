@@ -9,7 +9,7 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::Renderer;
 use crate::bsdf::Transport;
-use crate::light::Light;
+use crate::light::{Light, LightSample};
 use crate::math::{offset_ray_origin, Frame, Ray, Vec3};
 use crate::sampling::sobol::Sampler;
 
@@ -42,6 +42,25 @@ fn spawn(p: Vec3, n: Vec3, d: Vec3) -> Ray {
     let side = if d.dot(n) >= 0.0 { n } else { -n };
     Ray::new(offset_ray_origin(p, side), d)
 }
+
+/// The ray that tests whether light sample `ls` reaches `p`. It starts
+/// at the offset origin and stops just short of the light's point as seen
+/// from there: measured from `p` instead, a grazing ray would reach the
+/// light's own surface before its end and count as shadowed.
+fn shadow_ray<const K: usize>(p: Vec3, n: Vec3, ls: &LightSample<K>) -> Ray {
+    let mut ray = spawn(p, n, ls.wi);
+    if ls.distance.is_finite() {
+        let to = p + ls.wi * ls.distance;
+        let d = to - ray.o;
+        let dist = d.length();
+        ray.d = d / dist;
+        ray.t_max = dist * (1.0 - SHADOW_EPSILON);
+    }
+    ray
+}
+
+/// Relative margin a shadow ray stops short of the light's surface.
+const SHADOW_EPSILON: f32 = 1e-4;
 
 impl Renderer<'_> {
     /// One camera sample of `pixel`: its X, Y, Z, V′ estimate and the
@@ -174,9 +193,7 @@ impl Renderer<'_> {
                         let wo = frame.to_local(ls.wi);
                         let f = bsdf.eval(&now, uv, wi, wo, Transport::Radiance);
                         if ls.pdf > 0.0 && !f.is_zero() && !ls.radiance.is_zero() {
-                            let mut shadow = spawn(surface.p, surface.n_geometric, ls.wi);
-                            // Stop short of the light's own surface.
-                            shadow.t_max = ls.distance * (1.0 - 1e-4);
+                            let shadow = shadow_ray(surface.p, surface.n_geometric, &ls);
                             *rays += 1;
                             if !scene.geometry.occluded(&shadow) {
                                 let p_light = p_choice * ls.pdf;

@@ -11,8 +11,18 @@
 //! With R = Σ r the lights keep 1/(1 + R) of the (non-defensive) mixture
 //! and each material r/(1 + R): a white paper with a little brightener
 //! barely changes it, a black-light poster lit only in the UV (r near Q
-//! times the Stokes factor) draws about 40 % of its clusters from the
+//! times the Stokes factor) draws about 40 % of its wavelengths from the
 //! paints' emission, where the eye sees.
+//!
+//! The two shares are stratified within each cluster rather than chosen
+//! per cluster: member k's stratum (k + u)/K falls in the lights' share
+//! or the materials', so a cluster of 4 under a black light carries about
+//! 2 UV and 2 emission wavelengths instead of being all-UV or
+//! all-emission; that halves the variance of what the eye sees on such
+//! scenes. The light is still chosen once per cluster by power and the
+//! lights' members are stratified over its spectrum (Evans & McCool);
+//! without fluorescence nothing changes. Each member's marginal density
+//! is the same mixture, so the estimator's p(λ) is unchanged.
 
 use scotopia_color::SampledWavelengths;
 
@@ -28,14 +38,18 @@ pub const DEFENSIVE_SHARE: f32 = 0.1;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Swc {
-    /// Spectral densities of the lights with power, then of the
-    /// fluorescent materials' emission.
-    pdfs: Vec<SpectralPdf>,
-    /// Choice among `pdfs`: lights by radiant power, materials by the
-    /// power they would re-emit.
-    choice: Distribution1D,
-    /// Σ P(source)·p_source(λ), tabulated once on the union of the nodes.
-    lights: Option<SpectralPdf>,
+    /// Spectral densities of the lights with power.
+    lights: Vec<SpectralPdf>,
+    /// Choice of the light, by radiant power.
+    light_choice: Option<Distribution1D>,
+    /// Spectral densities of the fluorescent materials' emission.
+    emitters: Vec<SpectralPdf>,
+    /// Choice among `emitters`, by the power each would re-emit.
+    emitter_choice: Option<Distribution1D>,
+    /// The lights' share of the non-defensive mixture, 1/(1 + R).
+    light_share: f32,
+    /// Σ P(source)·p_source(λ) over lights and emitters, tabulated once.
+    mixture: Option<SpectralPdf>,
     /// Probability of drawing from the visible density instead.
     defensive: f32,
 }
@@ -43,7 +57,7 @@ pub struct Swc {
 impl Swc {
     /// `power[i]`: light i's radiant power, W.
     pub fn new(lights: &[Light], power: &[f32], fluorescent: &[&Fluorescent]) -> Self {
-        let (mut pdfs, mut weights): (Vec<SpectralPdf>, Vec<f32>) = lights
+        let (light_pdfs, watts): (Vec<SpectralPdf>, Vec<f32>) = lights
             .iter()
             .zip(power)
             .filter_map(|(l, &watts)| {
@@ -52,67 +66,87 @@ impl Swc {
                     .flatten()
             })
             .unzip();
-        let total: f32 = weights.iter().sum();
-        if total > 0.0 {
-            let lights_only = Distribution1D::new(weights.clone());
-            let parts: Vec<(f32, &SpectralPdf)> = pdfs
+        let light_choice = (!light_pdfs.is_empty()).then(|| Distribution1D::new(watts));
+        let lights_mix = light_choice.as_ref().and_then(|c| {
+            let parts: Vec<(f32, &SpectralPdf)> = light_pdfs
                 .iter()
                 .enumerate()
-                .map(|(i, p)| (lights_only.probability(i), p))
+                .map(|(i, p)| (c.probability(i), p))
                 .collect();
-            let mix = SpectralPdf::mixture(&parts);
+            SpectralPdf::mixture(&parts)
+        });
+        let (mut emitters, mut ratios) = (Vec::new(), Vec::new());
+        if let Some(m) = &lights_mix {
             for f in fluorescent {
                 // r = ∫ p_lights(λ)·∫F(λ → λo) dλo dλ, at 1 nm.
-                let r: f32 = mix.as_ref().map_or(0.0, |m| {
-                    (360..830)
-                        .map(|l| {
-                            let l = l as f32 + 0.5;
-                            m.pdf(l) * f.reemitted(l)
-                        })
-                        .sum::<f32>()
-                });
+                let r: f32 = (360..830)
+                    .map(|l| {
+                        let l = l as f32 + 0.5;
+                        m.pdf(l) * f.reemitted(l)
+                    })
+                    .sum();
                 if r > 0.0 {
-                    pdfs.push(f.emission_density().clone());
-                    weights.push(r * total);
+                    emitters.push(f.emission_density().clone());
+                    ratios.push(r);
                 }
             }
         }
-        let choice = Distribution1D::new(weights);
-        let parts: Vec<(f32, &SpectralPdf)> = pdfs
-            .iter()
-            .enumerate()
-            .map(|(i, p)| (choice.probability(i), p))
-            .collect();
-        let lights = SpectralPdf::mixture(&parts);
+        let big_r: f32 = ratios.iter().sum();
+        let light_share = 1.0 / (1.0 + big_r);
+        let emitter_choice = (!emitters.is_empty()).then(|| Distribution1D::new(ratios.clone()));
+        let mut parts: Vec<(f32, &SpectralPdf)> = Vec::new();
+        if let Some(m) = &lights_mix {
+            parts.push((light_share, m));
+        }
+        for (e, r) in emitters.iter().zip(&ratios) {
+            parts.push((r * light_share, e));
+        }
+        let mixture = SpectralPdf::mixture(&parts);
         Self {
-            lights,
-            defensive: if pdfs.is_empty() {
+            defensive: if light_pdfs.is_empty() {
                 1.0
             } else {
                 DEFENSIVE_SHARE
             },
-            choice,
-            pdfs,
+            lights: light_pdfs,
+            light_choice,
+            emitters,
+            emitter_choice,
+            light_share,
+            mixture,
         }
     }
 
     /// The mixture density the estimator divides by.
     #[inline]
     pub fn pdf(&self, lambda: f32) -> f32 {
-        let lights = self.lights.as_ref().map_or(0.0, |m| m.pdf(lambda));
-        (1.0 - self.defensive) * lights + self.defensive * visible_pdf(lambda)
+        let sources = self.mixture.as_ref().map_or(0.0, |m| m.pdf(lambda));
+        (1.0 - self.defensive) * sources + self.defensive * visible_pdf(lambda)
     }
 
     pub fn sample<const K: usize>(&self, u_choice: f32, u: f32) -> SampledWavelengths<K> {
         let strata = |k: usize| (k as f32 + u) / K as f32;
-        let lambda: [f32; K] = if u_choice < self.defensive {
-            std::array::from_fn(|k| sample_visible(strata(k)))
-        } else {
-            let v = (u_choice - self.defensive) / (1.0 - self.defensive);
-            match self.choice.sample_discrete(v) {
-                Some((i, _, _)) => std::array::from_fn(|k| self.pdfs[i].sample(strata(k))),
-                None => std::array::from_fn(|k| sample_visible(strata(k))),
-            }
+        let light = (u_choice >= self.defensive)
+            .then(|| {
+                let v = (u_choice - self.defensive) / (1.0 - self.defensive);
+                self.light_choice.as_ref()?.sample_discrete(v)
+            })
+            .flatten();
+        let lambda: [f32; K] = match light {
+            None => std::array::from_fn(|k| sample_visible(strata(k))),
+            Some((i, _, _)) => std::array::from_fn(|k| {
+                let s = strata(k);
+                match &self.emitter_choice {
+                    Some(c) if s >= self.light_share => {
+                        let v = (s - self.light_share) / (1.0 - self.light_share);
+                        match c.sample_discrete(v.min(1.0 - f32::EPSILON)) {
+                            Some((m, _, rest)) => self.emitters[m].sample(rest),
+                            None => self.lights[i].sample(s),
+                        }
+                    }
+                    _ => self.lights[i].sample(s / self.light_share),
+                }
+            }),
         };
         SampledWavelengths::new(lambda, lambda.map(|l| self.pdf(l)))
     }

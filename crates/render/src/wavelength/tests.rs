@@ -219,4 +219,25 @@ fn swc_covers_what_a_uv_lit_fluorescent_paint_emits() {
         })
         .count();
     assert!((hits as f32 / n as f32 - band).abs() < 0.02, "{hits}");
+    // The shares are stratified within a cluster: with r ≈ 0.5 a cluster
+    // of 4 carries 1 or 2 emission wavelengths every time it is not
+    // defensive (drawn per cluster, these clusters would be all-UV with
+    // probability 1/(1 + r)); each member's marginal is still the mixture.
+    let mut members_in_band = 0;
+    let with_band = (0..n)
+        .filter(|_| {
+            let wl: SampledWavelengths<4> = with.sample(rng.next(), rng.next());
+            let m = (0..4)
+                .filter(|&k| (490.0..560.0).contains(&wl.lambda(k)))
+                .count();
+            members_in_band += m;
+            m > 0
+        })
+        .count();
+    assert!(
+        with_band as f32 / n as f32 > 0.9,
+        "{with_band} of {n} clusters reach the paint's band"
+    );
+    let share = members_in_band as f32 / (4 * n) as f32;
+    assert!((share - band).abs() < 0.01, "{share} vs {band}");
 }
