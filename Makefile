@@ -9,7 +9,7 @@ CARGO     ?= cargo
 BIN       := target/release/scotopia
 DEMO_OUT  := out/demo
 
-.PHONY: all test demo bench tables fmt lint cargo-test python pytest toolchain clean
+.PHONY: all test demo gallery bench tables fmt lint cargo-test python pytest toolchain clean
 
 all: test
 
@@ -66,6 +66,24 @@ demo:
 	  $(BIN) display $(DEMO_OUT)/night-street.exr --scale $${level#*:} \
 	    --compare $(DEMO_OUT)/night-street-$${level%%:*}-stages.png; done
 	@echo "renders and plots in $(DEMO_OUT)/"
+
+## Light that changes wavelength (fluorescence, dispersion): the black-light
+## poster, white paper with and without brightener under D65 and A, the
+## prism and the diamond, each as rendered (auto-exposed preview) and as
+## seen (*-seen.png). The README's pictures are these.
+GALLERY_OUT := out/gallery
+
+gallery:
+	$(CARGO) build --release -p scotopia
+	@mkdir -p $(GALLERY_OUT)
+	$(BIN) render scenes/black-light-poster.xml --spp 512 -o $(GALLERY_OUT)/black-light-poster.exr --preview $(GALLERY_OUT)/black-light-poster.png
+	@for il in d65 a; do \
+	  $(BIN) render scenes/paper.xml -D illuminant=$$il -o $(GALLERY_OUT)/paper-$$il.exr --preview $(GALLERY_OUT)/paper-$$il.png; done
+	$(BIN) render scenes/prism.xml -o $(GALLERY_OUT)/prism.exr --preview $(GALLERY_OUT)/prism.png
+	$(BIN) render scenes/diamond.xml --spp 512 -o $(GALLERY_OUT)/diamond.exr --preview $(GALLERY_OUT)/diamond.png
+	@for s in black-light-poster paper-d65 paper-a prism diamond; do \
+	  $(BIN) display $(GALLERY_OUT)/$$s.exr -o $(GALLERY_OUT)/$$s-seen.png; done
+	@echo "renders in $(GALLERY_OUT)/"
 
 ## criterion benchmarks, the bundled scenes' render rates and memory, and
 ## the Cornell box against Mitsuba 3 (bench/*.py print the README tables).

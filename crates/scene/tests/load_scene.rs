@@ -247,12 +247,20 @@ fn bundled_scenes_load_without_warnings() {
         ("night-street.xml", 18, 5),
         ("prism.xml", 8, 2),
         ("material-showcase.xml", 5, 2),
+        ("black-light-poster.xml", 9, 1),
+        ("paper.xml", 4, 2),
+        ("diamond.xml", 9, 8),
     ] {
         let s = load_scene(&scenes().join(name), &Parameters::new()).unwrap();
         assert_eq!(s.geometry.shapes.len(), shapes, "{name}");
         assert_eq!(s.lights.len(), lights, "{name}");
         assert!(s.warnings.is_empty(), "{name}: {:?}", s.warnings);
     }
+    // The poster's four inks fluoresce, the highlighter's from a matrix.
+    let s = load_scene(&scenes().join("black-light-poster.xml"), &Parameters::new()).unwrap();
+    let inks: Vec<_> = s.materials.iter().filter_map(|m| m.fluorescent()).collect();
+    assert_eq!(inks.len(), 4);
+    assert_eq!(inks.iter().filter(|f| f.separable().is_none()).count(), 1);
     // The street's lamps are at their stated absolute levels (the
     // `luminance` extension): 15 000 cd/m² sodium, 13 000 cd/m² LED.
     let s = load_scene(&scenes().join("night-street.xml"), &Parameters::new()).unwrap();
