@@ -113,12 +113,7 @@ pub fn parse_matrix(text: &str, source: &str) -> Result<Matrix, ColorError> {
 
 /// Reads a matrix file.
 pub fn read_matrix_file(path: impl AsRef<Path>) -> Result<Matrix, ColorError> {
-    let path = path.as_ref();
-    let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|cause| ColorError::Io {
-        path: name.clone(),
-        cause,
-    })?;
+    let (text, name) = super::read_text(path.as_ref())?;
     parse_matrix(&text, &name)
 }
 

@@ -154,13 +154,18 @@ pub fn parse_spectrum(
 
 /// Reads a spectrum file (CSV or `.spd`). Values may not be negative.
 pub fn read_spectrum_file(path: impl AsRef<Path>) -> Result<Tabulated, ColorError> {
-    let path = path.as_ref();
+    let (text, name) = read_text(path.as_ref())?;
+    parse_spectrum(&text, &name, false)
+}
+
+/// A data file's text and the name its errors give.
+fn read_text(path: &Path) -> Result<(String, String), ColorError> {
     let name = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|cause| ColorError::Io {
         path: name.clone(),
         cause,
     })?;
-    parse_spectrum(&text, &name, false)
+    Ok((text, name))
 }
 
 #[cfg(test)]
