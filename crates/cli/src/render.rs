@@ -10,6 +10,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use scotopia_image::{preview_srgb8, write_png_rgb8};
 use scotopia_render::integrator::{render, RenderOptions, CLUSTER_SIZES};
+use scotopia_render::scene::IntegratorKind;
 use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_exr};
 use scotopia_render::wavelength::WavelengthStrategy;
 use scotopia_scene::load_scene;
@@ -44,6 +45,16 @@ pub struct Args {
     /// lights' spectra), hero (rotated hero wavelengths), single.
     #[arg(long, default_value = "swc", value_name = "swc|hero|single")]
     wavelengths: String,
+    /// Light transport: path (unidirectional, next-event estimation) or
+    /// bdpt (bidirectional, every strategy weighted by MIS: for caustics,
+    /// lamps in fixtures, light through small openings). Default: the
+    /// scene's <integrator>.
+    #[arg(long, value_name = "path|bdpt")]
+    integrator: Option<String>,
+    /// Bidirectional only: render strategy S,T alone without MIS (S light
+    /// and T camera vertices; T=1 is light tracing), to inspect it.
+    #[arg(long, value_name = "S,T")]
+    bdpt_strategy: Option<String>,
     /// Wavelengths per path: 1, 2, 4, 8 or 16.
     #[arg(long, default_value_t = 4, value_name = "K")]
     cluster: usize,
@@ -75,6 +86,24 @@ pub fn run(args: Args) -> Result<()> {
     if !CLUSTER_SIZES.contains(&args.cluster) {
         bail!("--cluster {}: use one of 1, 2, 4, 8, 16", args.cluster);
     }
+    let integrator = match &args.integrator {
+        Some(name) => Some(
+            IntegratorKind::from_name(name)
+                .with_context(|| format!("--integrator {name}: use path or bdpt"))?,
+        ),
+        None => None,
+    };
+    let only_strategy = match &args.bdpt_strategy {
+        Some(text) => {
+            let parsed: Option<Vec<usize>> =
+                text.split(',').map(|v| v.trim().parse().ok()).collect();
+            match parsed.as_deref() {
+                Some(&[s, t]) => Some([s, t]),
+                _ => bail!("--bdpt-strategy {text}: give two counts S,T, e.g. 2,1"),
+            }
+        }
+        None => None,
+    };
     let time_limit = match args.time {
         Some(t) if t.is_finite() && t > 0.0 => Some(Duration::from_secs_f64(t)),
         Some(t) => bail!("--time {t}: must be a positive number of seconds"),
@@ -94,6 +123,8 @@ pub fn run(args: Args) -> Result<()> {
         strategy,
         cluster: args.cluster,
         bands: args.spectral.is_some().then_some(args.bands),
+        integrator,
+        only_strategy,
     };
 
     // Ctrl-C or SIGTERM: finish the current pass, write, exit non-zero.

@@ -13,9 +13,36 @@ pub enum Filter {
     Gaussian { stddev: f32 },
 }
 
+/// Which light transport algorithm renders the scene.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum IntegratorKind {
+    /// Unidirectional path tracing with next-event estimation.
+    #[default]
+    Path,
+    /// Bidirectional path tracing with MIS over every strategy.
+    Bdpt,
+}
+
+impl IntegratorKind {
+    pub const ALL: [IntegratorKind; 2] = [Self::Path, Self::Bdpt];
+
+    /// The name in scene files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Path => "path",
+            Self::Bdpt => "bdpt",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|k| k.name() == name.trim())
+    }
+}
+
 /// Integrator settings read from the scene.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct IntegratorSettings {
+    pub kind: IntegratorKind,
     /// Longest path; −1 is unlimited (Mitsuba's convention).
     pub max_depth: i32,
     /// Depth from which Russian roulette starts.

@@ -36,6 +36,7 @@ fn scene(
         filter: Filter::Box,
         samples_per_pixel: 64,
         integrator: IntegratorSettings {
+            kind: Default::default(),
             max_depth: -1,
             rr_depth: 5,
         },

@@ -7,6 +7,10 @@
 //! to (width, height) at the bottom-right; a pixel (i, j) covers
 //! [i, i + 1) × [j, j + 1).
 
+mod importance;
+
+pub use importance::LensConnection;
+
 use crate::math::{Ray, Transform, Vec3};
 use crate::sampling::warp::square_to_disk_concentric;
 
@@ -39,6 +43,7 @@ impl FovAxis {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Camera {
     pub world_from_camera: Transform,
+    camera_from_world: Transform,
     pub width: u32,
     pub height: u32,
     /// tan of half the horizontal field of view.
@@ -101,6 +106,7 @@ impl Camera {
             _ => t,
         };
         Ok(Self {
+            camera_from_world: world_from_camera.inverse(),
             world_from_camera,
             width,
             height,
@@ -138,6 +144,12 @@ impl Camera {
     /// the near clip plane and ends at the far one, as in Mitsuba.
     #[inline]
     pub fn generate_ray(&self, film: [f32; 2], lens: [f32; 2]) -> Ray {
+        self.generate_ray_from_lens(film, lens).0
+    }
+
+    /// `generate_ray`, and the world-space lens point the ray comes from.
+    #[inline]
+    pub fn generate_ray_from_lens(&self, film: [f32; 2], lens: [f32; 2]) -> (Ray, Vec3) {
         let d = self.direction(film);
         let (origin, dir) = if self.aperture_radius > 0.0 {
             // Thin lens: rays through every point of the aperture meet on the
@@ -154,11 +166,14 @@ impl Camera {
         let o = self.world_from_camera.point(origin + dir * near);
         let world_dir = self.world_from_camera.vector(dir);
         let scale = world_dir.length();
-        Ray {
-            o,
-            d: world_dir / scale,
-            t_max: (far - near) * scale,
-        }
+        (
+            Ray {
+                o,
+                d: world_dir / scale,
+                t_max: (far - near) * scale,
+            },
+            self.world_from_camera.point(origin),
+        )
     }
 }
 

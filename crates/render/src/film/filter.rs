@@ -40,6 +40,42 @@ impl FilterSampler {
         }
     }
 
+    /// How far from a pixel's centre the filter reaches, pixels.
+    pub fn radius(&self) -> f32 {
+        match self {
+            FilterSampler::Box => 0.5,
+            FilterSampler::Gaussian { radius, .. } => *radius,
+        }
+    }
+
+    /// The filter's value at `offset` from a pixel centre, normalised to
+    /// integrate to 1 over the plane: the density `sample` draws offsets
+    /// with, and what a splatted light-tracing sample is weighted by in
+    /// each pixel it reaches.
+    pub fn weight(&self, offset: [f32; 2]) -> f32 {
+        match self {
+            FilterSampler::Box => {
+                let inside = |x: f32| (-0.5..0.5).contains(&x);
+                if inside(offset[0]) && inside(offset[1]) {
+                    1.0
+                } else {
+                    0.0
+                }
+            }
+            FilterSampler::Gaussian { radius, table } => offset
+                .iter()
+                .map(|&x| {
+                    let t = (x + radius) / (2.0 * radius);
+                    if (0.0..1.0).contains(&t) {
+                        table.pdf(t) / (2.0 * radius)
+                    } else {
+                        0.0
+                    }
+                })
+                .product(),
+        }
+    }
+
     /// The sample's offset from the pixel centre, in pixels.
     #[inline]
     pub fn sample(&self, u: [f32; 2]) -> [f32; 2] {
@@ -56,6 +92,27 @@ impl FilterSampler {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn weights_integrate_to_one() {
+        for f in [
+            FilterSampler::new(Filter::Box),
+            FilterSampler::new(Filter::Gaussian { stddev: 0.5 }),
+        ] {
+            // Midpoint rule over the support at 1/64 pixel.
+            let r = f.radius();
+            let n = (128.0 * r) as usize;
+            let h = 2.0 * r / n as f32;
+            let mut sum = 0.0f64;
+            for i in 0..n {
+                for j in 0..n {
+                    let o = [-r + (i as f32 + 0.5) * h, -r + (j as f32 + 0.5) * h];
+                    sum += (f.weight(o) * h * h) as f64;
+                }
+            }
+            assert!((sum - 1.0).abs() < 1e-3, "{f:?}: {sum}");
+        }
+    }
 
     #[test]
     fn gaussian_offsets_have_the_filter_variance() {

@@ -5,6 +5,8 @@
 mod filter;
 mod spectral;
 
+use scotopia_color::{SampledSpectrum, SampledWavelengths};
+
 pub use filter::FilterSampler;
 pub use spectral::Bands;
 
@@ -22,6 +24,15 @@ impl PixelSum {
             *s += v as f64;
         }
         self.samples += 1;
+    }
+
+    /// Adds a light-tracing contribution, which is not a sample of this
+    /// pixel: the sum grows, the count does not.
+    #[inline]
+    pub fn add_splat(&mut self, xyzv: [f32; 4]) {
+        for (s, v) in self.xyzv.iter_mut().zip(xyzv) {
+            *s += v as f64;
+        }
     }
 
     /// The pixel's mean X, Y, Z, V′ (zero before any sample).
@@ -57,6 +68,44 @@ impl Film {
         };
         film.spectral = vec![0.0; film.row_stride() * height as usize];
         film
+    }
+
+    /// Adds a light-tracing sample that landed at film position `raster`
+    /// to every pixel the filter reaches from there, weighted by the
+    /// filter (see `camera::importance` for why the sum over light paths,
+    /// divided by the samples per pixel, is the pixel's value).
+    pub fn splat<const K: usize>(
+        &mut self,
+        filter: &FilterSampler,
+        raster: [f32; 2],
+        xyzv: [f32; 4],
+        radiance: &SampledSpectrum<K>,
+        wl: &SampledWavelengths<K>,
+    ) {
+        let r = filter.radius();
+        let (w, h) = (self.width as i64, self.height as i64);
+        let x0 = ((raster[0] - 0.5 - r).ceil() as i64).max(0);
+        let x1 = ((raster[0] - 0.5 + r).floor() as i64).min(w - 1);
+        let y0 = ((raster[1] - 0.5 - r).ceil() as i64).max(0);
+        let y1 = ((raster[1] - 0.5 + r).floor() as i64).min(h - 1);
+        for y in y0..=y1 {
+            for x in x0..=x1 {
+                let offset = [
+                    raster[0] - (x as f32 + 0.5),
+                    raster[1] - (y as f32 + 0.5),
+                ];
+                let f = filter.weight(offset);
+                if f == 0.0 {
+                    continue;
+                }
+                let i = (y * w + x) as usize;
+                self.pixels[i].add_splat(xyzv.map(|v| v * f));
+                if let Some(b) = self.bands {
+                    let sums = &mut self.spectral[i * b.0..(i + 1) * b.0];
+                    b.add(sums, &(*radiance * f), wl);
+                }
+            }
+        }
     }
 
     /// Spectral values per row.

@@ -2,8 +2,10 @@
 //! needs (`Renderer`), and the parallel driver that runs samples pixel by
 //! pixel until the requested count or time is reached, or it is cancelled.
 
+mod bdpt;
 mod path;
 
+pub use bdpt::Splat;
 pub use path::CameraSample;
 
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -16,7 +18,7 @@ use crate::light::{Light, SceneExtent};
 use crate::math::Vec3;
 use crate::sampling::distribution::Distribution1D;
 use crate::sampling::sobol::Sampler;
-use crate::scene::Scene;
+use crate::scene::{IntegratorKind, Scene};
 use crate::wavelength::{WavelengthSampler, WavelengthStrategy};
 
 /// Cluster sizes K the renderer is compiled for.
@@ -35,6 +37,11 @@ pub struct RenderOptions {
     pub cluster: usize,
     /// Also accumulate spectral radiance in this many bands.
     pub bands: Option<usize>,
+    /// The integrator (the scene's when `None`).
+    pub integrator: Option<IntegratorKind>,
+    /// Bidirectional only: render strategy [s, t] alone, without MIS (a
+    /// check that each strategy converges to the same image).
+    pub only_strategy: Option<[usize; 2]>,
 }
 
 impl Default for RenderOptions {
@@ -46,6 +53,8 @@ impl Default for RenderOptions {
             strategy: WavelengthStrategy::Swc,
             cluster: 4,
             bands: None,
+            integrator: None,
+            only_strategy: None,
         }
     }
 }
@@ -101,6 +110,8 @@ pub enum RenderError {
     Spp,
     #[error("spectral bands must number 1 to 471 (at least 1 nm wide)")]
     Bands,
+    #[error("strategy s={0}, t={1} does not exist (t ≥ 1, s + t ≥ 2) or needs --integrator bdpt")]
+    Strategy(usize, usize),
 }
 
 /// Per-scene state shared by all samples.
@@ -113,10 +124,23 @@ pub struct Renderer<'a> {
     center: Vec3,
     radius: f32,
     infinite: Vec<usize>,
+    pub integrator: IntegratorKind,
+    /// Bidirectional: the lights' spectra, to choose a light by cluster.
+    light_spectra: Option<bdpt::LightSpectra>,
+    only_strategy: Option<[usize; 2]>,
 }
 
 impl<'a> Renderer<'a> {
+    /// The scene's integrator with `strategy`.
     pub fn new(scene: &'a Scene, strategy: WavelengthStrategy) -> Self {
+        Self::with_integrator(scene, strategy, scene.integrator.kind)
+    }
+
+    pub fn with_integrator(
+        scene: &'a Scene,
+        strategy: WavelengthStrategy,
+        integrator: IntegratorKind,
+    ) -> Self {
         let bounds = scene.geometry.bounds();
         let (center, radius) = if bounds.is_empty() {
             (Vec3::ZERO, 1.0)
@@ -136,18 +160,24 @@ impl<'a> Renderer<'a> {
             .iter()
             .map(|l| l.power(&extent).watts as f32)
             .collect();
+        // The path tracer draws some wavelengths from fluorescent
+        // emission; the bidirectional tracer reaches them by re-emission
+        // on its light subpaths and draws from the lights alone.
+        let fluorescent: Vec<_> = match integrator {
+            IntegratorKind::Path => scene.materials.iter().filter_map(|m| m.fluorescent()).collect(),
+            IntegratorKind::Bdpt => Vec::new(),
+        };
+        let light_choice = Distribution1D::new(power.clone());
+        let light_spectra = (integrator == IntegratorKind::Bdpt).then(|| {
+            let p = (0..scene.lights.len()).map(|i| light_choice.probability(i)).collect();
+            bdpt::LightSpectra::new(&scene.lights, p)
+        });
         Self {
-            wavelengths: WavelengthSampler::new(
-                strategy,
-                &scene.lights,
-                &power,
-                &scene
-                    .materials
-                    .iter()
-                    .filter_map(|m| m.fluorescent())
-                    .collect::<Vec<_>>(),
-            ),
-            light_choice: Distribution1D::new(power),
+            wavelengths: WavelengthSampler::new(strategy, &scene.lights, &power, &fluorescent),
+            light_choice,
+            integrator,
+            light_spectra,
+            only_strategy: None,
             filter: FilterSampler::new(scene.filter),
             infinite: (0..scene.lights.len())
                 .filter(|&i| scene.lights[i].is_infinite())
@@ -183,18 +213,38 @@ impl<'a> Renderer<'a> {
         let width = film.width as usize;
         let stride = film.row_stride();
         let bands = film.bands;
-        film.pixels
+        let rows: Vec<(PassCounts, Vec<Splat<K>>)> = film
+            .pixels
             .par_chunks_mut(width)
             .zip(film.spectral.par_chunks_mut(stride))
             .enumerate()
             .map(|(y, (row, spectral))| {
                 let mut sampler = Sampler::new(seed);
                 let mut counts = PassCounts::default();
+                let mut scratch = bdpt::Scratch::<K>::default();
+                let mut splats = Vec::new();
                 for (x, px) in row.iter_mut().enumerate() {
                     for i in first..first + count {
                         let pixel = [x as u32, y as u32];
-                        let sample =
-                            self.sample_pixel::<K>(&mut sampler, pixel, i, &mut counts.rays);
+                        let sample = match self.integrator {
+                            IntegratorKind::Path => {
+                                self.sample_pixel::<K>(&mut sampler, pixel, i, &mut counts.rays)
+                            }
+                            IntegratorKind::Bdpt => {
+                                let mut c = bdpt::SampleCounts::default();
+                                let s = self.sample_pixel_bdpt::<K>(
+                                    &mut sampler,
+                                    pixel,
+                                    i,
+                                    &mut scratch,
+                                    &mut splats,
+                                    &mut c,
+                                );
+                                counts.rays += c.rays;
+                                counts.dropped += c.dropped_splats;
+                                s
+                            }
+                        };
                         match sample {
                             Some(s) => {
                                 counts.collapsed += s.collapsed as u64;
@@ -208,13 +258,21 @@ impl<'a> Renderer<'a> {
                         }
                     }
                 }
-                counts
+                (counts, splats)
             })
-            .reduce(PassCounts::default, |a, b| PassCounts {
-                dropped: a.dropped + b.dropped,
-                rays: a.rays + b.rays,
-                collapsed: a.collapsed + b.collapsed,
-            })
+            .collect();
+        // Light-tracing splats land on any pixel: added after the pass, row
+        // by row in order, so the sums do not depend on the threads.
+        let mut total = PassCounts::default();
+        for (c, splats) in rows {
+            total.dropped += c.dropped;
+            total.rays += c.rays;
+            total.collapsed += c.collapsed;
+            for sp in &splats {
+                film.splat(&self.filter, sp.raster, sp.xyzv, &sp.radiance, &sp.wl);
+            }
+        }
+        total
     }
 }
 
@@ -252,7 +310,14 @@ fn render_k<const K: usize>(
         return Err(RenderError::Spp);
     }
     let start = Instant::now();
-    let renderer = Renderer::new(scene, options.strategy);
+    let integrator = options.integrator.unwrap_or(scene.integrator.kind);
+    let mut renderer = Renderer::with_integrator(scene, options.strategy, integrator);
+    if let Some([s, t]) = options.only_strategy {
+        if integrator != IntegratorKind::Bdpt || t == 0 || s + t < 2 {
+            return Err(RenderError::Strategy(s, t));
+        }
+        renderer.only_strategy = Some([s, t]);
+    }
     let bands = match options.bands {
         Some(n) if (1..=471).contains(&n) => Some(Bands(n)),
         Some(_) => return Err(RenderError::Bands),

@@ -38,7 +38,7 @@ fn power_heuristic(a: f32, b: f32) -> f32 {
 
 /// A ray leaving `p` (geometric normal `n`) in direction `d`.
 #[inline]
-fn spawn(p: Vec3, n: Vec3, d: Vec3) -> Ray {
+pub(super) fn spawn(p: Vec3, n: Vec3, d: Vec3) -> Ray {
     let side = if d.dot(n) >= 0.0 { n } else { -n };
     Ray::new(offset_ray_origin(p, side), d)
 }
@@ -47,7 +47,7 @@ fn spawn(p: Vec3, n: Vec3, d: Vec3) -> Ray {
 /// at the offset origin and stops just short of the light's point as seen
 /// from there: measured from `p` instead, a grazing ray would reach the
 /// light's own surface before its end and count as shadowed.
-fn shadow_ray<const K: usize>(p: Vec3, n: Vec3, ls: &LightSample<K>) -> Ray {
+pub(super) fn shadow_ray<const K: usize>(p: Vec3, n: Vec3, ls: &LightSample<K>) -> Ray {
     let mut ray = spawn(p, n, ls.wi);
     if ls.distance.is_finite() {
         let to = p + ls.wi * ls.distance;

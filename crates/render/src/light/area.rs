@@ -34,6 +34,15 @@ impl AreaLight {
         }
     }
 
+    /// The mesh's triangle-area table (for `Shape::sample_area`).
+    pub fn triangles(&self) -> Option<&Distribution1D> {
+        self.cdf.as_ref()
+    }
+
+    pub fn area(&self) -> f32 {
+        self.area
+    }
+
     /// Emitted radiance leaving a point with normal `n` in direction `w`.
     pub fn radiance<const K: usize>(
         &self,
@@ -68,6 +77,7 @@ impl AreaLight {
         }
         // Area density 1/A converted to solid angle: d² / (A cos θ_l).
         Some(LightSample {
+            n: s.n,
             wi,
             distance: dist,
             radiance: self.radiance.sample(wl),

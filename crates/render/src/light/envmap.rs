@@ -155,6 +155,7 @@ impl EnvMapLight {
         }
         let wi = self.world_from_light.vector(local).normalize();
         Some(LightSample {
+            n: Vec3::ZERO,
             wi,
             distance: f32::INFINITY,
             radiance: self.radiance(wl, wi),

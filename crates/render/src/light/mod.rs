@@ -9,11 +9,13 @@
 //! (W·sr⁻¹·nm⁻¹); directional lights spectral irradiance (W·m⁻²·nm⁻¹).
 
 mod area;
+mod emit;
 mod envmap;
 mod power;
 mod simple;
 
 pub use area::AreaLight;
+pub use emit::{Emission, EmissionPdf};
 pub use envmap::EnvMapLight;
 pub use power::{spectral_power, Power};
 pub use simple::{ConstantLight, DirectionalLight, PointLight, SpotLight};
@@ -35,6 +37,9 @@ pub struct LightSample<const K: usize> {
     /// Density per solid angle; 1 for delta lights.
     pub pdf: f32,
     pub delta: bool,
+    /// The light's surface normal at the sampled point (area lights;
+    /// zero for the others).
+    pub n: Vec3,
 }
 
 /// The closed set of lights.

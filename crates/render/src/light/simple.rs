@@ -34,6 +34,7 @@ impl PointLight {
     ) -> Option<LightSample<K>> {
         let (wi, dist, dist2) = towards(self.position, p)?;
         Some(LightSample {
+            n: Vec3::ZERO,
             wi,
             distance: dist,
             radiance: self.intensity.sample(wl) / dist2,
@@ -101,6 +102,7 @@ impl SpotLight {
             return None;
         }
         Some(LightSample {
+            n: Vec3::ZERO,
             wi,
             distance: dist,
             radiance: self.intensity.sample(wl) * (f / dist2),
@@ -135,6 +137,7 @@ pub struct DirectionalLight {
 impl DirectionalLight {
     pub fn sample_li<const K: usize>(&self, wl: &SampledWavelengths<K>) -> Option<LightSample<K>> {
         Some(LightSample {
+            n: Vec3::ZERO,
             wi: -self.direction,
             distance: f32::INFINITY,
             radiance: self.irradiance.sample(wl),
@@ -163,6 +166,7 @@ impl ConstantLight {
         u: [f32; 2],
     ) -> Option<LightSample<K>> {
         Some(LightSample {
+            n: Vec3::ZERO,
             wi: square_to_uniform_sphere(u),
             distance: f32::INFINITY,
             radiance: self.radiance.sample(wl),

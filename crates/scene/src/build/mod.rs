@@ -16,7 +16,7 @@ use scotopia_color::{Spectrum, SpectrumKind};
 use scotopia_render::accel::Aggregate;
 use scotopia_render::bsdf::{Bsdf, Diffuse};
 use scotopia_render::light::{AreaLight, Light};
-use scotopia_render::scene::{IntegratorSettings, Scene};
+use scotopia_render::scene::{IntegratorKind, IntegratorSettings, Scene};
 use scotopia_render::texture::Texture;
 
 use crate::mitsuba::{parse_file, Node, Parameters, Props, SceneError, Usage};
@@ -146,6 +146,7 @@ pub fn load_scene(path: &Path, params: &Parameters) -> Result<Scene, SceneError>
 
     let mut sensor = None;
     let mut integrator = IntegratorSettings {
+        kind: IntegratorKind::Path,
         max_depth: -1,
         rr_depth: 5,
     };
@@ -166,15 +167,17 @@ pub fn load_scene(path: &Path, params: &Parameters) -> Result<Scene, SceneError>
                 sensor = Some(sensor::build_sensor(&mut b, n)?);
             }
             "integrator" => {
-                let kind = n.require("type")?;
+                let name = n.require("type")?;
                 let p = Props::new(n);
-                if kind != "path" {
+                let kind = IntegratorKind::from_name(name).unwrap_or_else(|| {
                     b.warn(
                         n,
-                        format!("integrator '{kind}' is not supported, using path"),
+                        format!("integrator '{name}' is not supported, using path"),
                     );
-                }
+                    IntegratorKind::Path
+                });
                 integrator = IntegratorSettings {
+                    kind,
                     max_depth: p.integer("max_depth", -1)? as i32,
                     rr_depth: p.integer("rr_depth", 5)? as i32,
                 };

@@ -235,6 +235,42 @@ impl Donaldson {
     }
 }
 
+impl Donaldson {
+    /// λo drawn ∝ F(λi → λo) (linear between rows within λi's column),
+    /// and F/p = ∫F dλo (light paths run this way).
+    pub fn sample_emission(&self, u: f32, lambda_i: f32) -> Option<(f32, f32)> {
+        let c = self.column_at(lambda_i)?;
+        let nc = self.columns();
+        let cell = |r: usize| self.density[r * nc + c];
+        let segment = |r: usize| 0.5 * (cell(r) + cell(r + 1)) * (self.rows[r + 1] - self.rows[r]);
+        let total: f32 = (0..self.rows.len() - 1).map(segment).sum();
+        if total <= 0.0 {
+            return None;
+        }
+        // The segment by mass, then λo within it by the trapezoid's CDF.
+        let mut target = u.clamp(0.0, 1.0) * total;
+        let mut r = 0;
+        while r + 2 < self.rows.len() && (target >= segment(r) || segment(r) <= 0.0) {
+            target -= segment(r);
+            r += 1;
+        }
+        let m = segment(r);
+        if m <= 0.0 {
+            return None;
+        }
+        let (a, b) = (cell(r), cell(r + 1));
+        let x = (target / m).clamp(0.0, 1.0);
+        // Density ∝ a + (b − a)·t on t ∈ [0, 1]: solve its CDF = x.
+        let t = if (b - a).abs() < 1e-6 * (a + b) {
+            x
+        } else {
+            ((a * a + x * (b * b - a * a)).max(0.0).sqrt() - a) / (b - a)
+        };
+        let lambda_o = self.rows[r] + t.clamp(0.0, 1.0) * (self.rows[r + 1] - self.rows[r]);
+        Some((lambda_o, total))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

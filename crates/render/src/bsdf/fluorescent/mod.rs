@@ -163,6 +163,51 @@ impl Fluorescent {
         factor
     }
 
+    /// Light travelling the other way (a light path): per live member with
+    /// β ≠ 0, whether the light arriving at its wavelength λi is reflected
+    /// (stays at λi) or re-emitted at a λo drawn ∝ F(λi → λo). Returns the
+    /// throughput factor (times π, as in `reradiate`) and which members
+    /// were re-emitted.
+    pub fn reradiate_forward<const K: usize>(
+        &self,
+        wl: &mut SampledWavelengths<K>,
+        alive: &SampledSpectrum<K>,
+        uv: [f32; 2],
+        u: f32,
+    ) -> (SampledSpectrum<K>, [bool; K]) {
+        let rho = self.reflectance.eval(wl, uv);
+        let mut factor = SampledSpectrum::splat(0.0);
+        let mut moved = [false; K];
+        for k in 0..K {
+            if alive.0[k] == 0.0 {
+                continue;
+            }
+            let lambda_i = wl.lambda(k);
+            let a = rho.0[k].max(0.0);
+            let b = self.reemitted(lambda_i);
+            if a + b <= 0.0 {
+                continue;
+            }
+            let p_fluoresce = b / (a + b);
+            let uk = (u + k as f32 / K as f32).fract();
+            factor.0[k] = if uk < p_fluoresce {
+                let sampled = match &self.reradiation {
+                    Reradiation::Separable(s) => s.sample_emission(uk / p_fluoresce, lambda_i),
+                    Reradiation::Matrix(m) => m.sample_emission(uk / p_fluoresce, lambda_i),
+                };
+                let Some((lambda_o, weight)) = sampled else {
+                    continue;
+                };
+                wl.set_lambda(k, lambda_o);
+                moved[k] = true;
+                weight / p_fluoresce
+            } else {
+                a / (1.0 - p_fluoresce)
+            };
+        }
+        (factor, moved)
+    }
+
     /// The white Lambertian that follows `reradiate`: cos θ_o / π.
     pub fn eval<const K: usize>(&self, wi: Vec3, wo: Vec3) -> SampledSpectrum<K> {
         if wi.z <= 0.0 || wo.z <= 0.0 {
@@ -218,6 +263,59 @@ mod tests {
             0.9,
         )
         .unwrap()
+    }
+
+    #[test]
+    fn forward_reradiation_is_unbiased() {
+        // E[factor · g(λ after)] from λi equals ρ(λi)·g(λi) + ∫F(λi → λo)·g(λo) dλo,
+        // for the separable model and a matrix.
+        let g = |l: f32| 1.0 + (l - 360.0) / 100.0;
+        let grid: Vec<f32> = (0..31).map(|i| 400.0 + 10.0 * i as f32).collect();
+        let mut cells = vec![0.0; 31 * 31];
+        for (r, &lo) in grid.iter().enumerate() {
+            for (c, &li) in grid.iter().enumerate() {
+                if li <= 440.0 && (460.0..=520.0).contains(&lo) {
+                    cells[r * 31 + c] = 0.01 * (1.0 + (lo - 460.0) / 60.0);
+                }
+            }
+        }
+        let matrix = Donaldson::new(&grid, &grid, &cells).unwrap().0;
+        let cases = [
+            (brightener(), 380.0f32),
+            (
+                Fluorescent::from_matrix(
+                    Texture::Constant(Spectrum::Constant(0.3)),
+                    Arc::new(matrix),
+                ),
+                421.0,
+            ),
+        ];
+        for (f, lambda_i) in cases {
+            let n = 200_000;
+            let mut sum = 0.0f64;
+            for i in 0..n {
+                let mut wl = SampledWavelengths::<1>::new([lambda_i], [1.0]);
+                let (factor, _) = f.reradiate_forward(
+                    &mut wl,
+                    &SampledSpectrum::splat(1.0),
+                    [0.0, 0.0],
+                    (i as f32 + 0.5) / n as f32,
+                );
+                sum += factor.0[0] as f64 * g(wl.lambda(0)) as f64;
+            }
+            let m = 47_000;
+            let h = 470.0 / m as f64;
+            let integral: f64 = (0..m)
+                .map(|j| {
+                    let lo = 360.0 + (j as f64 + 0.5) * h;
+                    f.eval_reradiation(lambda_i, lo as f32) as f64 * g(lo as f32) as f64 * h
+                })
+                .sum();
+            let want = 0.3 * g(lambda_i) as f64 + integral;
+            let got = sum / n as f64;
+            assert!(integral > 0.01, "{integral}");
+            assert!((got / want - 1.0).abs() < 3e-3, "{lambda_i}: {got} vs {want}");
+        }
     }
 
     #[test]

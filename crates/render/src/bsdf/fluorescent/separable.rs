@@ -138,4 +138,22 @@ impl Separable {
             * below;
         Some((lambda_i, weight as f32))
     }
+
+    /// An emission wavelength λo for light absorbed at λi, drawn ∝ η(λo)
+    /// on [λi, λmax], and F(λi → λo)/p(λo) (light paths run this way).
+    pub fn sample_emission(&self, u: f32, lambda_i: f32) -> Option<(f32, f32)> {
+        let e = self.excitation(lambda_i);
+        let below = self.emission.mass_below(lambda_i);
+        let above = 1.0 - below;
+        if e <= 0.0 || above <= 0.0 {
+            return None;
+        }
+        let lambda_o = self
+            .emission
+            .sample((below + u.clamp(0.0, 1.0) as f64 * above) as f32)
+            .max(lambda_i);
+        // Q·e(λi)·η(λo)·(λi/λo) over p(λo) = η(λo)/∫_{λi}^{λmax} η.
+        let weight = self.quantum_yield as f64 * e as f64 * (lambda_i / lambda_o) as f64 * above;
+        Some((lambda_o, weight as f32))
+    }
 }

@@ -1,0 +1,354 @@
+//! The strategies (s, t): joining the first s vertices of the light
+//! subpath to the first t of the camera subpath, each contribution with
+//! its MIS weight. s = 0: the camera path found a light; s = 1: a light
+//! point sampled afresh for the camera vertex (next-event estimation);
+//! t = 1: the light vertex seen through a lens point, splatted where it
+//! lands on the film (light tracing).
+
+use scotopia_color::{SampledSpectrum, SampledWavelengths};
+
+use super::clusters::{LightChoice, Lanes};
+use super::mis::{self, Connection};
+use super::vertex::{Kind, Vertex};
+use super::walk::shading_correction;
+use crate::bsdf::{Bsdf, Transport};
+use crate::integrator::path::shadow_ray;
+use crate::integrator::Renderer;
+use crate::light::Light;
+use crate::math::{offset_ray_origin, Frame, Ray, Vec3};
+use crate::sampling::sobol::Sampler;
+
+/// Relative margin a connection ray stops short of its far end.
+const CONNECT_EPSILON: f32 = 1e-4;
+
+/// What one sample's strategies share.
+pub(super) struct Subpaths<'p, const K: usize> {
+    pub light: &'p [Vertex<K>],
+    pub camera: &'p [Vertex<K>],
+    /// The camera cluster, on which every contribution is evaluated.
+    pub wl: &'p SampledWavelengths<K>,
+    pub lanes: &'p Lanes<K>,
+    pub choice: &'p LightChoice,
+    /// Evaluate one strategy alone, unweighted.
+    pub unweighted: bool,
+}
+
+/// The elastic part of a fluorescent BSDF (ρ), 1 for the others.
+fn elastic<const K: usize>(bsdf: &Bsdf, wl: &SampledWavelengths<K>, uv: [f32; 2]) -> SampledSpectrum<K> {
+    bsdf.fluorescent()
+        .map_or(SampledSpectrum::splat(1.0), |f| f.reflectance.eval(wl, uv))
+}
+
+impl Renderer<'_> {
+    /// The BSDF at a surface vertex.
+    fn bsdf_at<const K: usize>(&self, v: &Vertex<K>) -> &Bsdf {
+        let scene = self.scene;
+        &scene.materials[scene.shape_material[v.index as usize] as usize]
+    }
+
+    /// Whether the segment between two points (each offset off its surface
+    /// towards the other; zero normal: no surface) is unoccluded.
+    fn unoccluded(&self, a: Vec3, na: Vec3, b: Vec3, nb: Vec3, rays: &mut u64) -> bool {
+        let off = |p: Vec3, n: Vec3, towards: Vec3| {
+            if n == Vec3::ZERO {
+                p
+            } else {
+                let side = if (towards - p).dot(n) >= 0.0 { n } else { -n };
+                offset_ray_origin(p, side)
+            }
+        };
+        let o = off(a, na, b);
+        let e = off(b, nb, a);
+        let d = e - o;
+        let dist = d.length();
+        if !(dist > 0.0) {
+            return false;
+        }
+        *rays += 1;
+        let mut ray = Ray::new(o, d / dist);
+        ray.t_max = dist * (1.0 - CONNECT_EPSILON);
+        !self.scene.geometry.occluded(&ray)
+    }
+
+    /// The lights' choice-weighted density of starting a light path at
+    /// vertex `v` (a light vertex, an emitter hit, or the lights at
+    /// infinity in direction `v.wi`).
+    pub(super) fn origin_density<const K: usize>(&self, choice: &LightChoice, v: &Vertex<K>) -> f32 {
+        let extent = self.extent();
+        match v.kind {
+            Kind::Infinite => self
+                .infinite_lights()
+                .map(|(i, l)| choice.probability(i) * l.pdf_le(&extent, Vec3::ZERO, -v.wi).dir)
+                .sum(),
+            Kind::Light => {
+                let i = v.index as usize;
+                choice.probability(i) * self.scene.lights[i].pdf_le(&extent, v.ng, -v.wi).pos
+            }
+            Kind::Surface => match self.scene.shape_light[v.index as usize] {
+                Some(i) => {
+                    let l = &self.scene.lights[i as usize];
+                    choice.probability(i as usize) * l.pdf_le(&extent, v.ng, v.ng).pos
+                }
+                None => 0.0,
+            },
+            Kind::Camera => 0.0,
+        }
+    }
+
+    /// The light with the emission at vertex `v`, if one.
+    fn light_of<const K: usize>(&self, v: &Vertex<K>) -> Option<&Light> {
+        match v.kind {
+            Kind::Light => self.scene.lights.get(v.index as usize),
+            Kind::Surface => self.scene.shape_light[v.index as usize]
+                .and_then(|i| self.scene.lights.get(i as usize)),
+            _ => None,
+        }
+    }
+
+    /// Density per unit area at `next` of the light at `v` emitting
+    /// towards it.
+    fn emission_density<const K: usize>(&self, v: &Vertex<K>, next: &Vertex<K>) -> f32 {
+        let extent = self.extent();
+        if v.kind == Kind::Infinite {
+            let disk = 1.0 / (std::f32::consts::PI * self.radius * self.radius);
+            let mut at = *v;
+            at.at_infinity = true;
+            return at.convert(disk, next);
+        }
+        let Some(light) = self.light_of(v) else {
+            return 0.0;
+        };
+        let d = (next.p - v.p).normalize();
+        let pdf = light.pdf_le(&extent, v.ng, d);
+        v.convert(if v.at_infinity { pdf.pos } else { pdf.dir }, next)
+    }
+
+    /// Radiance (or intensity) the light at `v` emits in direction `d`.
+    fn emitted<const K: usize>(
+        &self,
+        v: &Vertex<K>,
+        wl: &SampledWavelengths<K>,
+        d: Vec3,
+    ) -> SampledSpectrum<K> {
+        if v.kind == Kind::Infinite {
+            return self
+                .infinite_lights()
+                .map(|(_, l)| l.radiance_at_infinity(wl, v.wi))
+                .fold(SampledSpectrum::splat(0.0), |a, b| a + b);
+        }
+        match self.light_of(v) {
+            Some(Light::Area(a)) => a.radiance(wl, v.ng, d),
+            Some(Light::Point(p)) => p.intensity.sample(wl),
+            Some(Light::Spot(s)) => s.intensity.sample(wl) * s.falloff(d.dot(s.frame.n)),
+            _ => SampledSpectrum::splat(0.0),
+        }
+    }
+
+    /// Contribution of strategy (s, t) on the camera cluster's members,
+    /// MIS-weighted, and where on the film it lands when t = 1.
+    pub(super) fn strategy<const K: usize>(
+        &self,
+        sub: &Subpaths<K>,
+        s: usize,
+        t: usize,
+        sampler: &mut Sampler,
+        rays: &mut u64,
+    ) -> Option<(SampledSpectrum<K>, Option<[f32; 2]>)> {
+        let (light, camera, wl, lanes) = (sub.light, sub.camera, sub.wl, sub.lanes);
+        let mut c = Connection::default();
+        if let Some(y0) = light.first() {
+            c.light_at_infinity = y0.at_infinity;
+            c.delta_light = match y0.kind {
+                Kind::Light => {
+                    let l = &self.scene.lights[y0.index as usize];
+                    l.is_delta_position() || l.is_delta_direction()
+                }
+                _ => false,
+            };
+        }
+        // Per member: the light subpath's factor (throughput, reradiation)
+        // and the least s of the strategies that can build its path.
+        let mut min_s = [0usize; K];
+        let mut l: SampledSpectrum<K>;
+        let mut raster = None;
+        let initial_only = |min_s: &mut [usize; K]| {
+            SampledSpectrum::from_fn(|j| {
+                min_s[j] = 0;
+                if lanes.start[j] == 0 {
+                    1.0
+                } else {
+                    0.0
+                }
+            })
+        };
+
+        if s == 0 {
+            // The camera subpath reached a light.
+            let z = &camera[t - 1];
+            let le = self.emitted(z, wl, z.wi);
+            if le.is_zero() {
+                return None;
+            }
+            l = z.beta * le * initial_only(&mut min_s);
+            c.camera_last_rev = self.origin_density(sub.choice, z);
+            c.camera_prev_rev = self.emission_density(z, &camera[t - 2]);
+            c.delta_light = false;
+            c.light_at_infinity = z.kind == Kind::Infinite;
+        } else if t == 1 {
+            // Light tracing: the light vertex seen through the lens.
+            let y = &light[s - 1];
+            let [u0, u1] = sampler.get_2d();
+            if y.at_infinity || (y.kind == Kind::Surface && self.bsdf_at(y).is_delta()) {
+                return None;
+            }
+            let conn = self.scene.camera.connect(y.p, [u0, u1])?;
+            let d = conn.lens - y.p;
+            let dist2 = d.length_squared();
+            let dir = d / dist2.sqrt();
+            let f = if s == 1 {
+                self.emitted(y, wl, dir) * (y.beta.0[0] * y.cos(dir)) * initial_only(&mut min_s)
+            } else {
+                let bsdf = self.bsdf_at(y);
+                let frame = Frame::from_normal(y.ns);
+                let f_dir = bsdf.eval(wl, y.uv, frame.to_local(y.wi), frame.to_local(dir), Transport::Importance)
+                    * shading_correction(y.ng, y.ns, y.wi, dir);
+                let rho = elastic(bsdf, wl, y.uv);
+                f_dir * self.light_factor(y, s - 1, lanes, &rho, &mut min_s)
+            };
+            if f.is_zero() || !self.unoccluded(y.p, y.ng, conn.lens, Vec3::ZERO, rays) {
+                return None;
+            }
+            l = f * conn.importance;
+            raster = Some(conn.raster);
+            let pdf_cam = self.scene.camera.pdf_direction(conn.lens, -dir);
+            c.light_last_rev = pdf_cam * y.cos(dir) / dist2;
+            if s >= 2 {
+                let frame = Frame::from_normal(y.ns);
+                let pdf = self.bsdf_at(y).pdf(wl, frame.to_local(dir), frame.to_local(y.wi));
+                c.light_prev_rev = y.convert(pdf, &light[s - 2]);
+            }
+        } else if s == 1 {
+            // Next-event estimation: a light point sampled for z.
+            let z = &camera[t - 1];
+            let [u_choice, u_select, u0, u1] = sampler.get_4d();
+            if z.kind != Kind::Surface || self.bsdf_at(z).is_delta() {
+                return None;
+            }
+            let bsdf = self.bsdf_at(z);
+            let (i, q) = sub.choice.sample(u_choice)?;
+            let lt = &self.scene.lights[i];
+            let ls = lt.sample_li(&self.extent(), wl, z.p, u_select, [u0, u1])?;
+            if !(ls.pdf > 0.0) || ls.radiance.is_zero() {
+                return None;
+            }
+            let frame = Frame::from_normal(z.ns);
+            let (wi, wo) = (frame.to_local(z.wi), frame.to_local(ls.wi));
+            let f = bsdf.eval(wl, z.uv, wi, wo, Transport::Radiance) * elastic(bsdf, wl, z.uv);
+            if f.is_zero() {
+                return None;
+            }
+            *rays += 1;
+            if self.scene.geometry.occluded(&shadow_ray(z.p, z.ng, &ls)) {
+                return None;
+            }
+            l = z.beta * f * ls.radiance * (1.0 / (q * ls.pdf)) * initial_only(&mut min_s);
+            // The sampled light point, as a vertex.
+            let at_infinity = !ls.distance.is_finite();
+            let mut y0 = Vertex::new(
+                if lt.is_infinite() { Kind::Infinite } else { Kind::Light },
+                if at_infinity { z.p + ls.wi * (2.0 * self.radius) } else { z.p + ls.wi * ls.distance },
+                SampledSpectrum::splat(1.0),
+            );
+            y0.index = i as u32;
+            y0.ng = ls.n;
+            y0.at_infinity = at_infinity;
+            y0.wi = ls.wi;
+            c.light_origin = Some(self.origin_density(sub.choice, &y0));
+            c.delta_light = ls.delta;
+            c.light_at_infinity = at_infinity;
+            let pdf_towards = if ls.delta { 0.0 } else { bsdf.pdf(wl, wi, wo) };
+            c.light_last_rev = z.convert(pdf_towards, &y0);
+            c.camera_last_rev = self.emission_density(&y0, z);
+            c.camera_prev_rev = z.convert(bsdf.pdf(wl, wo, wi), &camera[t - 2]);
+        } else {
+            // Two surface points joined.
+            let (y, z) = (&light[s - 1], &camera[t - 1]);
+            if y.kind != Kind::Surface || z.kind != Kind::Surface {
+                return None;
+            }
+            let (by, bz) = (self.bsdf_at(y), self.bsdf_at(z));
+            if by.is_delta() || bz.is_delta() {
+                return None;
+            }
+            let d = z.p - y.p;
+            let dist2 = d.length_squared();
+            if !(dist2 > 0.0) {
+                return None;
+            }
+            let dir = d / dist2.sqrt();
+            let (fy, fz) = (Frame::from_normal(y.ns), Frame::from_normal(z.ns));
+            let (y_wi, y_wo) = (fy.to_local(y.wi), fy.to_local(dir));
+            let (z_wi, z_wo) = (fz.to_local(z.wi), fz.to_local(-dir));
+            let f_y = by.eval(wl, y.uv, y_wi, y_wo, Transport::Importance)
+                * shading_correction(y.ng, y.ns, y.wi, dir);
+            let f_z = bz.eval(wl, z.uv, z_wi, z_wo, Transport::Radiance) * elastic(bz, wl, z.uv);
+            let rho = elastic(by, wl, y.uv);
+            let f = f_y * f_z * self.light_factor(y, s - 1, lanes, &rho, &mut min_s);
+            if f.is_zero() || !self.unoccluded(y.p, y.ng, z.p, z.ng, rays) {
+                return None;
+            }
+            l = f * z.beta * (1.0 / dist2);
+            c.light_last_rev = z.convert(bz.pdf(wl, z_wi, z_wo), y);
+            c.light_prev_rev = y.convert(by.pdf(wl, y_wo, y_wi), &light[s - 2]);
+            c.camera_last_rev = y.convert(by.pdf(wl, y_wi, y_wo), z);
+            c.camera_prev_rev = z.convert(bz.pdf(wl, z_wo, z_wi), &camera[t - 2]);
+        }
+        if l.is_zero() {
+            return None;
+        }
+        if !sub.unweighted {
+            // One weight per distinct least s (one, without fluorescence).
+            let mut cache: Option<(usize, f32)> = None;
+            for j in 0..K {
+                if l.0[j] == 0.0 {
+                    continue;
+                }
+                let w = match cache {
+                    Some((m, w)) if m == min_s[j] => w,
+                    _ => {
+                        let w = mis::weight(light, camera, s, t, &c, min_s[j]);
+                        cache = Some((min_s[j], w));
+                        w
+                    }
+                };
+                l.0[j] *= w;
+            }
+        }
+        Some((l, raster))
+    }
+
+    /// Per camera member, light vertex `i`'s throughput for the member's
+    /// run, times the BSDF's spectral part there: ρ (`rho`, 1 for
+    /// non-fluorescent BSDFs) for light reflected at the member's
+    /// wavelength, or the reradiation factor where the run starts at `i`.
+    /// Records each member's least s.
+    fn light_factor<const K: usize>(
+        &self,
+        v: &Vertex<K>,
+        i: usize,
+        lanes: &Lanes<K>,
+        rho: &SampledSpectrum<K>,
+        min_s: &mut [usize; K],
+    ) -> SampledSpectrum<K> {
+        SampledSpectrum::from_fn(|j| {
+            let k = lanes.member[j] as usize;
+            let a = lanes.start[j] as usize;
+            min_s[j] = if a > 0 { a + 1 } else { 0 };
+            match lanes.at(j, v, i) {
+                Some(false) => v.beta.0[k] * rho.0[j],
+                Some(true) => v.beta.0[k] * v.shift.0[k],
+                None => 0.0,
+            }
+        })
+    }
+}

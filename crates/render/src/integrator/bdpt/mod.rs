@@ -1,0 +1,175 @@
+//! Bidirectional path tracing (Veach 1997, ch. 10; Veach & Guibas 1995)
+//! with stratified wavelength clusters and fluorescence: a light subpath
+//! and a camera subpath per camera sample, every connection strategy
+//! (s, t) — light tracing (t = 1) splatted onto the film — combined by
+//! multiple importance sampling (power heuristic).
+//!
+//! Wavelengths: the light subpath carries the SWC cluster and a light
+//! chosen for it (`clusters`); the camera subpath carries the same
+//! cluster, or with fluorescence one drawn from the wavelengths along the
+//! light subpath. Dispersion collapses the cluster on either subpath.
+
+mod clusters;
+mod connect;
+mod mis;
+mod vertex;
+mod walk;
+
+use scotopia_color::photometry::estimate_xyzv;
+use scotopia_color::{SampledSpectrum, SampledWavelengths};
+
+use super::{CameraSample, Renderer};
+use crate::sampling::sobol::Sampler;
+use clusters::{camera_cluster, LightChoice};
+pub(crate) use clusters::LightSpectra;
+use connect::Subpaths;
+use vertex::Vertex;
+
+/// A light-tracing contribution: where it lands on the film and what.
+#[derive(Debug, Clone, Copy)]
+pub struct Splat<const K: usize> {
+    pub raster: [f32; 2],
+    pub xyzv: [f32; 4],
+    pub radiance: SampledSpectrum<K>,
+    pub wl: SampledWavelengths<K>,
+}
+
+/// Buffers reused from sample to sample (one set per worker).
+#[derive(Default)]
+pub struct Scratch<const K: usize> {
+    light: Vec<Vertex<K>>,
+    camera: Vec<Vertex<K>>,
+    choice: LightChoice,
+}
+
+/// What one bidirectional sample counted besides its estimate.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct SampleCounts {
+    pub rays: u64,
+    /// Light-tracing contributions dropped as not finite.
+    pub dropped_splats: u64,
+}
+
+impl Renderer<'_> {
+    pub(super) fn has_infinite_lights(&self) -> bool {
+        !self.infinite.is_empty()
+    }
+
+    /// One bidirectional sample of `pixel`: the camera-side estimate (or
+    /// `None` when not finite) and, pushed on `splats`, the light-tracing
+    /// contributions to whichever pixels they reach.
+    pub(crate) fn sample_pixel_bdpt<const K: usize>(
+        &self,
+        sampler: &mut Sampler,
+        pixel: [u32; 2],
+        index: u32,
+        scratch: &mut Scratch<K>,
+        splats: &mut Vec<Splat<K>>,
+        counts: &mut SampleCounts,
+    ) -> Option<CameraSample<K>> {
+        sampler.start(pixel, index);
+        let [fx, fy, u_choice, u_wl] = sampler.get_4d();
+        let [lx, ly, u_first, u_runs] = sampler.get_4d();
+        let u_rotate = sampler.get_1d();
+        let offset = self.filter.sample([fx, fy]);
+        let film = [
+            pixel[0] as f32 + 0.5 + offset[0],
+            pixel[1] as f32 + 0.5 + offset[1],
+        ];
+        let mut first: SampledWavelengths<K> = self.wavelengths.sample(u_choice, u_wl);
+        if !first.secondary_terminated() {
+            first.rotate_to_front(((u_first * K as f32) as usize).min(K - 1));
+        }
+        let Some(spectra) = &self.light_spectra else {
+            return None;
+        };
+        scratch.choice.update(spectra, &first);
+
+        // The subpaths: Mitsuba's max_depth counts segments, so a camera
+        // subpath has at most max_depth + 1 vertices and a light subpath
+        // max_depth (t ≥ 1).
+        let max_depth = self.scene.integrator.max_depth;
+        let (max_camera, max_light) = if max_depth < 0 {
+            (usize::MAX, usize::MAX)
+        } else {
+            (max_depth as usize + 1, max_depth as usize)
+        };
+        let mut light_wl = first;
+        let light_collapsed = self.light_subpath(
+            sampler,
+            &mut light_wl,
+            &scratch.choice,
+            max_light,
+            &mut scratch.light,
+            &mut counts.rays,
+        );
+        let (wl, lanes) = camera_cluster(&first, &scratch.light, u_runs, u_rotate);
+        let camera_collapsed = self.camera_subpath(
+            sampler,
+            &wl,
+            film,
+            [lx, ly],
+            max_camera,
+            &mut scratch.camera,
+            &mut counts.rays,
+        );
+
+        // Every strategy (s, t) with t ≥ 1 and s + t − 1 ≤ max_depth.
+        let sub = Subpaths {
+            light: &scratch.light,
+            camera: &scratch.camera,
+            wl: &wl,
+            lanes: &lanes,
+            choice: &scratch.choice,
+            unweighted: self.only_strategy.is_some(),
+        };
+        let mut radiance = SampledSpectrum::<K>::splat(0.0);
+        for t in 1..=sub.camera.len() {
+            for s in 0..=sub.light.len().max(1) {
+                let depth = s + t - 1;
+                if depth < 1 || (max_depth >= 0 && depth > max_depth as usize) {
+                    continue;
+                }
+                if s == 0 && t < 2 {
+                    continue;
+                }
+                if self.only_strategy.is_some_and(|o| o != [s, t]) {
+                    continue;
+                }
+                // s = 1 with t ≥ 2 samples its own light point; otherwise
+                // the light subpath must reach s vertices.
+                if s > sub.light.len() && !(s == 1 && t >= 2) {
+                    continue;
+                }
+                let Some((l, raster)) = self.strategy(&sub, s, t, sampler, &mut counts.rays) else {
+                    continue;
+                };
+                match raster {
+                    None => radiance += l,
+                    Some(raster) => {
+                        let xyzv = estimate_xyzv(&l, &wl);
+                        if xyzv.iter().all(|v| v.is_finite()) {
+                            splats.push(Splat {
+                                raster,
+                                xyzv,
+                                radiance: l,
+                                wl,
+                            });
+                        } else {
+                            counts.dropped_splats += 1;
+                        }
+                    }
+                }
+            }
+        }
+        let xyzv = estimate_xyzv(&radiance, &wl);
+        let finite =
+            xyzv.iter().all(|v| v.is_finite()) && radiance.0.iter().all(|v| v.is_finite());
+        finite.then_some(CameraSample {
+            xyzv,
+            radiance,
+            wl,
+            collapsed: K > 1 && (light_collapsed || camera_collapsed),
+        })
+    }
+}

@@ -1,0 +1,178 @@
+//! Lights as the start of a light path (Veach 1997, §10.2; pbrt-v4 §12.1):
+//! a point and direction of emission drawn with densities per unit area
+//! and per solid angle. Delta distributions (the point of a point or spot
+//! light, the direction of a directional light) have density 1 as a
+//! marker, as in `LightSample`. Lights at infinity emit from a disk of the
+//! scene's bounding radius R facing the direction they shine in, placed
+//! outside the scene: density 1/(πR²) per unit area of the disk.
+
+use scotopia_color::{SampledSpectrum, SampledWavelengths};
+
+use super::{Light, SceneExtent};
+use crate::math::{Frame, Vec3};
+use crate::sampling::warp::{
+    cosine_hemisphere_pdf, square_to_cosine_hemisphere, square_to_disk_concentric,
+    square_to_uniform_sphere, UNIFORM_SPHERE_PDF,
+};
+
+/// A sampled emission.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Emission<const K: usize> {
+    pub p: Vec3,
+    /// The emitting surface's normal (area lights), else `None`.
+    pub n: Option<Vec3>,
+    /// Unit direction the light leaves in.
+    pub d: Vec3,
+    /// Radiance (area, infinite), intensity (point, spot) or irradiance
+    /// (directional) leaving in `d`.
+    pub le: SampledSpectrum<K>,
+    pub pdf_pos: f32,
+    pub pdf_dir: f32,
+}
+
+/// Densities of a light emitting from a point in a direction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EmissionPdf {
+    pub pos: f32,
+    pub dir: f32,
+}
+
+/// Uniform direction within `cos_max` of +z, and its density.
+fn uniform_cone(u: [f32; 2], cos_max: f32) -> (Vec3, f32) {
+    let cos = 1.0 - u[0] * (1.0 - cos_max);
+    let sin = (1.0 - cos * cos).max(0.0).sqrt();
+    let phi = 2.0 * std::f32::consts::PI * u[1];
+    (
+        Vec3::new(sin * phi.cos(), sin * phi.sin(), cos),
+        1.0 / (2.0 * std::f32::consts::PI * (1.0 - cos_max)),
+    )
+}
+
+impl Light {
+    /// Whether the light's position is a delta distribution (nothing can
+    /// hit it) or its direction is (nothing can be connected to it by a
+    /// chosen direction): such lights end light paths only by `sample_li`.
+    pub fn is_delta_position(&self) -> bool {
+        matches!(self, Light::Point(_) | Light::Spot(_))
+    }
+
+    pub fn is_delta_direction(&self) -> bool {
+        matches!(self, Light::Directional(_))
+    }
+
+    /// Draws an emission: `u_select` chooses a mesh triangle, `u_pos` the
+    /// point, `u_dir` the direction.
+    pub fn sample_le<const K: usize>(
+        &self,
+        scene: &SceneExtent,
+        wl: &SampledWavelengths<K>,
+        u_select: f32,
+        u_pos: [f32; 2],
+        u_dir: [f32; 2],
+    ) -> Option<Emission<K>> {
+        let disk = |d: Vec3, u: [f32; 2]| {
+            let f = Frame::from_normal(d);
+            let [x, y] = square_to_disk_concentric(u);
+            scene.center + (f.s * x + f.t * y - d) * scene.radius
+        };
+        let disk_pdf = 1.0 / (std::f32::consts::PI * scene.radius * scene.radius);
+        match self {
+            Light::Point(l) => {
+                let d = square_to_uniform_sphere(u_dir);
+                Some(Emission {
+                    p: l.position,
+                    n: None,
+                    d,
+                    le: l.intensity.sample(wl),
+                    pdf_pos: 1.0,
+                    pdf_dir: UNIFORM_SPHERE_PDF,
+                })
+            }
+            Light::Spot(l) => {
+                let (local, pdf_dir) = uniform_cone(u_dir, l.cutoff.cos());
+                let d = l.frame.to_world(local);
+                let f = l.falloff(local.z);
+                (f > 0.0).then(|| Emission {
+                    p: l.position,
+                    n: None,
+                    d,
+                    le: l.intensity.sample(wl) * f,
+                    pdf_pos: 1.0,
+                    pdf_dir,
+                })
+            }
+            Light::Directional(l) => Some(Emission {
+                p: disk(l.direction, u_pos),
+                n: None,
+                d: l.direction,
+                le: l.irradiance.sample(wl),
+                pdf_pos: disk_pdf,
+                pdf_dir: 1.0,
+            }),
+            Light::Area(l) => {
+                let shape = scene.shapes.get(l.shape as usize)?;
+                let s = shape.sample_area(l.triangles(), u_select, u_pos)?;
+                let local = square_to_cosine_hemisphere(u_dir);
+                let pdf_dir = cosine_hemisphere_pdf(local.z);
+                let d = Frame::from_normal(s.n).to_world(local);
+                (pdf_dir > 0.0 && l.area() > 0.0).then(|| Emission {
+                    p: s.p,
+                    n: Some(s.n),
+                    d,
+                    le: l.radiance.sample(wl),
+                    pdf_pos: 1.0 / l.area(),
+                    pdf_dir,
+                })
+            }
+            Light::Constant(_) | Light::EnvMap(_) => {
+                let ls = self.sample_li(scene, wl, Vec3::ZERO, 0.0, u_dir)?;
+                let d = -ls.wi;
+                Some(Emission {
+                    p: disk(d, u_pos),
+                    n: None,
+                    d,
+                    le: ls.radiance,
+                    pdf_pos: disk_pdf,
+                    pdf_dir: ls.pdf,
+                })
+            }
+        }
+    }
+
+    /// Densities of `sample_le` emitting from `p` (normal `n` for area
+    /// lights) in direction `d`. For lights at infinity only `dir` means
+    /// anything (`pos` is the disk's), with `d` the direction light travels.
+    pub fn pdf_le(&self, scene: &SceneExtent, n: Vec3, d: Vec3) -> EmissionPdf {
+        let disk_pdf = 1.0 / (std::f32::consts::PI * scene.radius * scene.radius);
+        match self {
+            Light::Point(_) => EmissionPdf {
+                pos: 1.0,
+                dir: UNIFORM_SPHERE_PDF,
+            },
+            Light::Spot(l) => {
+                let cos_max = l.cutoff.cos();
+                let inside = d.dot(l.frame.n) >= cos_max;
+                EmissionPdf {
+                    pos: 1.0,
+                    dir: if inside {
+                        uniform_cone([0.0, 0.0], cos_max).1
+                    } else {
+                        0.0
+                    },
+                }
+            }
+            Light::Directional(_) => EmissionPdf {
+                pos: disk_pdf,
+                dir: 1.0,
+            },
+            Light::Area(l) => EmissionPdf {
+                pos: if l.area() > 0.0 { 1.0 / l.area() } else { 0.0 },
+                dir: cosine_hemisphere_pdf(n.dot(d)),
+            },
+            Light::Constant(_) | Light::EnvMap(_) => EmissionPdf {
+                pos: disk_pdf,
+                dir: self.pdf_li_at_infinity(-d),
+            },
+        }
+    }
+}
