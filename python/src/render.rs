@@ -14,16 +14,18 @@ use pyo3::types::PyDict;
 use scotopia_image::Meta;
 use scotopia_render::integrator::{render as render_scene, RenderOptions};
 use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_exr};
+use scotopia_render::scene::IntegratorKind;
 use scotopia_render::wavelength::WavelengthStrategy;
 use scotopia_scene::load_scene;
 
 /// Renders a Mitsuba 3 XML scene (the `scotopia render` verb). Returns
 /// `(image, metadata)`: image[y, x] = (X, Y, Z, V′) in cd/m² and scotopic
 /// cd/m². `output` also writes the OpenEXR, `spectral` the spectral
-/// OpenEXR (Fichet et al. 2021) with `bands` bands. The GIL is released while
+/// OpenEXR (Fichet et al. 2021) with `bands` bands; `integrator` is
+/// "path" or "bdpt" (default: the scene's). The GIL is released while
 /// rendering.
 #[pyfunction]
-#[pyo3(signature = (path, spp = None, time = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, output = None, spectral = None, bands = 47))]
+#[pyo3(signature = (path, spp = None, time = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, output = None, spectral = None, bands = 47, integrator = None))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
@@ -37,6 +39,7 @@ fn render<'py>(
     output: Option<PathBuf>,
     spectral: Option<PathBuf>,
     bands: usize,
+    integrator: Option<&str>,
 ) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
     let err = |e: String| PyValueError::new_err(e);
     let strategy = WavelengthStrategy::from_name(wavelengths).ok_or_else(|| {
@@ -44,6 +47,13 @@ fn render<'py>(
             "wavelengths '{wavelengths}': use swc, hero or single"
         ))
     })?;
+    let integrator = match integrator {
+        Some(name) => Some(
+            IntegratorKind::from_name(name)
+                .ok_or_else(|| err(format!("integrator '{name}': use path or bdpt")))?,
+        ),
+        None => None,
+    };
     let time_limit = match time {
         Some(t) if t.is_finite() && t > 0.0 => Some(Duration::from_secs_f64(t)),
         Some(t) => return Err(err(format!("time {t}: must be positive seconds"))),
@@ -57,6 +67,8 @@ fn render<'py>(
         strategy,
         cluster,
         bands: spectral.is_some().then_some(bands),
+        integrator,
+        only_strategy: None,
     };
     let rendered = py
         .detach(|| render_scene(&scene, &options, &AtomicBool::new(false), &|_, _| {}))

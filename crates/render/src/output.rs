@@ -23,6 +23,10 @@ pub fn render_metadata(
         ("fovVerticalDegrees", Meta::F32(fov_y)),
         ("samplesPerPixel", Meta::I32(rendered.spp as i32)),
         ("wavelengthStrategy", Meta::Text(options.strategy.name().into())),
+        (
+            "integrator",
+            Meta::Text(options.integrator.unwrap_or(scene.integrator.kind).name().into()),
+        ),
         ("clusterSize", Meta::I32(options.cluster as i32)),
         ("seed", Meta::I32(options.seed as i32)),
         ("renderSeconds", Meta::F32(rendered.elapsed.as_secs_f32())),
