@@ -10,8 +10,8 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use scotopia_image::{preview_srgb8, write_png_rgb8};
 use scotopia_render::integrator::{render, RenderOptions, CLUSTER_SIZES};
-use scotopia_render::scene::IntegratorKind;
 use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_exr};
+use scotopia_render::scene::IntegratorKind;
 use scotopia_render::wavelength::WavelengthStrategy;
 use scotopia_scene::load_scene;
 

@@ -10,11 +10,11 @@ use scotopia_color::{cie, Spectrum, Tabulated};
 use scotopia_render::accel::Aggregate;
 use scotopia_render::bsdf::{Bsdf, Dielectric, Diffuse, Fluorescent, Ior};
 use scotopia_render::camera::{Camera, FovAxis};
-use scotopia_render::geometry::{Shape, Sphere, TriangleMesh};
+use scotopia_render::geometry::{Planar, PlanarKind, Shape, Sphere, TriangleMesh};
 use scotopia_render::integrator::{render, RenderOptions};
 use scotopia_render::light::{AreaLight, ConstantLight, Light};
 use scotopia_render::math::{Transform, Vec3};
-use scotopia_render::scene::{Filter, IntegratorSettings, Scene};
+use scotopia_render::scene::{Filter, IntegratorKind, IntegratorSettings, Scene};
 use scotopia_render::texture::Texture;
 use scotopia_render::wavelength::WavelengthStrategy;
 
@@ -54,10 +54,25 @@ fn scene(
 /// Mean X, Y, Z, V′ over the pixels, and the standard error from the
 /// spread of per-pixel means.
 fn mean_and_se(scene: &Scene, strategy: WavelengthStrategy, spp: u32) -> [(f64, f64); 4] {
+    mean_and_se_with(scene, strategy, spp, IntegratorKind::Path)
+}
+
+/// The same with the bidirectional tracer (SWC).
+fn bdpt(scene: &Scene, spp: u32) -> [(f64, f64); 4] {
+    mean_and_se_with(scene, WavelengthStrategy::Swc, spp, IntegratorKind::Bdpt)
+}
+
+fn mean_and_se_with(
+    scene: &Scene,
+    strategy: WavelengthStrategy,
+    spp: u32,
+    integrator: IntegratorKind,
+) -> [(f64, f64); 4] {
     let options = RenderOptions {
         spp: Some(spp),
         strategy,
         seed: 3,
+        integrator: Some(integrator),
         ..RenderOptions::default()
     };
     let r = render(scene, &options, &AtomicBool::new(false), &|_, _| {}).unwrap();
@@ -116,6 +131,7 @@ fn a_white_sphere_vanishes_under_a_uniform_sky() {
             1e-3,
         );
     }
+    check("bdpt", bdpt(&s, 64), xyzv(&sky()), 1e-3);
 }
 
 #[test]
@@ -196,6 +212,7 @@ fn inside_an_emitting_enclosure_the_radiance_is_le_over_one_minus_rho() {
             2e-3,
         );
     }
+    check("bdpt", bdpt(&s, 64), xyzv(&want), 2e-3);
 }
 
 #[test]
@@ -234,6 +251,7 @@ fn a_dispersive_glass_sphere_vanishes_under_a_uniform_sky() {
             2e-3,
         );
     }
+    check("bdpt", bdpt(&s, 128), xyzv(&sky()), 2e-3);
     // Clusters collapse on the dispersive sphere, never on one of
     // constant index (nor with one wavelength per path).
     let collapsed = |s: &Scene, strategy| {
@@ -273,14 +291,24 @@ fn one_or_two_threads_give_the_same_bits() {
         seed: 11,
         ..RenderOptions::default()
     };
-    let run = |threads| {
+    let run_with = |threads, options: &RenderOptions| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| render(&s, &options, &AtomicBool::new(false), &|_, _| {}).unwrap())
+            .install(|| render(&s, options, &AtomicBool::new(false), &|_, _| {}).unwrap())
     };
+    let run = |threads| run_with(threads, &options);
     assert_eq!(run(1).film, run(2).film);
+    // So does the bidirectional tracer, whose light paths splat anywhere.
+    let bidirectional = RenderOptions {
+        integrator: Some(IntegratorKind::Bdpt),
+        ..options.clone()
+    };
+    assert_eq!(
+        run_with(1, &bidirectional).film,
+        run_with(2, &bidirectional).film
+    );
     // A different seed is a different image.
     let other = RenderOptions {
         seed: 12,
@@ -362,6 +390,28 @@ fn fluorescent_sphere(sky: Spectrum, material: Bsdf) -> Scene {
     s
 }
 
+/// A fluorescent square (side 1.2, normal +z) under a uniform sky, seen
+/// from above so that it just fills the view (the light paths, drawn over
+/// the scene's bounding disk, then mostly land in view): every point sees
+/// the sky over its whole upper hemisphere, as the sphere does.
+fn fluorescent_plane(sky: Spectrum, material: Bsdf) -> Scene {
+    let plane = Shape::Planar(Box::new(Planar::new(
+        PlanarKind::Rectangle,
+        Transform::scale(Vec3::new(0.6, 0.6, 1.0)).unwrap(),
+    )));
+    let cam = camera(Vec3::new(0.0, 0.0, 1.0), Vec3::ZERO, 60.0);
+    let lights = vec![Light::Constant(ConstantLight { radiance: sky })];
+    let mut s = scene(
+        cam,
+        vec![plane],
+        Spectrum::Constant(0.0),
+        lights,
+        vec![None],
+    );
+    s.materials = vec![material];
+    s
+}
+
 fn brightened_paper() -> Bsdf {
     Bsdf::Fluorescent(
         Fluorescent::new(
@@ -398,11 +448,22 @@ fn a_fluorescent_sphere_shows_reflection_plus_stokes_weighted_emission() {
     )));
     // Most of what leaves in the green is re-emitted light.
     assert!(want[1] > 2.0 * plain[1], "{want:?} vs {plain:?}");
-    let dye = Fluorescent::new(Texture::Constant(rho), &e, &emission, 0.9).unwrap();
+    let dye = Fluorescent::new(Texture::Constant(rho.clone()), &e, &emission, 0.9).unwrap();
     let s = fluorescent_sphere(d65, Bsdf::Fluorescent(dye));
     for strategy in WavelengthStrategy::ALL {
         check(strategy.name(), mean_and_se(&s, strategy, 256), want, 2e-3);
     }
+    // The bidirectional tracer re-emits on its light subpaths, so only
+    // light tracing sees the glow: a plane filling the view is lit from
+    // the sky's whole disk (the sphere's visible patch would catch too few
+    // light paths for a sharp test).
+    let dye = Fluorescent::new(Texture::Constant(rho.clone()), &e, &emission, 0.9).unwrap();
+    check(
+        "bdpt",
+        bdpt(&fluorescent_plane(sky(), Bsdf::Fluorescent(dye)), 4096),
+        want,
+        2e-3,
+    );
 }
 
 /// CIELAB b* of `xyz` against the white `white` (CIE 15:2004).
@@ -473,8 +534,14 @@ fn a_paint_under_a_black_light_glows_with_every_strategy() {
     // The glow is far brighter than the UV the paint reflects.
     assert!(want[1] > 100.0 * seen_uv[1], "{want:?} vs {seen_uv:?}");
     let paint = Fluorescent::new(Texture::Constant(rho), &e, &emission, 0.9).unwrap();
-    let s = fluorescent_sphere(uv, Bsdf::Fluorescent(paint));
+    let s = fluorescent_sphere(uv.clone(), Bsdf::Fluorescent(paint.clone()));
     for strategy in WavelengthStrategy::ALL {
         check(strategy.name(), mean_and_se(&s, strategy, 256), want, 2e-3);
     }
+    check(
+        "bdpt",
+        bdpt(&fluorescent_plane(uv, Bsdf::Fluorescent(paint)), 4096),
+        want,
+        2e-3,
+    );
 }

@@ -155,14 +155,28 @@ mod tests {
     #[test]
     fn direction_density_integrates_to_one() {
         // ∫ pdf dω over the sphere, by uniform sphere sampling.
-        let c = Camera::new(Transform::IDENTITY, 40, 30, 60.0, FovAxis::X, 1e-3, 1e3, 0.0, 1.0)
-            .unwrap();
+        let c = Camera::new(
+            Transform::IDENTITY,
+            40,
+            30,
+            60.0,
+            FovAxis::X,
+            1e-3,
+            1e3,
+            0.0,
+            1.0,
+        )
+        .unwrap();
         let n = 400_000;
         let mut sum = 0.0f64;
         for i in 0..n {
-            let u = [(i as f32 + 0.5) / n as f32, ((i as f64 * 0.618_034) % 1.0) as f32];
+            let u = [
+                (i as f32 + 0.5) / n as f32,
+                ((i as f64 * 0.618_034) % 1.0) as f32,
+            ];
             let d = crate::sampling::warp::square_to_uniform_sphere(u);
-            sum += (c.pdf_direction(Vec3::ZERO, d) / crate::sampling::warp::UNIFORM_SPHERE_PDF) as f64;
+            sum +=
+                (c.pdf_direction(Vec3::ZERO, d) / crate::sampling::warp::UNIFORM_SPHERE_PDF) as f64;
         }
         let mean = sum / n as f64;
         assert!((mean - 1.0).abs() < 0.02, "{mean}");

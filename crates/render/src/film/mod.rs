@@ -90,10 +90,7 @@ impl Film {
         let y1 = ((raster[1] - 0.5 + r).floor() as i64).min(h - 1);
         for y in y0..=y1 {
             for x in x0..=x1 {
-                let offset = [
-                    raster[0] - (x as f32 + 0.5),
-                    raster[1] - (y as f32 + 0.5),
-                ];
+                let offset = [raster[0] - (x as f32 + 0.5), raster[1] - (y as f32 + 0.5)];
                 let f = filter.weight(offset);
                 if f == 0.0 {
                     continue;

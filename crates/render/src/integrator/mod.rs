@@ -164,12 +164,18 @@ impl<'a> Renderer<'a> {
         // emission; the bidirectional tracer reaches them by re-emission
         // on its light subpaths and draws from the lights alone.
         let fluorescent: Vec<_> = match integrator {
-            IntegratorKind::Path => scene.materials.iter().filter_map(|m| m.fluorescent()).collect(),
+            IntegratorKind::Path => scene
+                .materials
+                .iter()
+                .filter_map(|m| m.fluorescent())
+                .collect(),
             IntegratorKind::Bdpt => Vec::new(),
         };
         let light_choice = Distribution1D::new(power.clone());
         let light_spectra = (integrator == IntegratorKind::Bdpt).then(|| {
-            let p = (0..scene.lights.len()).map(|i| light_choice.probability(i)).collect();
+            let p = (0..scene.lights.len())
+                .map(|i| light_choice.probability(i))
+                .collect();
             bdpt::LightSpectra::new(&scene.lights, p)
         });
         Self {

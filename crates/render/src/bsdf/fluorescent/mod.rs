@@ -314,7 +314,10 @@ mod tests {
             let want = 0.3 * g(lambda_i) as f64 + integral;
             let got = sum / n as f64;
             assert!(integral > 0.01, "{integral}");
-            assert!((got / want - 1.0).abs() < 3e-3, "{lambda_i}: {got} vs {want}");
+            assert!(
+                (got / want - 1.0).abs() < 3e-3,
+                "{lambda_i}: {got} vs {want}"
+            );
         }
     }
 

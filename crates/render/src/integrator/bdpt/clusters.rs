@@ -49,7 +49,10 @@ pub(crate) struct LightSpectra {
 impl LightSpectra {
     pub fn new(lights: &[Light], power_probability: Vec<f32>) -> Self {
         Self {
-            spectra: lights.iter().map(|l| SpectralPdf::new(l.spectrum())).collect(),
+            spectra: lights
+                .iter()
+                .map(|l| SpectralPdf::new(l.spectrum()))
+                .collect(),
             power: power_probability,
         }
     }
@@ -132,7 +135,11 @@ pub(super) fn camera_cluster<const K: usize>(
     // Count the runs: one per member, plus one per re-emission.
     let mut n = K;
     for (i, v) in light.iter().enumerate() {
-        n += v.run_out.iter().filter(|&&a| a as usize == i && i > 0).count();
+        n += v
+            .run_out
+            .iter()
+            .filter(|&&a| a as usize == i && i > 0)
+            .count();
     }
     if n == K {
         let lanes = Lanes {

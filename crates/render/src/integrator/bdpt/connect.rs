@@ -7,7 +7,7 @@
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
-use super::clusters::{LightChoice, Lanes};
+use super::clusters::{Lanes, LightChoice};
 use super::mis::{self, Connection};
 use super::vertex::{Kind, Vertex};
 use super::walk::shading_correction;
@@ -34,7 +34,11 @@ pub(super) struct Subpaths<'p, const K: usize> {
 }
 
 /// The elastic part of a fluorescent BSDF (ρ), 1 for the others.
-fn elastic<const K: usize>(bsdf: &Bsdf, wl: &SampledWavelengths<K>, uv: [f32; 2]) -> SampledSpectrum<K> {
+fn elastic<const K: usize>(
+    bsdf: &Bsdf,
+    wl: &SampledWavelengths<K>,
+    uv: [f32; 2],
+) -> SampledSpectrum<K> {
     bsdf.fluorescent()
         .map_or(SampledSpectrum::splat(1.0), |f| f.reflectance.eval(wl, uv))
 }
@@ -73,7 +77,11 @@ impl Renderer<'_> {
     /// The lights' choice-weighted density of starting a light path at
     /// vertex `v` (a light vertex, an emitter hit, or the lights at
     /// infinity in direction `v.wi`).
-    pub(super) fn origin_density<const K: usize>(&self, choice: &LightChoice, v: &Vertex<K>) -> f32 {
+    pub(super) fn origin_density<const K: usize>(
+        &self,
+        choice: &LightChoice,
+        v: &Vertex<K>,
+    ) -> f32 {
         let extent = self.extent();
         match v.kind {
             Kind::Infinite => self
@@ -210,8 +218,13 @@ impl Renderer<'_> {
             } else {
                 let bsdf = self.bsdf_at(y);
                 let frame = Frame::from_normal(y.ns);
-                let f_dir = bsdf.eval(wl, y.uv, frame.to_local(y.wi), frame.to_local(dir), Transport::Importance)
-                    * shading_correction(y.ng, y.ns, y.wi, dir);
+                let f_dir = bsdf.eval(
+                    wl,
+                    y.uv,
+                    frame.to_local(y.wi),
+                    frame.to_local(dir),
+                    Transport::Importance,
+                ) * shading_correction(y.ng, y.ns, y.wi, dir);
                 let rho = elastic(bsdf, wl, y.uv);
                 f_dir * self.light_factor(y, s - 1, lanes, &rho, &mut min_s)
             };
@@ -224,7 +237,9 @@ impl Renderer<'_> {
             c.light_last_rev = pdf_cam * y.cos(dir) / dist2;
             if s >= 2 {
                 let frame = Frame::from_normal(y.ns);
-                let pdf = self.bsdf_at(y).pdf(wl, frame.to_local(dir), frame.to_local(y.wi));
+                let pdf = self
+                    .bsdf_at(y)
+                    .pdf(wl, frame.to_local(dir), frame.to_local(y.wi));
                 c.light_prev_rev = y.convert(pdf, &light[s - 2]);
             }
         } else if s == 1 {
@@ -255,8 +270,16 @@ impl Renderer<'_> {
             // The sampled light point, as a vertex.
             let at_infinity = !ls.distance.is_finite();
             let mut y0 = Vertex::new(
-                if lt.is_infinite() { Kind::Infinite } else { Kind::Light },
-                if at_infinity { z.p + ls.wi * (2.0 * self.radius) } else { z.p + ls.wi * ls.distance },
+                if lt.is_infinite() {
+                    Kind::Infinite
+                } else {
+                    Kind::Light
+                },
+                if at_infinity {
+                    z.p + ls.wi * (2.0 * self.radius)
+                } else {
+                    z.p + ls.wi * ls.distance
+                },
                 SampledSpectrum::splat(1.0),
             );
             y0.index = i as u32;

@@ -20,8 +20,8 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::{CameraSample, Renderer};
 use crate::sampling::sobol::Sampler;
-use clusters::{camera_cluster, LightChoice};
 pub(crate) use clusters::LightSpectra;
+use clusters::{camera_cluster, LightChoice};
 use connect::Subpaths;
 use vertex::Vertex;
 
@@ -163,8 +163,7 @@ impl Renderer<'_> {
             }
         }
         let xyzv = estimate_xyzv(&radiance, &wl);
-        let finite =
-            xyzv.iter().all(|v| v.is_finite()) && radiance.0.iter().all(|v| v.is_finite());
+        let finite = xyzv.iter().all(|v| v.is_finite()) && radiance.0.iter().all(|v| v.is_finite());
         finite.then_some(CameraSample {
             xyzv,
             radiance,

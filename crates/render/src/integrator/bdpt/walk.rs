@@ -152,7 +152,8 @@ impl Renderer<'_> {
             let Some(hit) = scene.geometry.intersect(&ray) else {
                 // A camera ray that escapes ends on the lights at infinity.
                 if mode == Transport::Radiance && self.has_infinite_lights() {
-                    let mut v = Vertex::new(Kind::Infinite, ray.o + ray.d * (2.0 * self.radius), beta);
+                    let mut v =
+                        Vertex::new(Kind::Infinite, ray.o + ray.d * (2.0 * self.radius), beta);
                     v.wi = ray.d;
                     v.at_infinity = true;
                     v.pdf_fwd = pdf;
@@ -214,7 +215,8 @@ impl Renderer<'_> {
                 // Only the first member's direction was sampled: it goes
                 // on for all K (pbrt-v4's TerminateSecondary).
                 collapsed = true;
-                beta = SampledSpectrum::from_fn(|k| if k == 0 { beta.0[0] * K as f32 } else { 0.0 });
+                beta =
+                    SampledSpectrum::from_fn(|k| if k == 0 { beta.0[0] * K as f32 } else { 0.0 });
             }
             beta *= weight;
             let (pdf_fwd, pdf_rev) = if bs.delta {
