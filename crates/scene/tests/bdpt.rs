@@ -1,0 +1,126 @@
+//! The bidirectional tracer against the path tracer and against itself:
+//! each strategy (s, t) alone converges to the same image as the others
+//! and as the path tracer's paths of that length, and with MIS it
+//! converges to the path tracer's image on the bundled scenes. Each
+//! comparison is of two independent renders: per channel, the mean over
+//! pixels of their difference is zero within 4 standard errors (from the
+//! spread of the pixel differences).
+
+use std::path::Path;
+use std::sync::atomic::AtomicBool;
+
+use scotopia_render::integrator::{render, RenderOptions};
+use scotopia_render::scene::{IntegratorKind, Scene};
+use scotopia_scene::load_scene;
+use scotopia_scene::mitsuba::Parameters;
+
+fn scene(name: &str, params: &[(&str, &str)]) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenes")
+        .join(name);
+    let mut p = Parameters::new();
+    for (k, v) in params {
+        p.insert(k.to_string(), v.to_string());
+    }
+    load_scene(&path, &p).unwrap()
+}
+
+fn image(scene: &Scene, options: RenderOptions) -> Vec<[f32; 4]> {
+    let r = render(scene, &options, &AtomicBool::new(false), &|_, _| {}).unwrap();
+    r.film.xyzv()
+}
+
+/// Asserts that the pixel-mean of `a − b` is zero within 4 standard
+/// errors in every channel.
+fn agree(what: &str, a: &[[f32; 4]], b: &[[f32; 4]]) {
+    for c in 0..4 {
+        let d: Vec<f64> = a.iter().zip(b).map(|(p, q)| (p[c] - q[c]) as f64).collect();
+        let n = d.len() as f64;
+        let mean = d.iter().sum::<f64>() / n;
+        let se = (d.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0) / n).sqrt();
+        let level = a.iter().map(|p| p[c] as f64).sum::<f64>() / n;
+        assert!(
+            mean.abs() <= 4.0 * se && level > 0.0,
+            "{what}, channel {c}: difference {mean} ± {se} (level {level})"
+        );
+    }
+}
+
+fn bdpt(spp: u32, seed: u32) -> RenderOptions {
+    RenderOptions {
+        spp: Some(spp),
+        seed,
+        integrator: Some(IntegratorKind::Bdpt),
+        ..RenderOptions::default()
+    }
+}
+
+fn path(spp: u32, seed: u32) -> RenderOptions {
+    RenderOptions {
+        integrator: Some(IntegratorKind::Path),
+        ..bdpt(spp, seed)
+    }
+}
+
+#[test]
+fn every_strategy_alone_converges_to_the_same_image() {
+    // Paths of exactly 3 segments in the Cornell box: the path tracer's
+    // depth-3 image minus its depth-2 image, against each of the four
+    // strategies that build such paths, unweighted.
+    let three = scene("cornell-box.xml", &[("res", "12"), ("max_depth", "3")]);
+    let two = scene("cornell-box.xml", &[("res", "12"), ("max_depth", "2")]);
+    let a = image(&three, path(4096, 1));
+    let b = image(&two, path(4096, 2));
+    let reference: Vec<[f32; 4]> = a
+        .iter()
+        .zip(&b)
+        .map(|(p, q)| std::array::from_fn(|c| p[c] - q[c]))
+        .collect();
+    for (s, t) in [(0, 4), (1, 3), (2, 2), (3, 1)] {
+        let options = RenderOptions {
+            only_strategy: Some([s, t]),
+            ..bdpt(8192, 10 + s as u32)
+        };
+        agree(
+            &format!("strategy ({s}, {t})"),
+            &image(&three, options),
+            &reference,
+        );
+    }
+}
+
+#[test]
+fn bidirectional_and_path_tracing_agree_on_the_bundled_scenes() {
+    let small = [("width", "24"), ("height", "16")];
+    let cases: [(&str, &[(&str, &str)], u32); 6] = [
+        ("cornell-box.xml", &[("res", "16")], 256),
+        ("material-showcase.xml", &small, 256),
+        ("night-street.xml", &small, 256),
+        ("prism.xml", &small, 256),
+        ("black-light-poster.xml", &small, 256),
+        ("paper.xml", &small, 256),
+    ];
+    for (name, params, spp) in cases {
+        let s = scene(name, params);
+        agree(name, &image(&s, bdpt(spp, 1)), &image(&s, path(spp, 2)));
+    }
+}
+
+#[test]
+fn bdpt_is_chosen_in_the_scene_file_and_bad_strategies_are_errors() {
+    let s = scene("cornell-box.xml", &[("res", "8")]);
+    assert_eq!(s.integrator.kind, IntegratorKind::Path);
+    let bad = |only, integrator| {
+        let o = RenderOptions {
+            spp: Some(1),
+            only_strategy: Some(only),
+            integrator: Some(integrator),
+            ..RenderOptions::default()
+        };
+        render(&s, &o, &AtomicBool::new(false), &|_, _| {}).is_err()
+    };
+    assert!(bad([1, 0], IntegratorKind::Bdpt));
+    assert!(bad([0, 1], IntegratorKind::Bdpt));
+    assert!(bad([1, 1], IntegratorKind::Path));
+    assert!(!bad([1, 1], IntegratorKind::Bdpt));
+}
