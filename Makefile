@@ -95,6 +95,7 @@ bench: python
 	$(CARGO) build --release -p scotopia
 	$(PY) bench/scenes.py --spp 16
 	$(PY) bench/strategies.py
+	$(PY) bench/bdpt.py
 	$(PY) bench/vs_mitsuba.py
 	$(PY) bench/vision.py
 

@@ -250,6 +250,8 @@ fn bundled_scenes_load_without_warnings() {
         ("black-light-poster.xml", 9, 1),
         ("paper.xml", 4, 2),
         ("diamond.xml", 9, 8),
+        ("caustic-sphere.xml", 4, 1),
+        ("lamp-shade.xml", 8, 1),
     ] {
         let s = load_scene(&scenes().join(name), &Parameters::new()).unwrap();
         assert_eq!(s.geometry.shapes.len(), shapes, "{name}");
