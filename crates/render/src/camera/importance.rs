@@ -54,7 +54,7 @@ impl Camera {
         let u = 0.5 * (1.0 - d.x / (d.z * self.tan_half_x));
         let v = 0.5 * (1.0 - d.y * aspect / (d.z * self.tan_half_x));
         ((0.0..1.0).contains(&u) && (0.0..1.0).contains(&v))
-            .then(|| [u * self.width as f32, v * self.height as f32])
+            .then_some([u * self.width as f32, v * self.height as f32])
     }
 
     /// Where a ray leaving lens point `o` (camera space) in direction `d`
@@ -95,7 +95,7 @@ impl Camera {
         let pc = self.camera_from_world.point(p);
         let to = pc - o;
         let dist2 = to.length_squared();
-        if !(dist2 > 0.0) {
+        if dist2.is_nan() || dist2 <= 0.0 {
             return None;
         }
         let d = to / dist2.sqrt();

@@ -178,6 +178,7 @@ impl Fluorescent {
         let rho = self.reflectance.eval(wl, uv);
         let mut factor = SampledSpectrum::splat(0.0);
         let mut moved = [false; K];
+        #[allow(clippy::needless_range_loop)] // k indexes the cluster, `alive`, `rho` and `moved`
         for k in 0..K {
             if alive.0[k] == 0.0 {
                 continue;

@@ -65,7 +65,7 @@ impl Renderer<'_> {
         let e = off(b, nb, a);
         let d = e - o;
         let dist = d.length();
-        if !(dist > 0.0) {
+        if dist.is_nan() || dist <= 0.0 {
             return false;
         }
         *rays += 1;
@@ -253,7 +253,7 @@ impl Renderer<'_> {
             let (i, q) = sub.choice.sample(u_choice)?;
             let lt = &self.scene.lights[i];
             let ls = lt.sample_li(&self.extent(), wl, z.p, u_select, [u0, u1])?;
-            if !(ls.pdf > 0.0) || ls.radiance.is_zero() {
+            if ls.pdf.is_nan() || ls.pdf <= 0.0 || ls.radiance.is_zero() {
                 return None;
             }
             let frame = Frame::from_normal(z.ns);
@@ -305,7 +305,7 @@ impl Renderer<'_> {
             }
             let d = z.p - y.p;
             let dist2 = d.length_squared();
-            if !(dist2 > 0.0) {
+            if dist2.is_nan() || dist2 <= 0.0 {
                 return None;
             }
             let dir = d / dist2.sqrt();
@@ -332,19 +332,19 @@ impl Renderer<'_> {
         if !sub.unweighted {
             // One weight per distinct least s (one, without fluorescence).
             let mut cache: Option<(usize, f32)> = None;
-            for j in 0..K {
-                if l.0[j] == 0.0 {
+            for (v, &m) in l.0.iter_mut().zip(&min_s) {
+                if *v == 0.0 {
                     continue;
                 }
                 let w = match cache {
-                    Some((m, w)) if m == min_s[j] => w,
+                    Some((cached, w)) if cached == m => w,
                     _ => {
-                        let w = mis::weight(light, camera, s, t, &c, min_s[j]);
-                        cache = Some((min_s[j], w));
+                        let w = mis::weight(light, camera, s, t, &c, m);
+                        cache = Some((m, w));
                         w
                     }
                 };
-                l.0[j] *= w;
+                *v *= w;
             }
         }
         Some((l, raster))
