@@ -42,3 +42,19 @@ def test_render_rejects_bad_options():
         scotopia.render(str(SCENES / "cornell-box.xml"), wavelengths="rgb")
     with pytest.raises(ValueError, match="cluster size 3"):
         scotopia.render(str(SCENES / "cornell-box.xml"), spp=1, cluster=3, params={"res": "4"})
+
+
+def test_render_with_the_bidirectional_tracer():
+    # The same Cornell box by both tracers: the image means agree roughly
+    # (the Rust tests check them within standard errors).
+    path, _ = scotopia.render(str(SCENES / "cornell-box.xml"), spp=64, params={"res": "8"})
+    image, meta = scotopia.render(
+        str(SCENES / "cornell-box.xml"), spp=64, params={"res": "8"}, integrator="bdpt"
+    )
+    assert meta["integrator"] == "bdpt"
+    assert np.isfinite(image).all()
+    assert abs(image[..., 1].mean() / path[..., 1].mean() - 1) < 0.1
+    import pytest
+
+    with pytest.raises(ValueError, match="use path or bdpt"):
+        scotopia.render(str(SCENES / "cornell-box.xml"), spp=1, integrator="light")
