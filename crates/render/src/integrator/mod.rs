@@ -13,6 +13,8 @@ use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
 
+use scotopia_color::SampledWavelengths;
+
 use crate::film::{Bands, Film, FilterSampler};
 use crate::light::{Light, SceneExtent};
 use crate::math::Vec3;
@@ -201,6 +203,32 @@ impl<'a> Renderer<'a> {
             center: self.center,
             radius: self.radius,
         }
+    }
+
+    /// What every camera sample starts with, from the sampler's first two
+    /// sets: the film position (filter offset included), the lens point,
+    /// the cluster — rotated so that the member a dispersive refraction
+    /// keeps is uniform over it (stratum 0 alone would bias towards the
+    /// blue) — and the spare fourth number of the second set.
+    fn start_sample<const K: usize>(
+        &self,
+        sampler: &mut Sampler,
+        pixel: [u32; 2],
+        index: u32,
+    ) -> ([f32; 2], [f32; 2], SampledWavelengths<K>, f32) {
+        sampler.start(pixel, index);
+        let [fx, fy, u_choice, u_wl] = sampler.get_4d();
+        let [lx, ly, u_first, spare] = sampler.get_4d();
+        let offset = self.filter.sample([fx, fy]);
+        let film = [
+            pixel[0] as f32 + 0.5 + offset[0],
+            pixel[1] as f32 + 0.5 + offset[1],
+        ];
+        let mut wl: SampledWavelengths<K> = self.wavelengths.sample(u_choice, u_wl);
+        if !wl.secondary_terminated() {
+            wl.rotate_to_front(((u_first * K as f32) as usize).min(K - 1));
+        }
+        (film, [lx, ly], wl, spare)
     }
 
     /// Lights at infinity with their indices.

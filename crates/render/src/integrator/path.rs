@@ -73,21 +73,7 @@ impl Renderer<'_> {
         index: u32,
         rays: &mut u64,
     ) -> Option<CameraSample<K>> {
-        sampler.start(pixel, index);
-        let [fx, fy, u_choice, u_wl] = sampler.get_4d();
-        let [lx, ly, u_first, _] = sampler.get_4d();
-        let lens = [lx, ly];
-        let offset = self.filter.sample([fx, fy]);
-        let film = [
-            pixel[0] as f32 + 0.5 + offset[0],
-            pixel[1] as f32 + 0.5 + offset[1],
-        ];
-        let mut wl: SampledWavelengths<K> = self.wavelengths.sample(u_choice, u_wl);
-        if !wl.secondary_terminated() {
-            // Which member survives a dispersive refraction: uniform over
-            // the cluster (stratum 0 alone would bias towards the blue).
-            wl.rotate_to_front(((u_first * K as f32) as usize).min(K - 1));
-        }
+        let (film, lens, mut wl, _) = self.start_sample::<K>(sampler, pixel, index);
         let whole = !wl.secondary_terminated();
         let ray = self.scene.camera.generate_ray(film, lens);
         let radiance = self.trace(sampler, &mut wl, ray, rays);

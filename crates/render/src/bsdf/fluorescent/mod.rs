@@ -122,6 +122,13 @@ impl Fluorescent {
         }
     }
 
+    fn sample_emission(&self, u: f32, lambda_i: f32) -> Option<(f32, f32)> {
+        match &self.reradiation {
+            Reradiation::Separable(s) => s.sample_emission(u, lambda_i),
+            Reradiation::Matrix(m) => m.sample_emission(u, lambda_i),
+        }
+    }
+
     /// Chooses, per live member of the cluster, whether the light leaving
     /// at its wavelength λo was reflected (the path stays at λo) or
     /// re-emitted from light absorbed at λi (the member moves to λi), and
@@ -135,32 +142,12 @@ impl Fluorescent {
         uv: [f32; 2],
         u: f32,
     ) -> SampledSpectrum<K> {
-        let rho = self.reflectance.eval(wl, uv);
-        let mut factor = SampledSpectrum::splat(0.0);
-        for k in 0..K {
-            if wl.pdf(k) == 0.0 {
-                continue;
-            }
-            let lambda_o = wl.lambda(k);
-            let a = rho.0[k].max(0.0);
-            let b = self.fluorescent_albedo(lambda_o);
-            if a + b <= 0.0 {
-                continue;
-            }
-            let p_fluoresce = b / (a + b);
-            let uk = (u + k as f32 / K as f32).fract();
-            factor.0[k] = if uk < p_fluoresce {
-                let Some((lambda_i, weight)) = self.sample_excitation(uk / p_fluoresce, lambda_o)
-                else {
-                    continue;
-                };
-                wl.set_lambda(k, lambda_i);
-                weight / p_fluoresce
-            } else {
-                a / (1.0 - p_fluoresce)
-            };
-        }
-        factor
+        let live = SampledSpectrum::from_fn(|k| wl.pdf(k));
+        let albedo = |l| self.fluorescent_albedo(l);
+        self.choose(wl, &live, uv, u, albedo, |u, l| {
+            self.sample_excitation(u, l)
+        })
+        .0
     }
 
     /// Light travelling the other way (a light path): per live member with
@@ -175,35 +162,44 @@ impl Fluorescent {
         uv: [f32; 2],
         u: f32,
     ) -> (SampledSpectrum<K>, [bool; K]) {
+        let albedo = |l| self.reemitted(l);
+        self.choose(wl, alive, uv, u, albedo, |u, l| self.sample_emission(u, l))
+    }
+
+    /// Both directions' choice, per member k with `live[k]` ≠ 0: elastic
+    /// (ρ) or shifted (`albedo` of the member's wavelength, the other
+    /// wavelength drawn by `sample`, which returns it and F/p), chosen in
+    /// proportion to the two.
+    fn choose<const K: usize>(
+        &self,
+        wl: &mut SampledWavelengths<K>,
+        live: &SampledSpectrum<K>,
+        uv: [f32; 2],
+        u: f32,
+        albedo: impl Fn(f32) -> f32,
+        sample: impl Fn(f32, f32) -> Option<(f32, f32)>,
+    ) -> (SampledSpectrum<K>, [bool; K]) {
         let rho = self.reflectance.eval(wl, uv);
         let mut factor = SampledSpectrum::splat(0.0);
         let mut moved = [false; K];
-        #[allow(clippy::needless_range_loop)] // k indexes the cluster, `alive`, `rho` and `moved`
-        for k in 0..K {
-            if alive.0[k] == 0.0 {
-                continue;
-            }
-            let lambda_i = wl.lambda(k);
+        for k in (0..K).filter(|&k| live.0[k] != 0.0) {
+            let lambda = wl.lambda(k);
             let a = rho.0[k].max(0.0);
-            let b = self.reemitted(lambda_i);
+            let b = albedo(lambda);
             if a + b <= 0.0 {
                 continue;
             }
-            let p_fluoresce = b / (a + b);
+            let p_shift = b / (a + b);
             let uk = (u + k as f32 / K as f32).fract();
-            factor.0[k] = if uk < p_fluoresce {
-                let sampled = match &self.reradiation {
-                    Reradiation::Separable(s) => s.sample_emission(uk / p_fluoresce, lambda_i),
-                    Reradiation::Matrix(m) => m.sample_emission(uk / p_fluoresce, lambda_i),
-                };
-                let Some((lambda_o, weight)) = sampled else {
+            factor.0[k] = if uk < p_shift {
+                let Some((other, weight)) = sample(uk / p_shift, lambda) else {
                     continue;
                 };
-                wl.set_lambda(k, lambda_o);
+                wl.set_lambda(k, other);
                 moved[k] = true;
-                weight / p_fluoresce
+                weight / p_shift
             } else {
-                a / (1.0 - p_fluoresce)
+                a / (1.0 - p_shift)
             };
         }
         (factor, moved)

@@ -67,19 +67,8 @@ impl Renderer<'_> {
         splats: &mut Vec<Splat<K>>,
         counts: &mut SampleCounts,
     ) -> Option<CameraSample<K>> {
-        sampler.start(pixel, index);
-        let [fx, fy, u_choice, u_wl] = sampler.get_4d();
-        let [lx, ly, u_first, u_runs] = sampler.get_4d();
+        let (film, lens, first, u_runs) = self.start_sample::<K>(sampler, pixel, index);
         let u_rotate = sampler.get_1d();
-        let offset = self.filter.sample([fx, fy]);
-        let film = [
-            pixel[0] as f32 + 0.5 + offset[0],
-            pixel[1] as f32 + 0.5 + offset[1],
-        ];
-        let mut first: SampledWavelengths<K> = self.wavelengths.sample(u_choice, u_wl);
-        if !first.secondary_terminated() {
-            first.rotate_to_front(((u_first * K as f32) as usize).min(K - 1));
-        }
         let Some(spectra) = &self.light_spectra else {
             return None;
         };
@@ -108,7 +97,7 @@ impl Renderer<'_> {
             sampler,
             &wl,
             film,
-            [lx, ly],
+            lens,
             max_camera,
             &mut scratch.camera,
             &mut counts.rays,
