@@ -144,9 +144,9 @@ fn per_pixel_the_tracers_differ_only_by_their_noise() {
     // splat) is caught too. Only scenes whose every path the path tracer
     // can sample: in the material showcase it cannot sample the sun's
     // caustics under the glass and gold spheres (a delta light through a
-    // specular bounce), in the prism scene the spectrum on the wall, so
-    // there the bidirectional image is the right one and the two differ
-    // by more than their noise (docs/bdpt.md).
+    // specular bounce), in the prism scene (practically) the spectrum on
+    // the wall, so there the bidirectional image is the right one and the
+    // two differ by more than their noise (docs/bdpt.md).
     let small = [("width", "16"), ("height", "12")];
     let cases: [(&str, &[(&str, &str)], u32); 3] = [
         ("cornell-box.xml", &[("res", "12")], 2048),
