@@ -81,11 +81,13 @@ gallery:
 	  $(BIN) render scenes/paper.xml -D illuminant=$$il -o $(GALLERY_OUT)/paper-$$il.exr --preview $(GALLERY_OUT)/paper-$$il.png; done
 	$(BIN) render scenes/prism.xml -o $(GALLERY_OUT)/prism.exr --preview $(GALLERY_OUT)/prism.png
 	$(BIN) render scenes/diamond.xml --spp 512 -o $(GALLERY_OUT)/diamond.exr --preview $(GALLERY_OUT)/diamond.png
-	@for s in paper-d65 paper-a prism diamond; do \
+	@for s in paper-d65 paper-a diamond; do \
 	  $(BIN) display $(GALLERY_OUT)/$$s.exr -o $(GALLERY_OUT)/$$s-seen.png; done
-	@# The poster as seen by someone looking at the inks (adapted to 30 cd/m²),
-	@# not to the dark room's log-average.
-	$(BIN) display $(GALLERY_OUT)/black-light-poster.exr --adaptation 30 -o $(GALLERY_OUT)/black-light-poster-seen.png
+	@# The poster and the prism's spectrum as seen by someone looking at the
+	@# inks or the screen (adapted to 30 cd/m²), not to the dark room's
+	@# log-average.
+	@for s in black-light-poster prism; do \
+	  $(BIN) display $(GALLERY_OUT)/$$s.exr --adaptation 30 -o $(GALLERY_OUT)/$$s-seen.png; done
 	@echo "renders in $(GALLERY_OUT)/"
 
 ## criterion benchmarks, the bundled scenes' render rates and memory, and
