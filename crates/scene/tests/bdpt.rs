@@ -148,7 +148,8 @@ fn per_pixel_the_tracers_differ_only_by_their_noise() {
     // the wall, so there the bidirectional image is the right one and the
     // two differ by more than their noise (docs/bdpt.md).
     let small = [("width", "16"), ("height", "12")];
-    let cases: [(&str, &[(&str, &str)], u32); 3] = [
+    type Case<'a> = (&'a str, &'a [(&'a str, &'a str)], u32);
+    let cases: [Case; 3] = [
         ("cornell-box.xml", &[("res", "12")], 2048),
         ("night-street.xml", &small, 4096),
         ("black-light-poster.xml", &small, 4096),
