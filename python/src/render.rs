@@ -92,6 +92,7 @@ fn render<'py>(
         }
     }
     d.set_item("nonfiniteSamples", rendered.nonfinite)?;
+    d.set_item("nonfiniteSplats", rendered.nonfinite_splats)?;
     d.set_item("collapsedFraction", rendered.collapsed_fraction())?;
     Ok((image.into_pyarray(py), d))
 }

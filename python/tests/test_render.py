@@ -52,6 +52,7 @@ def test_render_with_the_bidirectional_tracer():
         str(SCENES / "cornell-box.xml"), spp=64, params={"res": "8"}, integrator="bdpt"
     )
     assert meta["integrator"] == "bdpt"
+    assert (meta["nonfiniteSamples"], meta["nonfiniteSplats"]) == (0, 0)
     assert np.isfinite(image).all()
     assert abs(image[..., 1].mean() / path[..., 1].mean() - 1) < 0.1
     import pytest

@@ -195,6 +195,12 @@ pub fn run(args: Args) -> Result<()> {
             rendered.nonfinite
         );
     }
+    if rendered.nonfinite_splats > 0 {
+        eprintln!(
+            "scotopia: warning: {} light-tracing contributions had NaN or infinite values and were dropped",
+            rendered.nonfinite_splats
+        );
+    }
     if let Some(out) = &args.display {
         let (w, h) = (rendered.film.width as usize, rendered.film.height as usize);
         let (params, png, _) = args

@@ -76,7 +76,7 @@ fn mean_and_se_with(
         ..RenderOptions::default()
     };
     let r = render(scene, &options, &AtomicBool::new(false), &|_, _| {}).unwrap();
-    assert_eq!(r.nonfinite, 0);
+    assert_eq!((r.nonfinite, r.nonfinite_splats), (0, 0));
     let px = r.film.xyzv();
     let n = px.len() as f64;
     std::array::from_fn(|c| {

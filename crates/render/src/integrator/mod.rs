@@ -69,6 +69,10 @@ pub struct Rendered {
     pub spp: u32,
     /// Samples whose estimate was NaN or infinite, dropped.
     pub nonfinite: u64,
+    /// Light-tracing contributions (bdpt's t = 1 splats) that were NaN or
+    /// infinite, dropped; counted apart because a camera sample makes any
+    /// number of them.
+    pub nonfinite_splats: u64,
     /// Rays traced (camera, continuation and shadow rays).
     pub rays: u64,
     /// Samples (kept ones) whose cluster of several wavelengths collapsed
@@ -98,6 +102,8 @@ impl Rendered {
 struct PassCounts {
     /// Samples whose estimate was not finite, dropped.
     dropped: u64,
+    /// Light-tracing splats that were not finite, dropped.
+    dropped_splats: u64,
     rays: u64,
     /// Samples whose whole cluster collapsed at a dispersive refraction.
     collapsed: u64,
@@ -275,7 +281,7 @@ impl<'a> Renderer<'a> {
                                     &mut c,
                                 );
                                 counts.rays += c.rays;
-                                counts.dropped += c.dropped_splats;
+                                counts.dropped_splats += c.dropped_splats;
                                 s
                             }
                         };
@@ -300,6 +306,7 @@ impl<'a> Renderer<'a> {
         let mut total = PassCounts::default();
         for (c, splats) in rows {
             total.dropped += c.dropped;
+            total.dropped_splats += c.dropped_splats;
             total.rays += c.rays;
             total.collapsed += c.collapsed;
             for sp in &splats {
@@ -389,6 +396,7 @@ fn render_k<const K: usize>(
         }
         let c = renderer.pass::<K>(options.seed, &mut film, done, count);
         counts.dropped += c.dropped;
+        counts.dropped_splats += c.dropped_splats;
         counts.rays += c.rays;
         counts.collapsed += c.collapsed;
         done += count;
@@ -399,6 +407,7 @@ fn render_k<const K: usize>(
         film,
         spp: done,
         nonfinite: counts.dropped,
+        nonfinite_splats: counts.dropped_splats,
         rays: counts.rays,
         collapsed: counts.collapsed,
         elapsed: start.elapsed(),
