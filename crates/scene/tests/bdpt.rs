@@ -62,20 +62,32 @@ fn path(spp: u32, seed: u32) -> RenderOptions {
     }
 }
 
-#[test]
-fn every_strategy_alone_converges_to_the_same_image() {
-    // Paths of exactly 3 segments in the Cornell box: the path tracer's
-    // depth-3 image minus its depth-2 image, against each of the four
-    // strategies that build such paths, unweighted.
-    let three = scene("cornell-box.xml", &[("res", "12"), ("max_depth", "3")]);
-    let two = scene("cornell-box.xml", &[("res", "12"), ("max_depth", "2")]);
-    let a = image(&three, path(4096, 1));
-    let b = image(&two, path(4096, 2));
-    let reference: Vec<[f32; 4]> = a
+/// The Cornell box at `res`² with max depth `depth`, and the path
+/// tracer's image of its paths of exactly `depth` segments: its depth
+/// `depth` image minus its depth `depth − 1` image, `spp` samples each.
+fn paths_of_length(res: &str, depth: i32, spp: u32) -> (Scene, Vec<[f32; 4]>) {
+    let at = |d: i32| {
+        scene(
+            "cornell-box.xml",
+            &[("res", res), ("max_depth", &d.to_string())],
+        )
+    };
+    let (long, short) = (at(depth), at(depth - 1));
+    let a = image(&long, path(spp, 1));
+    let b = image(&short, path(spp, 2));
+    let reference = a
         .iter()
         .zip(&b)
         .map(|(p, q)| std::array::from_fn(|c| p[c] - q[c]))
         .collect();
+    (long, reference)
+}
+
+#[test]
+fn every_strategy_alone_converges_to_the_same_image() {
+    // Paths of exactly 3 segments in the Cornell box, against each of the
+    // four strategies that build such paths, unweighted.
+    let (three, reference) = paths_of_length("12", 3, 4096);
     for (s, t) in [(0, 4), (1, 3), (2, 2), (3, 1)] {
         let options = RenderOptions {
             only_strategy: Some([s, t]),
@@ -169,15 +181,7 @@ fn light_tracing_alone_matches_direct_lighting() {
     // the direct lighting of every visible surface, splatted: the path
     // tracer's depth-2 image minus its depth-1 image. Many samples, so
     // that an error of a few percent in the camera importance shows.
-    let two = scene("cornell-box.xml", &[("res", "8"), ("max_depth", "2")]);
-    let one = scene("cornell-box.xml", &[("res", "8"), ("max_depth", "1")]);
-    let a = image(&two, path(8192, 1));
-    let b = image(&one, path(8192, 2));
-    let reference: Vec<[f32; 4]> = a
-        .iter()
-        .zip(&b)
-        .map(|(p, q)| std::array::from_fn(|c| p[c] - q[c]))
-        .collect();
+    let (two, reference) = paths_of_length("8", 2, 8192);
     let options = RenderOptions {
         only_strategy: Some([2, 1]),
         ..bdpt(32768, 3)
