@@ -62,8 +62,11 @@ demo:
 	  $(BIN) spectrum --illuminant $$lamp --plot $(DEMO_OUT)/illuminant-$$lamp.png > /dev/null; done
 	@$(BIN) spectrum --file scenes/lamps/led-4000k.csv --plot $(DEMO_OUT)/led-4000k.png
 	@$(BIN) spectrum --file scenes/lamps/low-pressure-sodium.csv --plot $(DEMO_OUT)/low-pressure-sodium.png
+	@# The prism's spectrum as seen by someone looking at the screen (adapted
+	@# to 30 cd/m²), not to the dark room's log-average.
 	@for s in $(DEMO_SCENES); do \
-	  $(BIN) display $(DEMO_OUT)/$$s.exr -o $(DEMO_OUT)/$$s-seen.png; done
+	  case $$s in prism) a=30;; *) a=;; esac; \
+	  $(BIN) display $(DEMO_OUT)/$$s.exr $${a:+--adaptation $$a} -o $(DEMO_OUT)/$$s-seen.png; done
 	@# The night street at daylight, dusk and moonlight (every light scaled).
 	@for level in day:800 dusk:4 moonlight:0.02; do \
 	  $(BIN) display $(DEMO_OUT)/night-street.exr --scale $${level#*:} \
