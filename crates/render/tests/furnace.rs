@@ -378,10 +378,15 @@ fn fluorescent_sphere(sky: Spectrum, material: Bsdf) -> Scene {
         radius: 1.0,
     });
     let cam = camera(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, 10.0);
+    alone_under_sky(cam, sphere, sky, material)
+}
+
+/// One shape of `material` under a uniform sky of radiance `sky`.
+fn alone_under_sky(cam: Camera, shape: Shape, sky: Spectrum, material: Bsdf) -> Scene {
     let lights = vec![Light::Constant(ConstantLight { radiance: sky })];
     let mut s = scene(
         cam,
-        vec![sphere],
+        vec![shape],
         Spectrum::Constant(0.0),
         lights,
         vec![None],
@@ -400,16 +405,7 @@ fn fluorescent_plane(sky: Spectrum, material: Bsdf) -> Scene {
         Transform::scale(Vec3::new(0.6, 0.6, 1.0)).unwrap(),
     )));
     let cam = camera(Vec3::new(0.0, 0.0, 1.0), Vec3::ZERO, 60.0);
-    let lights = vec![Light::Constant(ConstantLight { radiance: sky })];
-    let mut s = scene(
-        cam,
-        vec![plane],
-        Spectrum::Constant(0.0),
-        lights,
-        vec![None],
-    );
-    s.materials = vec![material];
-    s
+    alone_under_sky(cam, plane, sky, material)
 }
 
 fn brightened_paper() -> Bsdf {

@@ -262,6 +262,23 @@ mod tests {
         .unwrap()
     }
 
+    /// Σ factor·g(λ after) over `n` stratified numbers, for one member
+    /// arriving at `lambda_o` and reradiated backwards.
+    pub(super) fn backward_sum(
+        f: &Fluorescent,
+        lambda_o: f32,
+        g: impl Fn(f32) -> f32,
+        n: usize,
+    ) -> f64 {
+        (0..n)
+            .map(|i| {
+                let mut wl = SampledWavelengths::<1>::new([lambda_o], [1.0]);
+                let factor = f.reradiate(&mut wl, [0.0, 0.0], (i as f32 + 0.5) / n as f32);
+                factor.0[0] as f64 * g(wl.lambda(0)) as f64
+            })
+            .sum()
+    }
+
     #[test]
     fn forward_reradiation_is_unbiased() {
         // E[factor · g(λ after)] from λi equals ρ(λi)·g(λi) + ∫F(λi → λo)·g(λo) dλo,
@@ -326,12 +343,7 @@ mod tests {
         let g = |l: f32| 1.0 + (l - 360.0) / 100.0;
         let lambda_o = 450.0;
         let n = 200_000;
-        let mut sum = 0.0f64;
-        for i in 0..n {
-            let mut wl = SampledWavelengths::<1>::new([lambda_o], [1.0]);
-            let factor = f.reradiate(&mut wl, [0.0, 0.0], (i as f32 + 0.5) / n as f32);
-            sum += factor.0[0] as f64 * g(wl.lambda(0)) as f64;
-        }
+        let sum = backward_sum(&f, lambda_o, g, n);
         let m = 100_000;
         let h = (lambda_o - 360.0) as f64 / m as f64;
         let integral: f64 = (0..m)
@@ -468,12 +480,7 @@ mod reemission_tests {
         let g = |l: f32| 2.0 - (l - 380.0) / 300.0;
         let lambda_o = 512.5;
         let samples = 100_000;
-        let mut sum = 0.0f64;
-        for i in 0..samples {
-            let mut wl = SampledWavelengths::<1>::new([lambda_o], [1.0]);
-            let factor = f.reradiate(&mut wl, [0.0, 0.0], (i as f32 + 0.5) / samples as f32);
-            sum += (factor.0[0] * g(wl.lambda(0))) as f64;
-        }
+        let sum = super::tests::backward_sum(&f, lambda_o, g, samples);
         let integral: f64 = (0..10_000)
             .map(|i| {
                 let l = 380.0 + (i as f32 + 0.5) * 0.01;
