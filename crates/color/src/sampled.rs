@@ -68,9 +68,12 @@ impl<const K: usize> SampledWavelengths<K> {
     /// uniform choice among the K, whose density is then the one stored,
     /// even when the members were drawn from different strata.
     pub fn rotate_to_front(&mut self, first: usize) {
+        // Index arithmetic, not `rotate_left`: that is a memmove call per
+        // array, at the start of every camera sample.
         let j = first % K.max(1);
-        self.lambda.rotate_left(j);
-        self.pdf.rotate_left(j);
+        let (lambda, pdf) = (self.lambda, self.pdf);
+        self.lambda = std::array::from_fn(|k| lambda[(k + j) % K]);
+        self.pdf = std::array::from_fn(|k| pdf[(k + j) % K]);
     }
 
     /// Keeps only the first wavelength (a dispersive event). Its density is

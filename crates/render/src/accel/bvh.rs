@@ -180,9 +180,11 @@ impl Bvh {
     /// nearest box first, by their position in `order()`.
     /// `hit(position, t_max)` returns a new, closer t_max when the
     /// primitive is hit; returning `Some` with `stop` true ends the
-    /// traversal (any-hit queries).
+    /// traversal (any-hit queries). `NEAREST_FIRST` orders each node's
+    /// children by distance: closest-hit queries need it to shrink t_max
+    /// early; any-hit queries skip the sort.
     #[inline]
-    pub fn traverse(
+    pub fn traverse<const NEAREST_FIRST: bool>(
         &self,
         ray: &Ray,
         t_max: f32,
@@ -192,14 +194,14 @@ impl Bvh {
             return t_max;
         }
         let query = Query::new(ray);
-        self.walk(&query, 0, t_max, &mut hit).0
+        self.walk::<NEAREST_FIRST>(&query, 0, t_max, &mut hit).0
     }
 
     /// Traverses the subtree under node `root` with a fixed stack of
     /// (entry distance, node, child slot) words; a subtree that would
     /// overflow it (only in pathologically deep trees) is walked by
     /// recursion instead. Returns (t_max, stopped).
-    fn walk(
+    fn walk<const NEAREST_FIRST: bool>(
         &self,
         q: &Query,
         root: u32,
@@ -224,7 +226,7 @@ impl Bvh {
                 mask &= mask - 1;
                 let t = t_near[c];
                 let mut j = n;
-                while j > 0 && hits[j - 1].0 < t {
+                while NEAREST_FIRST && j > 0 && hits[j - 1].0 < t {
                     hits[j] = hits[j - 1];
                     j -= 1;
                 }
@@ -236,7 +238,8 @@ impl Bvh {
             if n > 0 && node.count[hits[n - 1].1 as usize] == 0 {
                 n -= 1;
                 for &(t, c) in &hits[..n] {
-                    let (t, stop) = self.push(&mut stack, &mut sp, q, current, c, t, t_max, hit);
+                    let (t, stop) = self
+                        .push::<NEAREST_FIRST>(&mut stack, &mut sp, q, current, c, t, t_max, hit);
                     t_max = t;
                     if stop {
                         return (t_max, true);
@@ -246,7 +249,8 @@ impl Bvh {
                 continue;
             }
             for &(t, c) in &hits[..n] {
-                let (t, stop) = self.push(&mut stack, &mut sp, q, current, c, t, t_max, hit);
+                let (t, stop) =
+                    self.push::<NEAREST_FIRST>(&mut stack, &mut sp, q, current, c, t, t_max, hit);
                 t_max = t;
                 if stop {
                     return (t_max, true);
@@ -269,7 +273,7 @@ impl Bvh {
                     current = node.child[slot];
                     break;
                 }
-                let (t, stop) = self.visit(q, node, slot, t_max, hit);
+                let (t, stop) = self.visit::<NEAREST_FIRST>(q, node, slot, t_max, hit);
                 t_max = t;
                 if stop {
                     return (t_max, true);
@@ -282,7 +286,7 @@ impl Bvh {
     /// when the stack is full, visits it at once instead.
     #[allow(clippy::too_many_arguments)]
     #[inline]
-    fn push(
+    fn push<const NEAREST_FIRST: bool>(
         &self,
         stack: &mut [u64; STACK],
         sp: &mut usize,
@@ -298,12 +302,12 @@ impl Bvh {
             *sp += 1;
             return (t_max, false);
         }
-        self.visit(q, &self.nodes[index as usize], slot as usize, t_max, hit)
+        self.visit::<NEAREST_FIRST>(q, &self.nodes[index as usize], slot as usize, t_max, hit)
     }
 
     /// Child `slot` of `node`: a leaf's primitives, or (when the stack is
     /// full) an interior subtree by recursion.
-    fn visit(
+    fn visit<const NEAREST_FIRST: bool>(
         &self,
         q: &Query,
         node: &Node4,
@@ -313,7 +317,7 @@ impl Bvh {
     ) -> (f32, bool) {
         let (first, count) = (node.child[slot], node.count[slot] as u32);
         if count == 0 {
-            return self.walk(q, first, t_max, hit);
+            return self.walk::<NEAREST_FIRST>(q, first, t_max, hit);
         }
         for k in first..first + count {
             if let Some((t, stop)) = hit(k, t_max) {

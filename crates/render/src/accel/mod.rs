@@ -56,7 +56,7 @@ impl Aggregate {
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
         let shear = RayShear::new(ray);
         let mut best: Option<Hit> = None;
-        self.bvh.traverse(ray, ray.t_max, |i, t_max| {
+        self.bvh.traverse::<true>(ray, ray.t_max, |i, t_max| {
             let prim = &self.prims[i as usize];
             let (t, uv) = prim.intersect(ray, &shear, t_max)?;
             best = Some(Hit {
@@ -74,7 +74,7 @@ impl Aggregate {
     pub fn occluded(&self, ray: &Ray) -> bool {
         let shear = RayShear::new(ray);
         let mut any = false;
-        self.bvh.traverse(ray, ray.t_max, |i, t_max| {
+        self.bvh.traverse::<false>(ray, ray.t_max, |i, t_max| {
             let (t, _) = self.prims[i as usize].intersect(ray, &shear, t_max)?;
             any = true;
             Some((t, true))

@@ -55,13 +55,20 @@ pub fn intersect_triangle(
     t_max: f32,
 ) -> Option<TriangleHit> {
     // Vertices relative to the origin, sheared so the ray is the +z axis.
-    let (a, b, c) = (p0 - ray.o, p1 - ray.o, p2 - ray.o);
-    let ax = a[s.kx] - s.sx * a[s.kz];
-    let ay = a[s.ky] - s.sy * a[s.kz];
-    let bx = b[s.kx] - s.sx * b[s.kz];
-    let by = b[s.ky] - s.sy * b[s.kz];
-    let cx = c[s.kx] - s.sx * c[s.kz];
-    let cy = c[s.ky] - s.sy * c[s.kz];
+    // As 4-arrays indexed by `k & 3`: a plain index, where `Vec3[k]` is a
+    // branch per component (nine per test).
+    let rel = |p: Vec3| {
+        let d = p - ray.o;
+        [d.x, d.y, d.z, 0.0]
+    };
+    let (a, b, c) = (rel(p0), rel(p1), rel(p2));
+    let (kx, ky, kz) = (s.kx & 3, s.ky & 3, s.kz & 3);
+    let ax = a[kx] - s.sx * a[kz];
+    let ay = a[ky] - s.sy * a[kz];
+    let bx = b[kx] - s.sx * b[kz];
+    let by = b[ky] - s.sy * b[kz];
+    let cx = c[kx] - s.sx * c[kz];
+    let cy = c[ky] - s.sy * c[kz];
 
     // Scaled barycentrics: 2D edge functions, in f64 when one is exactly 0
     // (an edge through the ray), so the shared edge decides consistently.
@@ -85,9 +92,9 @@ pub fn intersect_triangle(
     }
 
     // Scaled distance, compared without dividing (Woop et al. 2013, §3).
-    let az = s.sz * a[s.kz];
-    let bz = s.sz * b[s.kz];
-    let cz = s.sz * c[s.kz];
+    let az = s.sz * a[kz];
+    let bz = s.sz * b[kz];
+    let cz = s.sz * c[kz];
     let t_scaled = u * az + v * bz + w * cz;
     if (det < 0.0 && (t_scaled >= 0.0 || t_scaled < t_max * det))
         || (det > 0.0 && (t_scaled <= 0.0 || t_scaled > t_max * det))
