@@ -99,7 +99,7 @@ gallery:
 ## criterion benchmarks, the bundled scenes' render rates and memory, and
 ## the Cornell box against Mitsuba 3 (bench/*.py print the README tables).
 bench: python
-	$(CARGO) bench -p scotopia-color -p scotopia-render
+	$(CARGO) bench -p scotopia-color -p scotopia-render -p scotopia-scene
 	$(CARGO) build --release -p scotopia
 	$(PY) bench/scenes.py --spp 16
 	$(PY) bench/strategies.py
