@@ -102,13 +102,11 @@ impl SpectralPdf {
         self.integral
     }
 
-    /// Density at `lambda` (per nm).
+    /// The node interval i holding `lambda` (within the nodes' span) and
+    /// the density there, linear between nodes i and i + 1.
     #[inline]
-    pub fn pdf(&self, lambda: f32) -> f32 {
+    fn locate(&self, lambda: f32) -> (usize, f32) {
         let n = &self.nodes;
-        if !(n[0]..=n[n.len() - 1]).contains(&lambda) {
-            return 0.0;
-        }
         let j = ((lambda - n[0]) as usize).min(self.by_nm.len() - 2);
         let i = interval(
             n,
@@ -117,7 +115,17 @@ impl SpectralPdf {
             self.by_nm[j + 1] as usize,
         );
         let t = ((lambda - n[i]) / (n[i + 1] - n[i])).clamp(0.0, 1.0);
-        self.values[i] * (1.0 - t) + self.values[i + 1] * t
+        (i, self.values[i] * (1.0 - t) + self.values[i + 1] * t)
+    }
+
+    /// Density at `lambda` (per nm).
+    #[inline]
+    pub fn pdf(&self, lambda: f32) -> f32 {
+        let n = &self.nodes;
+        if !(n[0]..=n[n.len() - 1]).contains(&lambda) {
+            return 0.0;
+        }
+        self.locate(lambda).1
     }
 
     /// A wavelength distributed by the density, for u ∈ [0, 1).
@@ -135,15 +143,9 @@ impl SpectralPdf {
         if lambda >= n[n.len() - 1] {
             return 1.0;
         }
-        let j = ((lambda - n[0]) as usize).min(self.by_nm.len() - 2);
-        let i = interval(
-            n,
-            lambda,
-            self.by_nm[j] as usize,
-            self.by_nm[j + 1] as usize,
-        );
+        let (i, v) = self.locate(lambda);
         // The density is linear on [n[i], λ]: a trapezoid.
-        let (v0, v) = (self.values[i], self.pdf(lambda));
+        let v0 = self.values[i];
         self.cdf[i] + 0.5 * (v0 + v) as f64 * (lambda - n[i]) as f64
     }
 
