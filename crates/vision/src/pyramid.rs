@@ -103,19 +103,16 @@ impl Bilinear {
 
     /// Row `y` of the resampled `src` (row-major, the source size) into
     /// `out` (the destination width): the two source rows blended
-    /// vertically at source width first, then interpolated across.
+    /// vertically at each tap, then interpolated across. Nothing is
+    /// allocated: it runs once per row of every band.
     pub fn row(&self, src: &[f32], y: usize, out: &mut [f32]) {
         let (y0, y1, fy) = self.rows[y];
         let w = self.src_width;
         let top = &src[y0 * w..(y0 + 1) * w];
         let bottom = &src[y1 * w..(y1 + 1) * w];
-        let blended: Vec<f32> = top
-            .iter()
-            .zip(bottom)
-            .map(|(t, b)| t + fy * (b - t))
-            .collect();
+        let blend = |x: usize| top[x] + fy * (bottom[x] - top[x]);
         for (o, &(x0, x1, fx)) in out.iter_mut().zip(&self.cols) {
-            let (a, b) = (blended[x0], blended[x1]);
+            let (a, b) = (blend(x0), blend(x1));
             *o = a + fx * (b - a);
         }
     }
