@@ -9,11 +9,13 @@
 //!    local adaptation of the next coarser level. Rods adapt on their own.
 //!    Cones (scotopia's reading, see docs/vision.md): the gain at the local
 //!    *luminance* of that level, times each cone type's von Kries ratio
-//!    G(L_c)/G(L_Y) taken at the coarsest level. Letting each cone type
-//!    adapt per pixel at every scale, as a literal reading would, painted
-//!    complementary-coloured halos at every colour edge (violet skies beside
-//!    sodium-lit walls); this keeps chromatic adaptation and chroma
-//!    consistent across scales.
+//!    G(L_c)/G(L_Y) for the whole image (its mean cone signals at its
+//!    log-average luminance). Letting each cone type adapt per pixel at
+//!    every scale, as a literal reading would, painted complementary-
+//!    coloured halos at every colour edge (violet skies beside sodium-lit
+//!    walls); taking the ratio per pixel of the coarsest level still left
+//!    a cyan fringe some 64 pixels wide beside a saturated red object (the
+//!    field tied to the resolution, not to visual angle).
 //! 4. Opponent channels: achromatic A (the cones' luminance plus the rods)
 //!    and chromatic C1 = L − M, C2 = (L + M)/2 − S.
 //! 5. The inverse for the display: the same responses, with the display's
@@ -24,6 +26,13 @@
 //! transducers and the display inverse through the same transducers; the
 //! composition is the identity, so it is not evaluated (docs/vision.md).
 //! The coarsest level is gain-controlled at its own luminance.
+//!
+//! 6. The display's limit (scotopia's addition): the brightness match puts
+//!    a scene's adaptation luminance La at La·G(La)/G(La_display) on the
+//!    display, which for daylight (La ≳ 2000 cd/m²) is at or above the
+//!    peak, so everything brighter than the mean was lost to white. The
+//!    display image is scaled so that this level stays below a ceiling
+//!    (`mean_ceiling` of the peak), smoothly: unchanged well below it.
 
 mod gain;
 
@@ -33,6 +42,7 @@ use rayon::prelude::*;
 use scotopia_color::space::Cat;
 use scotopia_color::{Mat3, RgbSpace};
 
+use crate::mode::image_statistics;
 use crate::pyramid::{collapse_with, gaussian, Bilinear, Plane};
 
 /// What the eye adapts to in the model's gain control.
@@ -59,6 +69,9 @@ pub struct MultiscaleParams {
     /// (`None`: half the peak).
     pub display_adaptation: Option<f64>,
     pub adaptation: GainAdaptation,
+    /// The highest display level, as a fraction of the peak, the scene's
+    /// adaptation luminance is shown at (see `display_scale`).
+    pub mean_ceiling: f64,
 }
 
 impl Default for MultiscaleParams {
@@ -70,7 +83,35 @@ impl Default for MultiscaleParams {
             display_peak: 100.0,
             display_adaptation: None,
             adaptation: GainAdaptation::Local,
+            mean_ceiling: 0.25,
         }
+    }
+}
+
+impl MultiscaleParams {
+    /// The luminance the viewer of the display is adapted to, cd/m².
+    pub fn display_adaptation(&self) -> f64 {
+        self.display_adaptation.unwrap_or(self.display_peak / 2.0)
+    }
+
+    /// The factor the display image is scaled by for a scene adapted to
+    /// `la` cd/m²: the brightness match shows `la` at
+    /// m = la·G(la)/G(La_display); with the ceiling c = `mean_ceiling` ×
+    /// peak the factor is (1 + (m/c)⁴)^(−1/4), so m·factor rises with m,
+    /// stays below c, and is within 1 % of m up to m = c/2. A dusk scene
+    /// (m ≈ 0.16 of the peak) moves by 4 %; daylight scenes, which the
+    /// plain match put at 60–140 % of the peak, sit near a quarter of it.
+    /// (scotopia's choice: the display cannot match daylight's brightness,
+    /// so it keeps the contrasts instead.)
+    pub fn display_scale(&self, la: f64) -> f64 {
+        let cones = self.cones;
+        let m =
+            la * cones.gain(la as f32) as f64 / cones.gain(self.display_adaptation() as f32) as f64;
+        let c = self.mean_ceiling * self.display_peak;
+        if !(m > 0.0 && m.is_finite() && c > 0.0) {
+            return 1.0;
+        }
+        (1.0 + (m / c).powi(4)).powf(-0.25)
     }
 }
 
@@ -146,28 +187,27 @@ struct Model<'a> {
     /// Gaussian pyramids of L, M, S, R.
     pyramids: Vec<Vec<Plane>>,
     /// Per level but the last, the expansion of the next coarser level
-    /// to it, and of the coarsest level to it.
+    /// to it.
     up: Vec<Bilinear>,
-    up_widest: Vec<Bilinear>,
-    /// Each cone type's von Kries ratio G(L_c)/G(L_Y) on the coarsest
-    /// level.
-    chroma_ratio: [Vec<f32>; 3],
+    /// Each cone type's von Kries ratio G(L_c)/G(L_Y) at the whole
+    /// image's adaptation.
+    chroma_ratio: [f32; 3],
     /// With a global adaptation, every band's four gains.
     fixed_gains: Option<[f32; 4]>,
+    /// The display's cone gain over `MultiscaleParams::display_scale`:
+    /// display cones are responses divided by it.
     display_gain: f32,
 }
 
-/// Per-thread rows of the expanded local means and chroma ratios.
+/// Per-thread rows of the expanded local means.
 struct Scratch {
     mean: [Vec<f32>; 4],
-    ratio: [Vec<f32>; 3],
 }
 
 impl Scratch {
     fn new(width: usize) -> Self {
         Self {
             mean: std::array::from_fn(|_| vec![0.0; width]),
-            ratio: std::array::from_fn(|_| vec![0.0; width]),
         }
     }
 }
@@ -198,40 +238,51 @@ impl<'a> Model<'a> {
         let up = (0..n - 1)
             .map(|l| Bilinear::new(size(l + 1), size(l)))
             .collect();
-        let up_widest = (0..n - 1)
-            .map(|l| Bilinear::new(size(n - 1), size(l)))
-            .collect();
+        // The whole image's adaptation: stated, or its log-average.
+        let la = match p.adaptation {
+            GainAdaptation::Global(la) => la,
+            GainAdaptation::Local => image_statistics(pixels).log_average,
+        };
+        let wide = global_adaptation(pixels, &m, la);
+        let wide_y = p.cones.gain(dot(m.luminance, [wide[0], wide[1], wide[2]]));
+        let chroma_ratio = std::array::from_fn(|c| p.cones.gain(wide[c]) / wide_y);
         let fixed_gains = match p.adaptation {
             GainAdaptation::Local => None,
-            GainAdaptation::Global(la) => {
-                let g = global_adaptation(pixels, &m, la);
-                Some([
-                    p.cones.gain(g[0]),
-                    p.cones.gain(g[1]),
-                    p.cones.gain(g[2]),
-                    p.rods.gain(g[3]),
-                ])
-            }
+            GainAdaptation::Global(_) => Some([
+                p.cones.gain(wide[0]),
+                p.cones.gain(wide[1]),
+                p.cones.gain(wide[2]),
+                p.rods.gain(wide[3]),
+            ]),
         };
-        let mut chroma_ratio: [Vec<f32>; 3] = Default::default();
-        for i in 0..pyramids[0][n - 1].data.len() {
-            let wide: [f32; 3] = std::array::from_fn(|c| pyramids[c][n - 1].data[i]);
-            let wide_y = p.cones.gain(dot(m.luminance, wide));
-            for c in 0..3 {
-                chroma_ratio[c].push(p.cones.gain(wide[c]) / wide_y);
-            }
-        }
-        let la_d = p.display_adaptation.unwrap_or(p.display_peak / 2.0) as f32;
+        let display_gain = p.cones.gain(p.display_adaptation() as f32) / p.display_scale(la) as f32;
         Self {
             p,
             m,
             pyramids,
             up,
-            up_widest,
             chroma_ratio,
             fixed_gains,
-            display_gain: p.cones.gain(la_d),
+            display_gain,
         }
+    }
+
+    /// The four receptors' gains at local adaptation `local` ([L, M, S, R]):
+    /// the cones' at its luminance times their von Kries ratios, the rods'
+    /// at their own signal; with a global adaptation, the fixed gains.
+    fn gains(&self, local: [f32; 4]) -> [f32; 4] {
+        self.fixed_gains.unwrap_or_else(|| {
+            let g = self
+                .p
+                .cones
+                .gain(dot(self.m.luminance, [local[0], local[1], local[2]]));
+            [
+                g * self.chroma_ratio[0],
+                g * self.chroma_ratio[1],
+                g * self.chroma_ratio[2],
+                self.p.rods.gain(local[3]),
+            ]
+        })
     }
 
     fn size(&self, level: usize) -> (usize, usize) {
@@ -240,14 +291,12 @@ impl<'a> Model<'a> {
     }
 
     /// Display cones of pixel `i` of the coarsest level: gain at its own
-    /// luminance, rods added.
+    /// value, rods added.
     fn coarsest(&self, i: usize) -> [f32; 3] {
         let n = self.pyramids[0].len();
-        let gains = [self.p.cones, self.p.cones, self.p.cones, self.p.rods];
-        let x: [f32; 4] = std::array::from_fn(|c| {
-            let v = self.pyramids[c][n - 1].data[i];
-            v * self.fixed_gains.map_or_else(|| gains[c].gain(v), |g| g[c])
-        });
+        let v: [f32; 4] = std::array::from_fn(|c| self.pyramids[c][n - 1].data[i]);
+        let gains = self.gains(v);
+        let x: [f32; 4] = std::array::from_fn(|c| v[c] * gains[c]);
         to_display_cones(&self.m, x).map(|v| v / self.display_gain)
     }
 
@@ -266,29 +315,10 @@ impl<'a> Model<'a> {
         for (c, row) in scratch.mean.iter_mut().enumerate() {
             self.up[level].row(&self.pyramids[c][level + 1].data, y, &mut row[..w]);
         }
-        if self.fixed_gains.is_none() {
-            for (c, row) in scratch.ratio.iter_mut().enumerate() {
-                self.up_widest[level].row(&self.chroma_ratio[c], y, &mut row[..w]);
-            }
-        }
-        let (mean, ratio) = (&scratch.mean, &scratch.ratio);
+        let mean = &scratch.mean;
         for x in 0..w {
             let local: [f32; 4] = std::array::from_fn(|c| mean[c][x]);
-            // Cones: luminance gain at this scale's local adaptation times
-            // each cone's chromatic ratio at the widest scale (see the
-            // module notes).
-            let gains = self.fixed_gains.unwrap_or_else(|| {
-                let g = self
-                    .p
-                    .cones
-                    .gain(dot(self.m.luminance, [local[0], local[1], local[2]]));
-                [
-                    g * ratio[0][x],
-                    g * ratio[1][x],
-                    g * ratio[2][x],
-                    self.p.rods.gain(local[3]),
-                ]
-            });
+            let gains = self.gains(local);
             let i = y * w + x;
             let band: [f32; 4] =
                 std::array::from_fn(|c| (self.pyramids[c][level].data[i] - local[c]) * gains[c]);

@@ -170,3 +170,91 @@ fn rods_join_the_achromatic_channel_only() {
         "{r:?}"
     );
 }
+
+#[test]
+fn a_grey_wall_beside_a_red_object_stays_grey() {
+    // Daylight (white at 2000 cd/m²): grey (reflectance 0.4, D65) with a
+    // saturated red square 32 px wide in a 384 × 128 image. Grey 24 px
+    // and more from the square must have the chromaticity of grey far
+    // from it (measured: 0.0011 at 24 px, 0 beyond 48; nearer, the local
+    // gains' own halo). Chromatic adaptation taken per pixel of the
+    // coarsest level (64 px wide here) tinted it cyan by 0.002–0.004 for
+    // a hundred pixels.
+    let (w, h) = (384, 128);
+    let white = 2000.0f32;
+    let red = [0.41 * white * 0.5, 0.21 * white * 0.5, 0.02 * white * 0.5];
+    let grey = [0.9505 * 0.4 * white, 0.4 * white, 1.089 * 0.4 * white];
+    let px: Vec<[f32; 4]> = (0..w * h)
+        .map(|i| {
+            let (x, y) = (i % w, i / w);
+            let c = if (160..192).contains(&x) && (48..80).contains(&y) {
+                red
+            } else {
+                grey
+            };
+            [c[0], c[1], c[2], 2.0 * c[1]]
+        })
+        .collect();
+    let out = multiscale(&px, w, h, &MultiscaleParams::default());
+    let far = uv(out[64 * w + 360]);
+    for x in [216, 224, 240, 256] {
+        let d = distance(uv(out[64 * w + x]), far);
+        assert!(d < 0.0015, "x = {x}: Δu′v′ {d:.4}");
+    }
+    // And the far grey is neutral: the image's mean is nearly D65.
+    assert!(distance(far, white_uv()) < 0.01, "{far:?}");
+}
+
+#[test]
+fn daylight_stays_below_the_display_ceiling_and_dusk_is_untouched() {
+    let d65 = [0.3127, 0.3290];
+    let p = MultiscaleParams::default();
+    let unlimited = MultiscaleParams {
+        mean_ceiling: f64::INFINITY,
+        ..p
+    };
+    let peak = p.display_peak;
+    // The log-average of `patches` is 0.166 × white; a quarter of the
+    // peak is the ceiling for it, the patches' arithmetic mean a little
+    // above (reflectances average 0.305 against a log-average of 0.166).
+    let mut last = 0.0;
+    for white in [1e3, 1e4, 1e5, 1e6] {
+        let m = mean_y(&multiscale(&patches(d65, white, 2.4), W, H, &p)) / peak;
+        assert!(m < 0.25 * 0.305 / 0.166, "{white}: mean {m:.3} of the peak");
+        assert!(
+            m > last,
+            "brighter scenes must not look darker: {m} ≤ {last}"
+        );
+        last = m;
+    }
+    // Without the ceiling daylight fills the display.
+    let plain = mean_y(&multiscale(&patches(d65, 1e4, 2.4), W, H, &unlimited)) / peak;
+    assert!(plain > 0.75, "{plain}");
+    // A dim scene (white at 2 cd/m², shown near 7 % of the peak) is shown
+    // as the brightness match has it.
+    let dusk = mean_y(&multiscale(&patches(d65, 2.0, 2.4), W, H, &p));
+    let dusk_plain = mean_y(&multiscale(&patches(d65, 2.0, 2.4), W, H, &unlimited));
+    assert!(
+        (dusk / dusk_plain - 1.0).abs() < 0.01,
+        "{dusk} vs {dusk_plain}"
+    );
+}
+
+#[test]
+fn the_display_scale_keeps_brightness_order() {
+    // m·k(m) rises with the adaptation luminance and never passes the
+    // ceiling.
+    let p = MultiscaleParams::default();
+    let cones = p.cones;
+    let shown = |la: f64| {
+        la * cones.gain(la as f32) as f64 / cones.gain(p.display_adaptation() as f32) as f64
+            * p.display_scale(la)
+    };
+    let mut last = 0.0;
+    for e in -40..=70 {
+        let la = 10f64.powf(e as f64 / 10.0);
+        let s = shown(la);
+        assert!(s > last && s < p.mean_ceiling * p.display_peak, "{la}: {s}");
+        last = s;
+    }
+}

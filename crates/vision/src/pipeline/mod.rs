@@ -257,24 +257,39 @@ fn xyz_of(px: &[[f32; 4]]) -> Vec<[f32; 3]> {
 }
 
 fn display_adaptation(p: &DisplayParams) -> f64 {
-    p.multiscale
-        .display_adaptation
-        .unwrap_or(p.display_peak / 2.0)
+    multiscale_params(p).display_adaptation()
+}
+
+/// The multiscale model's parameters as the pipeline runs it: the
+/// display's peak, and one adaptation for the model only when one is
+/// stated (`--adaptation CD`).
+fn multiscale_params(p: &DisplayParams) -> MultiscaleParams {
+    MultiscaleParams {
+        display_peak: p.display_peak,
+        adaptation: match p.adaptation {
+            Adaptation::Fixed(l) => GainAdaptation::Global(l),
+            Adaptation::Global | Adaptation::Local => GainAdaptation::Local,
+        },
+        ..p.multiscale
+    }
 }
 
 /// The scene luminance above which the display cannot follow, so the
 /// excess glares (Spencer et al. 1995 §5). For the exposure and Reinhard
 /// operators: what exposure maps to peak white, La / 0.18. For the
 /// multiscale model: the luminance whose photopic response, through the
-/// display's gain, is the peak — Y·G(Y) = peak·G(La_display), solved by
-/// bisection in log luminance (Y·G(Y) rises monotonically).
+/// display's gain and the display's limit k, is the peak —
+/// k·Y·G(Y) = peak·G(La_display), solved by bisection in log luminance
+/// (Y·G(Y) rises monotonically).
 fn glare_threshold(p: &DisplayParams, la: f64) -> f64 {
     match p.tonemap {
         ToneOperator::Exposure | ToneOperator::Reinhard => la / 0.18,
         ToneOperator::Multiscale => {
-            let cones = p.multiscale.cones;
-            let response = |y: f64| y * cones.gain(y as f32) as f64;
-            let target = p.display_peak * cones.gain(display_adaptation(p) as f32) as f64;
+            let params = multiscale_params(p);
+            let cones = params.cones;
+            let k = params.display_scale(la);
+            let response = |y: f64| k * y * cones.gain(y as f32) as f64;
+            let target = p.display_peak * cones.gain(params.display_adaptation() as f32) as f64;
             let (mut lo, mut hi) = (-6.0f64, 12.0f64);
             for _ in 0..60 {
                 let mid = 0.5 * (lo + hi);
@@ -317,15 +332,7 @@ fn tone_map(
         }
         ToneOperator::Reinhard => scaled(&|_, y| reinhard_scale(y, la, stats.maximum)),
         ToneOperator::Multiscale => {
-            let params = MultiscaleParams {
-                display_peak: p.display_peak,
-                adaptation: match p.adaptation {
-                    Adaptation::Fixed(l) => GainAdaptation::Global(l),
-                    Adaptation::Global | Adaptation::Local => GainAdaptation::Local,
-                },
-                ..p.multiscale
-            };
-            let out = multiscale(scene, width, height, &params);
+            let out = multiscale(scene, width, height, &multiscale_params(p));
             let peak = p.display_peak as f32;
             scene
                 .par_iter()
