@@ -36,9 +36,15 @@ def glare(image, degrees_per_pixel, threshold, s=1.0):
     return _s.glare(_f32(image), degrees_per_pixel, threshold, s)
 
 
-def multiscale(image, display_peak=100.0, display_adaptation=None, adaptation=None, levels=7):
-    """Pattanaik et al. 1998's model: display X, Y, Z in cd/m² (H × W × 3)."""
-    return _s.multiscale(_f32(image), display_peak, display_adaptation, adaptation, levels)
+def multiscale(image, display_peak=100.0, display_adaptation=None, adaptation=None, levels=7,
+               mean_ceiling=0.25):
+    """Pattanaik et al. 1998's model: display X, Y, Z in cd/m² (H × W × 3).
+
+    ``mean_ceiling``: the image's adaptation luminance is shown below this
+    fraction of ``display_peak`` (``math.inf``: the plain brightness match).
+    """
+    return _s.multiscale(_f32(image), display_peak, display_adaptation, adaptation, levels,
+                         mean_ceiling)
 
 
 def night_shift(image, s):

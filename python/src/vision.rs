@@ -125,9 +125,11 @@ fn glare<'py>(
 
 /// The multiscale model (Pattanaik et al. 1998): display X, Y, Z in cd/m²
 /// (H × W × 3). `adaptation` None: local, per scale; a number: one
-/// photopic adaptation luminance for the whole image.
+/// photopic adaptation luminance for the whole image. `mean_ceiling`: the
+/// fraction of the peak the adaptation luminance is shown below
+/// (docs/vision.md, step 6; `math.inf` for the plain brightness match).
 #[pyfunction]
-#[pyo3(signature = (image, display_peak = 100.0, display_adaptation = None, adaptation = None, levels = 7))]
+#[pyo3(signature = (image, display_peak = 100.0, display_adaptation = None, adaptation = None, levels = 7, mean_ceiling = 0.25))]
 fn multiscale<'py>(
     py: Python<'py>,
     image: PyReadonlyArray3<f32>,
@@ -135,13 +137,20 @@ fn multiscale<'py>(
     display_adaptation: Option<f64>,
     adaptation: Option<f64>,
     levels: usize,
+    mean_ceiling: f64,
 ) -> PyResult<Bound<'py, PyArray3<f32>>> {
     let (w, h, px) = pixels::<4>(&image)?;
+    if !(mean_ceiling > 0.0) {
+        return Err(PyValueError::new_err(format!(
+            "mean_ceiling must be positive (got {mean_ceiling})"
+        )));
+    }
     let p = MultiscaleParams {
         levels,
         display_peak,
         display_adaptation,
         adaptation: adaptation.map_or(GainAdaptation::Local, GainAdaptation::Global),
+        mean_ceiling,
         ..MultiscaleParams::default()
     };
     let out = py.detach(|| run_multiscale(&px, w, h, &p));

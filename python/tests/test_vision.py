@@ -76,6 +76,18 @@ def test_multiscale_keeps_a_uniform_field_uniform():
     assert np.ptp(out[..., 1]) < 1e-4 * out[..., 1].mean()
 
 
+def test_multiscale_shows_daylight_below_its_ceiling():
+    # A uniform daylight field: the brightness match alone puts it at the
+    # display's peak; the ceiling keeps it under a quarter of the peak.
+    plain = vision.multiscale(grey(3000.0), mean_ceiling=float("inf"))[..., 1].mean()
+    limited = vision.multiscale(grey(3000.0))[..., 1].mean()
+    assert plain > 90.0
+    assert 20.0 < limited < 25.0
+    assert vision.multiscale(grey(3000.0), mean_ceiling=0.1)[..., 1].mean() < 10.0
+    with pytest.raises(ValueError, match="mean_ceiling"):
+        vision.multiscale(grey(3.0), mean_ceiling=0.0)
+
+
 @pytest.fixture(scope="module")
 def street():
     img, meta = scotopia.render(str(ROOT / "scenes/night-street.xml"), spp=4, params={"width": "320", "height": "180"})
