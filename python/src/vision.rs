@@ -140,7 +140,7 @@ fn multiscale<'py>(
     mean_ceiling: f64,
 ) -> PyResult<Bound<'py, PyArray3<f32>>> {
     let (w, h, px) = pixels::<4>(&image)?;
-    if !(mean_ceiling > 0.0) {
+    if mean_ceiling.is_nan() || mean_ceiling <= 0.0 {
         return Err(PyValueError::new_err(format!(
             "mean_ceiling must be positive (got {mean_ceiling})"
         )));

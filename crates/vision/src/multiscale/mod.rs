@@ -315,9 +315,10 @@ impl<'a> Model<'a> {
         for (c, row) in scratch.mean.iter_mut().enumerate() {
             self.up[level].row(&self.pyramids[c][level + 1].data, y, &mut row[..w]);
         }
-        let mean = &scratch.mean;
-        for x in 0..w {
-            let local: [f32; 4] = std::array::from_fn(|c| mean[c][x]);
+        let [m0, m1, m2, m3] = &scratch.mean;
+        let means = m0.iter().zip(m1).zip(m2).zip(m3).take(w);
+        for (x, (((&l, &m), &s), &r)) in means.enumerate() {
+            let local = [l, m, s, r];
             let gains = self.gains(local);
             let i = y * w + x;
             let band: [f32; 4] =
