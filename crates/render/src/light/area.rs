@@ -1,10 +1,12 @@
 //! Area lights: a shape emitting radiance L from the side its normal
-//! points to (Mitsuba's `area`), sampled uniformly by area.
+//! points to (Mitsuba's `area`). Next-event estimation samples a sphere
+//! by the cone of directions it fills (from outside it) and every other
+//! shape uniformly by area.
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
 
 use super::{spectral_power, LightSample, Power};
-use crate::geometry::Shape;
+use crate::geometry::{Shape, Sphere, SurfacePoint};
 use crate::math::Vec3;
 use crate::sampling::distribution::Distribution1D;
 
@@ -16,6 +18,8 @@ pub struct AreaLight {
     /// Triangle areas of a mesh emitter.
     cdf: Option<Distribution1D>,
     area: f32,
+    /// A sphere emitter, sampled by the cone it fills.
+    sphere: Option<Sphere>,
 }
 
 impl AreaLight {
@@ -31,6 +35,10 @@ impl AreaLight {
             radiance,
             area: shape.area(),
             cdf,
+            sphere: match shape {
+                Shape::Sphere(s) => Some(*s),
+                _ => None,
+            },
         }
     }
 
@@ -66,7 +74,12 @@ impl AreaLight {
         u: [f32; 2],
     ) -> Option<LightSample<K>> {
         let shape = shapes.get(self.shape as usize)?;
-        let s = shape.sample_area(self.cdf.as_ref(), u_select, u)?;
+        // The point and its density per unit area, or per steradian.
+        let (s, cone_pdf): (SurfacePoint, Option<f32>) =
+            match self.sphere.and_then(|sp| sp.sample_seen(p, u)) {
+                Some((s, pdf)) => (s, Some(pdf)),
+                None => (shape.sample_area(self.cdf.as_ref(), u_select, u)?, None),
+            };
         let d = s.p - p;
         let dist2 = d.length_squared();
         let dist = dist2.sqrt();
@@ -81,13 +94,23 @@ impl AreaLight {
             wi,
             distance: dist,
             radiance: self.radiance.sample(wl),
-            pdf: dist2 / (self.area * cos_l),
+            pdf: cone_pdf.unwrap_or(dist2 / (self.area * cos_l)),
             delta: false,
         })
     }
 
-    /// Density per solid angle of reaching `p_light` (normal `n_light`) from `p`.
+    /// Density per solid angle of reaching `p_light` (normal `n_light`) from
+    /// `p` by `sample_li`.
     pub fn pdf_li(&self, p: Vec3, p_light: Vec3, n_light: Vec3) -> f32 {
+        if let Some(pdf) = self.sphere.and_then(|s| s.seen_pdf(p)) {
+            // Only the near side is reached from outside; its emission
+            // faces p.
+            return if (p - p_light).dot(n_light) > 0.0 {
+                pdf
+            } else {
+                0.0
+            };
+        }
         let d = p_light - p;
         let dist2 = d.length_squared();
         let cos_l = -(d / dist2.sqrt()).dot(n_light);

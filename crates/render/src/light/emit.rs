@@ -12,7 +12,7 @@ use super::{Light, SceneExtent};
 use crate::math::{Frame, Vec3};
 use crate::sampling::warp::{
     cosine_hemisphere_pdf, square_to_cosine_hemisphere, square_to_disk_concentric,
-    square_to_uniform_sphere, UNIFORM_SPHERE_PDF,
+    square_to_uniform_cone, square_to_uniform_sphere, uniform_cone_pdf, UNIFORM_SPHERE_PDF,
 };
 
 /// A sampled emission.
@@ -35,17 +35,6 @@ pub struct Emission<const K: usize> {
 pub struct EmissionPdf {
     pub pos: f32,
     pub dir: f32,
-}
-
-/// Uniform direction within `cos_max` of +z, and its density.
-fn uniform_cone(u: [f32; 2], cos_max: f32) -> (Vec3, f32) {
-    let cos = 1.0 - u[0] * (1.0 - cos_max);
-    let sin = (1.0 - cos * cos).max(0.0).sqrt();
-    let phi = 2.0 * std::f32::consts::PI * u[1];
-    (
-        Vec3::new(sin * phi.cos(), sin * phi.sin(), cos),
-        1.0 / (2.0 * std::f32::consts::PI * (1.0 - cos_max)),
-    )
 }
 
 impl Light {
@@ -89,7 +78,11 @@ impl Light {
                 })
             }
             Light::Spot(l) => {
-                let (local, pdf_dir) = uniform_cone(u_dir, l.cutoff.cos());
+                let one_minus_cos = 1.0 - l.cutoff.cos();
+                let (local, pdf_dir) = (
+                    square_to_uniform_cone(u_dir, one_minus_cos),
+                    uniform_cone_pdf(one_minus_cos),
+                );
                 let d = l.frame.to_world(local);
                 let f = l.falloff(local.z);
                 (f > 0.0).then(|| Emission {
@@ -155,7 +148,7 @@ impl Light {
                 EmissionPdf {
                     pos: 1.0,
                     dir: if inside {
-                        uniform_cone([0.0, 0.0], cos_max).1
+                        uniform_cone_pdf(1.0 - cos_max)
                     } else {
                         0.0
                     },

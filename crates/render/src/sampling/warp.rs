@@ -47,6 +47,23 @@ pub fn square_to_uniform_sphere(u: [f32; 2]) -> Vec3 {
 /// Density of `square_to_uniform_sphere`: 1 / 4π.
 pub const UNIFORM_SPHERE_PDF: f32 = 0.25 * FRAC_1_PI;
 
+/// Uniform direction within the cone of half-angle θmax around +z, given
+/// 1 − cos θmax. sin θ is formed from 1 − cos θ, so a narrow cone (a small
+/// lamp far away, where cos θ rounds to 1) keeps its spread.
+#[inline]
+pub fn square_to_uniform_cone(u: [f32; 2], one_minus_cos_max: f32) -> Vec3 {
+    let one_minus = u[0] * one_minus_cos_max;
+    let sin = (one_minus * (2.0 - one_minus)).max(0.0).sqrt();
+    let phi = 2.0 * PI * u[1];
+    Vec3::new(sin * phi.cos(), sin * phi.sin(), 1.0 - one_minus)
+}
+
+/// Density of `square_to_uniform_cone` per solid angle: 1 / 2π(1 − cos θmax).
+#[inline]
+pub fn uniform_cone_pdf(one_minus_cos_max: f32) -> f32 {
+    0.5 * FRAC_1_PI / one_minus_cos_max
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -61,6 +78,11 @@ mod tests {
                 let d = square_to_cosine_hemisphere(u);
                 assert!((d.length() - 1.0).abs() < 1e-5 && d.z >= 0.0);
                 assert!((square_to_uniform_sphere(u).length() - 1.0).abs() < 1e-5);
+                // A cone of 1e-6 rad: cos θ is 1 in f32, the spread is not.
+                let c = square_to_uniform_cone(u, 5e-13);
+                assert!((c.length() - 1.0).abs() < 1e-5 && c.z >= 1.0 - 1e-6);
+                let sin = c.x.hypot(c.y);
+                assert!(sin <= 1.0000001e-6 && (u[0] < 0.1 || sin > 1e-7), "{sin}");
             }
         }
     }
