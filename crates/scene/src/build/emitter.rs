@@ -8,7 +8,7 @@ use scotopia_render::light::{
 use scotopia_render::math::Vec3;
 
 use super::Builder;
-use crate::mitsuba::{resolve, Node, Props, SceneError, Usage};
+use crate::mitsuba::{normalised_illuminant, resolve, Node, Props, SceneError, Usage};
 
 pub fn build_emitter(b: &mut Builder, node: &Node) -> Result<Light, SceneError> {
     let kind = node.require("type")?;
@@ -51,8 +51,12 @@ pub fn build_emitter(b: &mut Builder, node: &Node) -> Result<Light, SceneError> 
                 irradiance: required("irradiance")?,
             })
         }
+        // Mitsuba's default: radiance 1 in its spectral units (normalised D65).
         "constant" => Light::Constant(ConstantLight {
-            radiance: required("radiance")?,
+            radiance: match p.spectrum("radiance", Usage::Emission)? {
+                Some(s) => s,
+                None => normalised_illuminant("d65").map_err(|e| node.error(e))?,
+            },
         }),
         "envmap" => {
             let file = p

@@ -4,28 +4,29 @@
 
 mod bsdf;
 mod emitter;
+mod integrator;
 mod ior;
 mod sensor;
 mod shape;
 mod texture;
+mod world;
 
 use std::collections::HashMap;
 use std::path::Path;
 
 use scotopia_color::{Spectrum, SpectrumKind};
-use scotopia_render::accel::Aggregate;
-use scotopia_render::bsdf::{Bsdf, Diffuse};
-use scotopia_render::light::{AreaLight, Light};
-use scotopia_render::scene::{IntegratorKind, IntegratorSettings, Scene};
+use scotopia_render::bsdf::Bsdf;
+use scotopia_render::scene::Scene;
 use scotopia_render::texture::Texture;
 
-use crate::mitsuba::{parse_file, Node, Parameters, Props, SceneError, Usage};
+use crate::mitsuba::{parse_scene, Node, Parameters, Props, SceneError, SceneErrors, Usage};
 
 /// Collects state while building.
 pub struct Builder {
     warnings: Vec<String>,
-    named_bsdfs: HashMap<String, Node>,
-    named_textures: HashMap<String, Node>,
+    errors: Vec<SceneError>,
+    /// Top-level objects with an `id`, built on reference.
+    named: HashMap<String, Node>,
     /// Textures built from top-level definitions, by id and use.
     textures: HashMap<(String, SpectrumKind), Texture>,
     /// Ids being built through references, to refuse cycles.
@@ -33,6 +34,28 @@ pub struct Builder {
 }
 
 impl Builder {
+    pub(crate) fn new() -> Self {
+        Self {
+            warnings: Vec::new(),
+            errors: Vec::new(),
+            named: HashMap::new(),
+            textures: HashMap::new(),
+            resolving: Vec::new(),
+        }
+    }
+
+    /// The top-level object `id` refers to, which must be a `<tag>`.
+    pub(crate) fn named(&self, at: &Node, tag: &str, id: &str) -> Result<Node, SceneError> {
+        match self.named.get(id) {
+            Some(n) if n.tag == tag => Ok(n.clone()),
+            Some(n) => Err(at.error(format!(
+                "'{id}' is a <{}> ({}), not a <{tag}>",
+                n.tag, n.location
+            ))),
+            None => Err(at.error(format!("no <{tag} id=\"{id}\"> is defined"))),
+        }
+    }
+
     pub(crate) fn warn(&mut self, node: &Node, message: String) {
         let line = format!("{}: <{}>: {message}", node.location, node.tag);
         if !self.warnings.contains(&line) {
@@ -68,11 +91,7 @@ impl Builder {
                 if let Some(t) = self.textures.get(&key) {
                     return Ok(t.clone());
                 }
-                let target = self
-                    .named_textures
-                    .get(id)
-                    .cloned()
-                    .ok_or_else(|| n.error(format!("no <texture id=\"{id}\"> is defined")))?;
+                let target = self.named(n, "texture", id)?;
                 let t = self.resolve(n, id, |b| texture::build_texture(b, &target, usage))?;
                 self.textures.insert(key, t.clone());
                 Ok(t)
@@ -105,27 +124,21 @@ impl Builder {
     pub(crate) fn bsdf_child(&mut self, node: &Node) -> Result<Bsdf, SceneError> {
         if node.tag == "ref" {
             let id = node.require("id")?;
-            let target = self
-                .named_bsdfs
-                .get(id)
-                .cloned()
-                .ok_or_else(|| node.error(format!("no <bsdf id=\"{id}\"> is defined")))?;
+            let target = self.named(node, "bsdf", id)?;
             return self.resolve(node, id, |b| bsdf::build_bsdf(b, &target));
         }
         bsdf::build_bsdf(self, node)
     }
 }
 
-/// Loads a Mitsuba 3 scene file with parameters (`$name` values).
-pub fn load_scene(path: &Path, params: &Parameters) -> Result<Scene, SceneError> {
-    let root = parse_file(path, params)?;
-    let mut b = Builder {
-        warnings: Vec::new(),
-        named_bsdfs: HashMap::new(),
-        named_textures: HashMap::new(),
-        textures: HashMap::new(),
-        resolving: Vec::new(),
-    };
+/// Loads a Mitsuba 3 scene file with parameters (`$name` values). On
+/// failure, every error found (up to [`SceneErrors::LIMIT`]) with the
+/// warnings so far.
+pub fn load_scene(path: &Path, params: &Parameters) -> Result<Scene, SceneErrors> {
+    let parsed = parse_scene(path, params)?;
+    let root = parsed.root;
+    let mut b = Builder::new();
+    b.warnings.extend(parsed.warnings);
     if let Some(v) = root.attr("version") {
         if !v.starts_with('3') {
             b.warn(
@@ -134,131 +147,50 @@ pub fn load_scene(path: &Path, params: &Parameters) -> Result<Scene, SceneError>
             );
         }
     }
+    b.collect_ids(&root);
+    world::warn_media(&mut b, &root);
+
+    let mut world = world::World::default();
     for n in &root.children {
-        if let Some(id) = n.attr("id") {
-            match n.tag.as_str() {
-                "bsdf" => b.named_bsdfs.insert(id.to_string(), n.clone()),
-                "texture" => b.named_textures.insert(id.to_string(), n.clone()),
-                _ => None,
-            };
+        if b.errors.len() > SceneErrors::LIMIT {
+            break;
+        }
+        if let Err(e) = world.add(&mut b, n) {
+            b.errors.push(e);
         }
     }
-
-    let mut sensor = None;
-    let mut integrator = IntegratorSettings {
-        kind: IntegratorKind::Path,
-        max_depth: -1,
-        rr_depth: 5,
-    };
-    let mut shapes = Vec::new();
-    let mut materials: Vec<Bsdf> = Vec::new();
-    let mut material_ids: HashMap<String, u32> = HashMap::new();
-    let mut shape_material = Vec::new();
-    let mut shape_light = Vec::new();
-    let mut lights = Vec::new();
-
-    for n in &root.children {
-        match n.tag.as_str() {
-            "sensor" => {
-                if sensor.is_some() {
-                    b.warn(n, "more than one sensor: using the first".into());
-                    continue;
-                }
-                sensor = Some(sensor::build_sensor(&mut b, n)?);
-            }
-            "integrator" => {
-                let name = n.require("type")?;
-                let p = Props::new(n);
-                let kind = IntegratorKind::from_name(name).unwrap_or_else(|| {
-                    b.warn(
-                        n,
-                        format!("integrator '{name}' is not supported, using path"),
-                    );
-                    IntegratorKind::Path
-                });
-                integrator = IntegratorSettings {
-                    kind,
-                    max_depth: p.integer("max_depth", -1)? as i32,
-                    rr_depth: p.integer("rr_depth", 5)? as i32,
-                };
-                b.report_unused(&p);
-            }
-            "bsdf" => {
-                // Built on use (by ref); a top-level BSDF without id is unused.
-                n.require("type")?;
-            }
-            "shape" => {
-                let shape = shape::build_shape(&mut b, n)?;
-                // The material: a nested <bsdf>, a <ref>, or the default diffuse.
-                let bsdf_node = n
-                    .children
-                    .iter()
-                    .find(|c| c.tag == "bsdf" || c.tag == "ref");
-                let material = match bsdf_node {
-                    Some(c) if c.tag == "ref" => {
-                        let id = c.require("id")?.to_string();
-                        match material_ids.get(&id) {
-                            Some(&m) => m,
-                            None => {
-                                let bsdf = b.bsdf_child(c)?;
-                                materials.push(bsdf);
-                                let m = (materials.len() - 1) as u32;
-                                material_ids.insert(id, m);
-                                m
-                            }
-                        }
-                    }
-                    Some(c) => {
-                        materials.push(b.bsdf_child(c)?);
-                        (materials.len() - 1) as u32
-                    }
-                    None => {
-                        materials.push(Bsdf::Diffuse(Diffuse {
-                            reflectance: Texture::constant(0.5),
-                        }));
-                        (materials.len() - 1) as u32
-                    }
-                };
-                let index = shapes.len() as u32;
-                let mut light = None;
-                for e in n.children.iter().filter(|c| c.tag == "emitter") {
-                    if e.require("type")? != "area" {
-                        return Err(e.error("only an 'area' emitter can be attached to a shape"));
-                    }
-                    let p = Props::new(e);
-                    let radiance = p
-                        .spectrum("radiance", Usage::Emission)?
-                        .ok_or_else(|| e.error("missing 'radiance'"))?;
-                    b.report_unused(&p);
-                    lights.push(Light::Area(AreaLight::new(index, &shape, radiance)));
-                    light = Some((lights.len() - 1) as u32);
-                }
-                shapes.push(shape);
-                shape_material.push(material);
-                shape_light.push(light);
-            }
-            "emitter" => lights.push(emitter::build_emitter(&mut b, n)?),
-            "texture" => {
-                // Built on use (by ref), once per use (reflectance or emission).
-                n.require("type")?;
-                if n.attr("id").is_none() {
-                    b.warn(n, "a top-level texture without an id is never used".into());
-                }
-            }
-            other => b.warn(n, format!("<{other}> is not used by scotopia; ignored")),
+    if world.sensor.is_none() && b.errors.is_empty() {
+        b.errors.push(root.error("the scene has no <sensor>"));
+    }
+    match world.sensor.take() {
+        Some(sensor) if b.errors.is_empty() => Ok(world.scene(sensor, b.warnings)),
+        _ => {
+            let truncated = b.errors.len() > SceneErrors::LIMIT;
+            b.errors.truncate(SceneErrors::LIMIT);
+            Err(SceneErrors {
+                errors: b.errors,
+                warnings: b.warnings,
+                truncated,
+            })
         }
     }
-    let sensor = sensor.ok_or_else(|| root.error("the scene has no <sensor>"))?;
-    Ok(Scene {
-        camera: sensor.camera,
-        filter: sensor.filter,
-        samples_per_pixel: sensor.spp,
-        integrator,
-        geometry: Aggregate::new(shapes),
-        materials,
-        shape_material,
-        shape_light,
-        lights,
-        warnings: b.warnings,
-    })
+}
+
+impl Builder {
+    /// Registers top-level objects by `id`; a second object with the same
+    /// id is an error (as in Mitsuba), naming both.
+    fn collect_ids(&mut self, root: &Node) {
+        for n in &root.children {
+            let Some(id) = n.attr("id") else { continue };
+            if let Some(first) = self.named.get(id) {
+                let e = n.error(format!(
+                    "id '{id}' is already used by the <{}> at {}",
+                    first.tag, first.location
+                ));
+                self.errors.push(e);
+                continue;
+            }
+            self.named.insert(id.to_string(), n.clone());
+        }
+    }
 }

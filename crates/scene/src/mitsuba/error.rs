@@ -39,3 +39,58 @@ impl SceneError {
         }
     }
 }
+
+/// Every error a scene has (up to [`SceneErrors::LIMIT`]), with the
+/// warnings collected before loading stopped: a user fixes them in one go.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneErrors {
+    pub errors: Vec<SceneError>,
+    pub warnings: Vec<String>,
+    /// More errors were found than are listed.
+    pub truncated: bool,
+}
+
+impl SceneErrors {
+    /// Errors reported at most; loading stops at the next one.
+    pub const LIMIT: usize = 20;
+
+    /// The first error (every `SceneErrors` has at least one).
+    pub fn first(&self) -> Option<&SceneError> {
+        self.errors.first()
+    }
+}
+
+impl From<SceneError> for SceneErrors {
+    fn from(e: SceneError) -> Self {
+        Self {
+            errors: vec![e],
+            warnings: Vec::new(),
+            truncated: false,
+        }
+    }
+}
+
+impl fmt::Display for SceneErrors {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let n = self.errors.len();
+        if n > 1 {
+            let more = if self.truncated { " (the first)" } else { "" };
+            writeln!(f, "{n} errors{more}:")?;
+        }
+        for (i, e) in self.errors.iter().enumerate() {
+            if i > 0 {
+                writeln!(f)?;
+            }
+            write!(f, "{e}")?;
+        }
+        if self.truncated {
+            write!(f, "\n… loading stopped after {} errors", Self::LIMIT)?;
+        }
+        for w in &self.warnings {
+            write!(f, "\nwarning: {w}")?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for SceneErrors {}

@@ -1,12 +1,15 @@
 //! The Mitsuba 3 XML scene format: parse to plain nodes (`parse`), then
-//! read values (`values`). Building scene objects follows.
+//! read values (`values`); files named in a scene are found through the
+//! search path (`search`). Building scene objects follows.
 
 mod error;
 mod parse;
 mod props;
+mod search;
 mod values;
 
-pub use error::{Location, SceneError};
-pub use parse::{parse_file, Node, Parameters};
-pub use props::{read_spectrum, resolve, Props, Usage};
+pub use error::{Location, SceneError, SceneErrors};
+pub use parse::{parse_file, parse_scene, Node, Parameters, Parsed};
+pub use props::{normalised_illuminant, read_spectrum, Props, Usage};
+pub use search::{resolve, SearchPath};
 pub use values::{parse_floats, read_transform};

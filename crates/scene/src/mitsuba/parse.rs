@@ -1,11 +1,15 @@
 //! Parse: a Mitsuba 3 XML file (and its includes) to a tree of plain nodes
 //! that remember where they came from, with `<default>` parameters and
-//! `$name` substitutions applied. Nothing here knows what a BSDF is.
+//! `$name` substitutions applied, and `<path>` folders collected into the
+//! search path every node resolves its files with. Nothing here knows what
+//! a BSDF is.
 
-use std::collections::HashMap;
+use std::collections::{BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use super::error::{Location, SceneError};
+use super::search::SearchPath;
 
 /// One element: an object (`<bsdf type="diffuse">`), a property
 /// (`<float name="alpha" value="0.1"/>`), or a transform operation.
@@ -16,8 +20,8 @@ pub struct Node {
     pub attributes: Vec<(String, String)>,
     pub children: Vec<Node>,
     pub location: Location,
-    /// The folder of the file the node came from (relative paths resolve there).
-    pub dir: PathBuf,
+    /// Where files this node names are looked for (`resolve(&node.dir, f)`).
+    pub dir: Arc<SearchPath>,
 }
 
 impl Node {
@@ -43,12 +47,106 @@ impl Node {
 /// Command-line or API parameters (`-D name=value`), overriding `<default>`.
 pub type Parameters = HashMap<String, String>;
 
+/// A parsed scene: its root `<scene>` node and what parsing noticed.
+#[derive(Debug, Clone)]
+pub struct Parsed {
+    pub root: Node,
+    /// Parameters given that the scene does not declare or use.
+    pub warnings: Vec<String>,
+}
+
 /// Reads `path` and the files it includes into the root `<scene>` node.
 pub fn parse_file(path: &Path, params: &Parameters) -> Result<Node, SceneError> {
-    let mut stack = Vec::new();
-    let mut root = parse_into(path, params, &mut stack, None)?;
+    parse_scene(path, params).map(|p| p.root)
+}
+
+/// State shared by a file and the files it includes.
+struct Parser<'p> {
+    params: &'p Parameters,
+    /// Files being read, innermost last, to refuse include cycles.
+    stack: Vec<PathBuf>,
+    /// `<path>` folders in document order.
+    paths: Vec<PathBuf>,
+    /// The scene file's folder.
+    scene_dir: PathBuf,
+    /// Parameter names the scene declares (`<default>`) or uses (`$name`).
+    known: BTreeSet<String>,
+}
+
+impl Parser<'_> {
+    /// Mitsuba's resolver list: `<path>` folders (last first), the scene's
+    /// folder, the working directory; then (scotopia) `own`, the folder of
+    /// the file an element is written in.
+    fn search(&self, own: Option<&Path>) -> SearchPath {
+        let mut folders: Vec<PathBuf> = self.paths.iter().rev().cloned().collect();
+        folders.push(self.scene_dir.clone());
+        if let Ok(cwd) = std::env::current_dir() {
+            folders.push(cwd);
+        }
+        if let Some(own) = own {
+            if !folders.iter().any(|f| f == own) {
+                folders.push(own.to_path_buf());
+            }
+        }
+        SearchPath::new(folders)
+    }
+}
+
+/// Reads `path` and its includes, and reports parameters it ignores.
+pub fn parse_scene(path: &Path, params: &Parameters) -> Result<Parsed, SceneError> {
+    let scene_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    let mut parser = Parser {
+        params,
+        stack: Vec::new(),
+        paths: Vec::new(),
+        scene_dir,
+        known: BTreeSet::new(),
+    };
+    let mut root = parser.file(path, None)?;
     root.tag = "scene".into();
-    Ok(root)
+    // Every node resolves files with the final search path (plugins
+    // resolve after parsing in Mitsuba too, so `<path>` applies to all).
+    let mut cache: HashMap<Vec<PathBuf>, Arc<SearchPath>> = HashMap::new();
+    set_search(&mut root, &parser, &mut cache);
+
+    let mut unknown: Vec<&String> = params
+        .keys()
+        .filter(|k| !parser.known.contains(*k))
+        .collect();
+    unknown.sort();
+    let warnings = unknown
+        .into_iter()
+        .map(|k| {
+            let declared = if parser.known.is_empty() {
+                "it has none".to_string()
+            } else {
+                let names: Vec<&str> = parser.known.iter().map(String::as_str).collect();
+                format!("its parameters are {}", names.join(", "))
+            };
+            format!(
+                "{}: parameter '{k}' is not used by the scene ({declared}); ignored",
+                path.display()
+            )
+        })
+        .collect();
+    Ok(Parsed { root, warnings })
+}
+
+/// Replaces each node's provisional folder by the full search path.
+fn set_search(
+    node: &mut Node,
+    parser: &Parser,
+    cache: &mut HashMap<Vec<PathBuf>, Arc<SearchPath>>,
+) {
+    let own = node.dir.folders().to_vec();
+    let search = cache
+        .entry(own.clone())
+        .or_insert_with(|| Arc::new(parser.search(own.first().map(PathBuf::as_path))))
+        .clone();
+    node.dir = search;
+    for c in &mut node.children {
+        set_search(c, parser, cache);
+    }
 }
 
 fn io_error(path: &Path, from: Option<&Location>, e: std::io::Error) -> SceneError {
@@ -65,173 +163,249 @@ fn io_error(path: &Path, from: Option<&Location>, e: std::io::Error) -> SceneErr
     )
 }
 
-fn parse_into(
-    path: &Path,
-    params: &Parameters,
-    stack: &mut Vec<PathBuf>,
-    from: Option<&Location>,
-) -> Result<Node, SceneError> {
-    let canonical = path.canonicalize().map_err(|e| io_error(path, from, e))?;
-    if stack.contains(&canonical) {
-        let location = from.cloned().unwrap_or_else(|| Location {
-            file: path.display().to_string(),
-            line: 0,
-            column: 0,
-        });
-        return Err(SceneError::new(
-            &location,
-            "include",
-            format!("{} includes itself", path.display()),
-        ));
-    }
-    let text = std::fs::read_to_string(path).map_err(|e| io_error(path, from, e))?;
-    let file = path.display().to_string();
-    let doc = roxmltree::Document::parse(&text).map_err(|e| {
-        let pos = e.pos();
-        SceneError::new(
-            &Location {
-                file: file.clone(),
-                line: pos.row,
-                column: pos.col,
-            },
-            "xml",
-            e.to_string(),
-        )
-    })?;
-    let root = doc.root_element();
-    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    let loc = |n: roxmltree::Node| {
-        let p = doc.text_pos_at(n.range().start);
-        Location {
-            file: file.clone(),
-            line: p.row,
-            column: p.col,
+impl Parser<'_> {
+    /// One file: its root's children (or, for an included file whose root
+    /// is a single object, that object) under a `<scene>` node.
+    fn file(&mut self, path: &Path, from: Option<&Location>) -> Result<Node, SceneError> {
+        let canonical = path.canonicalize().map_err(|e| io_error(path, from, e))?;
+        if self.stack.contains(&canonical) {
+            let location = from.cloned().unwrap_or_else(|| Location {
+                file: path.display().to_string(),
+                line: 0,
+                column: 0,
+            });
+            return Err(SceneError::new(
+                &location,
+                "include",
+                format!("{} includes itself", path.display()),
+            ));
         }
-    };
-    if root.tag_name().name() != "scene" {
-        return Err(SceneError::new(
-            &loc(root),
-            root.tag_name().name(),
-            "the root element must be <scene>",
-        ));
-    }
-    stack.push(canonical);
-
-    // Defaults first (anywhere at the top level), overridden by `params`.
-    let mut values = HashMap::new();
-    for n in root
-        .children()
-        .filter(|n| n.is_element() && n.tag_name().name() == "default")
-    {
-        let name = n.attribute("name");
-        let value = n.attribute("value");
-        match (name, value) {
-            (Some(k), Some(v)) => {
-                values.entry(k.to_string()).or_insert_with(|| v.to_string());
-            }
-            _ => {
-                return Err(SceneError::new(
-                    &loc(n),
-                    "default",
-                    "needs 'name' and 'value'",
-                ))
-            }
-        }
-    }
-    for (k, v) in params {
-        values.insert(k.clone(), v.clone());
-    }
-
-    let mut scene = Node {
-        tag: "scene".into(),
-        attributes: root
-            .attributes()
-            .map(|a| (a.name().to_string(), a.value().to_string()))
-            .collect(),
-        children: Vec::new(),
-        location: loc(root),
-        dir: dir.clone(),
-    };
-    convert_children(root, &mut scene, &values, &loc, &dir, params, stack)?;
-    stack.pop();
-    Ok(scene)
-}
-
-/// Replaces `$name` by its parameter value.
-fn substitute(
-    value: &str,
-    values: &HashMap<String, String>,
-    location: &Location,
-    tag: &str,
-) -> Result<String, SceneError> {
-    if !value.contains('$') {
-        return Ok(value.to_string());
-    }
-    let mut out = String::new();
-    let mut rest = value;
-    while let Some(i) = rest.find('$') {
-        out.push_str(&rest[..i]);
-        let after = &rest[i + 1..];
-        let end = after
-            .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
-            .unwrap_or(after.len());
-        let name = &after[..end];
-        let v = values.get(name).ok_or_else(|| {
+        let text = std::fs::read_to_string(path).map_err(|e| io_error(path, from, e))?;
+        let file = path.display().to_string();
+        let doc = roxmltree::Document::parse(&text).map_err(|e| {
+            let pos = e.pos();
             SceneError::new(
-                location,
-                tag,
-                format!("parameter '${name}' has no <default> and was not given"),
+                &Location {
+                    file: file.clone(),
+                    line: pos.row,
+                    column: pos.col,
+                },
+                "xml",
+                e.to_string(),
             )
         })?;
-        out.push_str(v);
-        rest = &after[end..];
+        let root = doc.root_element();
+        let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        let loc = |n: roxmltree::Node| {
+            let p = doc.text_pos_at(n.range().start);
+            Location {
+                file: file.clone(),
+                line: p.row,
+                column: p.col,
+            }
+        };
+        let is_scene = root.tag_name().name() == "scene";
+        if !is_scene && from.is_none() {
+            return Err(SceneError::new(
+                &loc(root),
+                root.tag_name().name(),
+                "the root element must be <scene>",
+            ));
+        }
+        self.stack.push(canonical);
+
+        // Defaults first (anywhere at the top level), overridden by `params`.
+        let mut values = HashMap::new();
+        for n in root
+            .children()
+            .filter(|n| n.is_element() && n.tag_name().name() == "default")
+        {
+            let name = n.attribute("name");
+            let value = n.attribute("value");
+            match (name, value) {
+                (Some(k), Some(v)) => {
+                    self.known.insert(k.to_string());
+                    values.entry(k.to_string()).or_insert_with(|| v.to_string());
+                }
+                _ => {
+                    return Err(SceneError::new(
+                        &loc(n),
+                        "default",
+                        "needs 'name' and 'value'",
+                    ))
+                }
+            }
+        }
+        for (k, v) in self.params {
+            values.insert(k.clone(), v.clone());
+        }
+
+        let own = Arc::new(SearchPath::single(&dir));
+        let mut scene = Node {
+            tag: "scene".into(),
+            attributes: root
+                .attributes()
+                .map(|a| (a.name().to_string(), a.value().to_string()))
+                .collect(),
+            children: Vec::new(),
+            location: loc(root),
+            dir: own.clone(),
+        };
+        let context = FileContext {
+            values: &values,
+            loc: &loc,
+            dir: &dir,
+            own: &own,
+        };
+        if is_scene {
+            self.children(root, &mut scene, &context, true)?;
+        } else {
+            // An included fragment that is one object: keep the object.
+            let mut holder = Node {
+                children: Vec::new(),
+                ..scene.clone()
+            };
+            self.element(root, &mut holder, &context, false)?;
+            scene.children = holder.children;
+        }
+        self.stack.pop();
+        Ok(scene)
     }
-    out.push_str(rest);
-    Ok(out)
 }
 
-#[allow(clippy::too_many_arguments)]
-fn convert_children<'a>(
-    element: roxmltree::Node<'a, 'a>,
-    into: &mut Node,
-    values: &HashMap<String, String>,
-    loc: &dyn Fn(roxmltree::Node) -> Location,
-    dir: &Path,
-    params: &Parameters,
-    stack: &mut Vec<PathBuf>,
-) -> Result<(), SceneError> {
-    for child in element.children().filter(|n| n.is_element()) {
+/// What the elements of one file share while they are converted.
+struct FileContext<'a> {
+    values: &'a HashMap<String, String>,
+    loc: &'a dyn Fn(roxmltree::Node) -> Location,
+    dir: &'a Path,
+    own: &'a Arc<SearchPath>,
+}
+
+impl Parser<'_> {
+    /// Replaces `$name` by its parameter value.
+    fn substitute(
+        &mut self,
+        value: &str,
+        values: &HashMap<String, String>,
+        location: &Location,
+        tag: &str,
+    ) -> Result<String, SceneError> {
+        if !value.contains('$') {
+            return Ok(value.to_string());
+        }
+        let mut out = String::new();
+        let mut rest = value;
+        while let Some(i) = rest.find('$') {
+            out.push_str(&rest[..i]);
+            let after = &rest[i + 1..];
+            let end = after
+                .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+                .unwrap_or(after.len());
+            let name = &after[..end];
+            self.known.insert(name.to_string());
+            let v = values.get(name).ok_or_else(|| {
+                SceneError::new(
+                    location,
+                    tag,
+                    format!("parameter '${name}' has no <default> and was not given"),
+                )
+            })?;
+            out.push_str(v);
+            rest = &after[end..];
+        }
+        out.push_str(rest);
+        Ok(out)
+    }
+
+    fn children(
+        &mut self,
+        element: roxmltree::Node,
+        into: &mut Node,
+        cx: &FileContext,
+        top: bool,
+    ) -> Result<(), SceneError> {
+        for child in element.children().filter(|n| n.is_element()) {
+            self.element(child, into, cx, top)?;
+        }
+        Ok(())
+    }
+
+    /// Converts `child` (and its subtree) into `into`'s children; `top`
+    /// when `into` is the file's root.
+    fn element(
+        &mut self,
+        child: roxmltree::Node,
+        into: &mut Node,
+        cx: &FileContext,
+        top: bool,
+    ) -> Result<(), SceneError> {
         let tag = child.tag_name().name();
-        let location = loc(child);
+        let location = (cx.loc)(child);
         if tag == "default" {
-            continue;
+            return Ok(());
         }
         let mut attributes = Vec::new();
         for a in child.attributes() {
             attributes.push((
                 a.name().to_string(),
-                substitute(a.value(), values, &location, tag)?,
+                self.substitute(a.value(), cx.values, &location, tag)?,
             ));
         }
-        if tag == "include" {
-            let file = attributes
+        let attr = |name: &str| {
+            attributes
                 .iter()
-                .find(|(k, _)| k == "filename")
+                .find(|(k, _)| k == name)
                 .map(|(_, v)| v.clone())
-                .ok_or_else(|| SceneError::new(&location, tag, "missing attribute 'filename'"))?;
-            let included = parse_into(&dir.join(&file), params, stack, Some(&location))?;
-            into.children.extend(included.children);
-            continue;
+                .ok_or_else(|| {
+                    SceneError::new(&location, tag, format!("missing attribute '{name}'"))
+                })
+        };
+        match tag {
+            "include" => {
+                // Mitsuba: the including file's folder first, then the
+                // resolver as it stands.
+                let file = attr("filename")?;
+                let mut search = vec![cx.dir.to_path_buf()];
+                search.extend(self.search(None).folders().iter().cloned());
+                let path = SearchPath::new(search).resolve(&file);
+                let included = self.file(&path, Some(&location))?;
+                into.children.extend(included.children);
+                return Ok(());
+            }
+            "path" => {
+                if !top {
+                    return Err(SceneError::new(
+                        &location,
+                        tag,
+                        "<path> must be a child of <scene>",
+                    ));
+                }
+                let value = attr("value")?;
+                let mut folder = cx.dir.join(&value);
+                if !folder.is_dir() {
+                    folder = self.search(None).resolve(&value);
+                }
+                if !folder.is_dir() {
+                    return Err(SceneError::new(
+                        &location,
+                        tag,
+                        format!("folder {value} not found (looked in {})", cx.dir.display()),
+                    ));
+                }
+                self.paths.push(folder);
+                return Ok(());
+            }
+            _ => {}
         }
         let mut node = Node {
             tag: tag.to_string(),
             attributes,
             children: Vec::new(),
             location,
-            dir: dir.to_path_buf(),
+            dir: cx.own.clone(),
         };
-        convert_children(child, &mut node, values, loc, dir, params, stack)?;
+        self.children(child, &mut node, cx, false)?;
         into.children.push(node);
+        Ok(())
     }
-    Ok(())
 }

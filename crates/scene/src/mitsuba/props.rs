@@ -4,7 +4,6 @@
 //! scotopia does not use can be reported once as a warning.
 
 use std::cell::RefCell;
-use std::path::Path;
 
 use scotopia_color::photometry::{integrate_observers, spectrum_to_xyzv};
 use scotopia_color::{
@@ -14,6 +13,7 @@ use scotopia_render::math::{Transform, Vec3};
 
 use super::error::SceneError;
 use super::parse::Node;
+use super::search::resolve;
 use super::values::{parse_floats, read_transform};
 
 /// What a colour is used as: it decides how `<rgb>` is upsampled and
@@ -264,12 +264,7 @@ fn read_spectrum_shape(n: &Node) -> Result<Spectrum, SceneError> {
             let k = props.float("temperature", f32::NAN)?;
             return Spectrum::blackbody(k).map_err(|e| n.error(e.to_string()));
         }
-        // Normalised as Mitsuba's `d65`: unit luminance-weighted mean, so
-        // an emitter of this spectrum is as bright as a constant radiance 1.
-        let s = cie::illuminant(t).map_err(|e| n.error(e.to_string()))?;
-        let y = integrate_observers(&s)[1];
-        let y_unit = integrate_observers(&Spectrum::Constant(1.0))[1];
-        return Ok(s.scaled((y_unit / y) as f32));
+        return normalised_illuminant(t).map_err(|e| n.error(e));
     }
     if let Some(file) = n.attr("filename") {
         let path = resolve(&n.dir, file);
@@ -305,12 +300,13 @@ fn read_spectrum_shape(n: &Node) -> Result<Spectrum, SceneError> {
         .map_err(|e| n.error(e.to_string()))
 }
 
-/// A path relative to the scene file's folder.
-pub fn resolve(dir: &Path, file: &str) -> std::path::PathBuf {
-    let p = Path::new(file);
-    if p.is_absolute() {
-        p.to_path_buf()
-    } else {
-        dir.join(p)
-    }
+/// A CIE illuminant normalised as Mitsuba's `d65`: unit luminance-weighted
+/// mean, so an emitter of this spectrum is as bright as a constant
+/// radiance 1. Mitsuba's spectral variants multiply an emitter's plain
+/// number or RGB by this, and use it alone where an emitter names none.
+pub fn normalised_illuminant(name: &str) -> Result<Spectrum, String> {
+    let s = cie::illuminant(name).map_err(|e| e.to_string())?;
+    let y = integrate_observers(&s)[1];
+    let y_unit = integrate_observers(&Spectrum::Constant(1.0))[1];
+    Ok(s.scaled((y_unit / y) as f32))
 }

@@ -1,0 +1,186 @@
+//! The scene's top-level elements gathered into a renderable world:
+//! shapes with their materials and area lights, other lights, the sensor
+//! and the integrator.
+
+use std::collections::HashMap;
+
+use scotopia_render::accel::Aggregate;
+use scotopia_render::bsdf::{Bsdf, Diffuse};
+use scotopia_render::geometry::Shape;
+use scotopia_render::light::{AreaLight, Light};
+use scotopia_render::scene::{IntegratorSettings, Scene};
+use scotopia_render::texture::Texture;
+
+use super::integrator::{build_integrator, DEFAULT};
+use super::sensor::{build_sensor, Sensor};
+use super::{emitter, shape, Builder};
+use crate::mitsuba::{Node, Props, SceneError, Usage};
+
+pub struct World {
+    pub sensor: Option<Sensor>,
+    integrator: IntegratorSettings,
+    shapes: Vec<Shape>,
+    materials: Vec<Bsdf>,
+    /// Materials built from top-level BSDFs, by id (shared by shapes).
+    material_ids: HashMap<String, u32>,
+    shape_material: Vec<u32>,
+    shape_light: Vec<Option<u32>>,
+    lights: Vec<Light>,
+}
+
+impl Default for World {
+    fn default() -> Self {
+        Self {
+            sensor: None,
+            integrator: DEFAULT,
+            shapes: Vec::new(),
+            materials: Vec::new(),
+            material_ids: HashMap::new(),
+            shape_material: Vec::new(),
+            shape_light: Vec::new(),
+            lights: Vec::new(),
+        }
+    }
+}
+
+impl World {
+    /// Adds one top-level element.
+    pub fn add(&mut self, b: &mut Builder, n: &Node) -> Result<(), SceneError> {
+        match n.tag.as_str() {
+            "sensor" => {
+                if self.sensor.is_some() {
+                    b.warn(n, "more than one sensor: using the first".into());
+                } else {
+                    self.sensor = Some(build_sensor(b, n)?);
+                }
+            }
+            "integrator" => self.integrator = build_integrator(b, n)?,
+            "bsdf" | "texture" => {
+                // Built on use (by ref); without an id it is never used.
+                n.require("type")?;
+                if n.attr("id").is_none() {
+                    b.warn(
+                        n,
+                        format!("a top-level <{}> without an id is never used", n.tag),
+                    );
+                }
+            }
+            "shape" => self.add_shape(b, n)?,
+            "emitter" => {
+                if n.attr("type") == Some("area") && n.attr("id").is_some() {
+                    // Built where a shape refers to it.
+                    return Ok(());
+                }
+                self.lights.push(emitter::build_emitter(b, n)?);
+            }
+            // Warned about once by `warn_media`.
+            "medium" => {}
+            other => b.warn(n, format!("<{other}> is not used by scotopia; ignored")),
+        }
+        Ok(())
+    }
+
+    /// A shape, its material (nested, referenced, or the default diffuse)
+    /// and its area emitter (nested or referenced).
+    fn add_shape(&mut self, b: &mut Builder, n: &Node) -> Result<(), SceneError> {
+        let shape = shape::build_shape(b, n)?;
+        let mut bsdf = None;
+        let mut emitters = Vec::new();
+        for c in &n.children {
+            match c.tag.as_str() {
+                "bsdf" => bsdf = Some((c, None)),
+                "emitter" => emitters.push(c.clone()),
+                // An unnamed reference (or Mitsuba's name="bsdf") is an
+                // object the shape holds: a BSDF or an emitter.
+                "ref" if c.attr("name").is_none_or(|k| k == "bsdf") => {
+                    let id = c.require("id")?;
+                    match b.named.get(id).map(|t| t.tag.as_str()) {
+                        Some("emitter") => emitters.push(b.named(c, "emitter", id)?),
+                        Some("medium") => {}
+                        _ => bsdf = Some((c, Some(id.to_string()))),
+                    }
+                }
+                _ => {}
+            }
+        }
+        let material = match bsdf {
+            Some((c, Some(id))) => match self.material_ids.get(&id) {
+                Some(&m) => m,
+                None => {
+                    let m = self.push_material(b.bsdf_child(c)?);
+                    self.material_ids.insert(id, m);
+                    m
+                }
+            },
+            Some((c, None)) => {
+                let built = b.bsdf_child(c)?;
+                self.push_material(built)
+            }
+            None => self.push_material(Bsdf::Diffuse(Diffuse {
+                reflectance: Texture::constant(0.5),
+            })),
+        };
+        let index = self.shapes.len() as u32;
+        let mut light = None;
+        for e in &emitters {
+            if light.is_some() {
+                return Err(e.error("a shape can hold one area emitter"));
+            }
+            if e.require("type")? != "area" {
+                return Err(e.error("only an 'area' emitter can be attached to a shape"));
+            }
+            let p = Props::new(e);
+            let radiance = p
+                .spectrum("radiance", Usage::Emission)?
+                .ok_or_else(|| e.error("missing 'radiance'"))?;
+            b.report_unused(&p);
+            self.lights
+                .push(Light::Area(AreaLight::new(index, &shape, radiance)));
+            light = Some((self.lights.len() - 1) as u32);
+        }
+        self.shapes.push(shape);
+        self.shape_material.push(material);
+        self.shape_light.push(light);
+        Ok(())
+    }
+
+    fn push_material(&mut self, bsdf: Bsdf) -> u32 {
+        self.materials.push(bsdf);
+        (self.materials.len() - 1) as u32
+    }
+
+    pub fn scene(self, sensor: Sensor, warnings: Vec<String>) -> Scene {
+        Scene {
+            camera: sensor.camera,
+            filter: sensor.filter,
+            samples_per_pixel: sensor.spp,
+            integrator: self.integrator,
+            geometry: Aggregate::new(self.shapes),
+            materials: self.materials,
+            shape_material: self.shape_material,
+            shape_light: self.shape_light,
+            lights: self.lights,
+            warnings,
+        }
+    }
+}
+
+/// One warning for each `<medium>` anywhere in the scene: scotopia has no
+/// participating media yet, and a medium silently dropped would change the
+/// image without a word.
+pub fn warn_media(b: &mut Builder, node: &Node) {
+    for c in &node.children {
+        if c.tag == "medium" {
+            let kind = c.attr("type").unwrap_or("?");
+            b.warn(
+                c,
+                format!(
+                    "medium '{kind}' is ignored: scotopia does not render participating \
+                     media yet, so the image lacks its absorption and scattering"
+                ),
+            );
+        } else {
+            warn_media(b, c);
+        }
+    }
+}
