@@ -16,16 +16,19 @@ use scotopia_render::integrator::{render as render_scene, RenderOptions};
 use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_exr};
 use scotopia_render::scene::IntegratorKind;
 use scotopia_render::wavelength::WavelengthStrategy;
-use scotopia_scene::load_scene;
+use scotopia_scene::load_scene_with;
+
+use crate::scene::load_options;
 
 /// Renders a Mitsuba 3 XML scene (the `scotopia render` verb). Returns
 /// `(image, metadata)`: image[y, x] = (X, Y, Z, V′) in cd/m² and scotopic
 /// cd/m². `output` also writes the OpenEXR, `spectral` the spectral
 /// OpenEXR (Fichet et al. 2021) with `bands` bands; `integrator` is
-/// "path" or "bdpt" (default: the scene's). The GIL is released while
-/// rendering.
+/// "path" or "bdpt" (default: the scene's); `res` overrides the film size
+/// (an int width keeping the aspect, a (width, height) pair, or "WxH").
+/// The GIL is released while rendering.
 #[pyfunction]
-#[pyo3(signature = (path, spp = None, time = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, output = None, spectral = None, bands = 47, integrator = None))]
+#[pyo3(signature = (path, spp = None, time = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, output = None, spectral = None, bands = 47, integrator = None, res = None))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
@@ -40,6 +43,7 @@ fn render<'py>(
     spectral: Option<PathBuf>,
     bands: usize,
     integrator: Option<&str>,
+    res: Option<Bound<'py, PyAny>>,
 ) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
     let err = |e: String| PyValueError::new_err(e);
     let strategy = WavelengthStrategy::from_name(wavelengths).ok_or_else(|| {
@@ -59,7 +63,9 @@ fn render<'py>(
         Some(t) => return Err(err(format!("time {t}: must be positive seconds"))),
         None => None,
     };
-    let scene = load_scene(&path, &params.unwrap_or_default()).map_err(|e| err(e.to_string()))?;
+    let load = load_options(res.as_ref())?;
+    let scene = load_scene_with(&path, &params.unwrap_or_default(), &load)
+        .map_err(|e| err(e.to_string()))?;
     let options = RenderOptions {
         spp,
         time_limit,

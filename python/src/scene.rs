@@ -6,18 +6,44 @@ use std::path::PathBuf;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use scotopia_scene::{load_scene, SceneInfo};
+use scotopia_scene::{load_scene_with, LoadOptions, Resolution, SceneInfo};
+
+/// `res` as load options: an int width (keeping the film's aspect), a
+/// (width, height) pair, or a "W"/"WxH" string.
+pub fn load_options(res: Option<&Bound<'_, PyAny>>) -> PyResult<LoadOptions> {
+    let Some(res) = res else {
+        return Ok(LoadOptions::default());
+    };
+    let text = if let Ok(w) = res.extract::<i64>() {
+        w.to_string()
+    } else if let Ok((w, h)) = res.extract::<(i64, i64)>() {
+        format!("{w}x{h}")
+    } else if let Ok(s) = res.extract::<String>() {
+        s
+    } else {
+        return Err(PyValueError::new_err(
+            "res: give an int width, a (width, height) pair or 'WxH'",
+        ));
+    };
+    let resolution = Resolution::parse(&text).map_err(PyValueError::new_err)?;
+    Ok(LoadOptions {
+        resolution: Some(resolution),
+    })
+}
 
 /// Loads a Mitsuba 3 XML scene and returns what `scotopia info --json`
-/// prints, as a dict. `params` sets `$name` parameters.
+/// prints, as a dict. `params` sets `$name` parameters; `res` overrides
+/// the film size as in `render`.
 #[pyfunction]
-#[pyo3(signature = (path, params = None))]
+#[pyo3(signature = (path, params = None, res = None))]
 fn scene_info<'py>(
     py: Python<'py>,
     path: PathBuf,
     params: Option<HashMap<String, String>>,
+    res: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let scene = load_scene(&path, &params.unwrap_or_default())
+    let options = load_options(res.as_ref())?;
+    let scene = load_scene_with(&path, &params.unwrap_or_default(), &options)
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
     let i = SceneInfo::of(&scene);
     let d = PyDict::new(py);

@@ -7,7 +7,7 @@ use anyhow::{Context, Result};
 use serde_json::json;
 
 use scotopia_scene::mitsuba::Parameters;
-use scotopia_scene::{load_scene, SceneInfo};
+use scotopia_scene::{load_scene_with, LoadOptions, Resolution, SceneInfo};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -16,6 +16,10 @@ pub struct Args {
     /// Set a scene parameter, overriding its <default> (repeatable).
     #[arg(short = 'D', value_name = "NAME=VALUE")]
     define: Vec<String>,
+    /// Override the film size: W (keeping the film's aspect) or WxH. The
+    /// field of view along the film's fov_axis stays, as in Mitsuba.
+    #[arg(long, value_name = "W|WxH")]
+    res: Option<String>,
     /// Print JSON instead of text.
     #[arg(long)]
     json: bool,
@@ -34,8 +38,18 @@ pub fn parameters(define: &[String]) -> Result<Parameters> {
         .collect()
 }
 
+/// `--res` as load options.
+pub fn load_options(res: Option<&str>) -> Result<LoadOptions> {
+    let resolution = match res {
+        Some(r) => Some(Resolution::parse(r).map_err(|e| anyhow::anyhow!("--res: {e}"))?),
+        None => None,
+    };
+    Ok(LoadOptions { resolution })
+}
+
 pub fn run(args: Args) -> Result<()> {
-    let scene = load_scene(&args.scene, &parameters(&args.define)?)?;
+    let options = load_options(args.res.as_deref())?;
+    let scene = load_scene_with(&args.scene, &parameters(&args.define)?, &options)?;
     let i = SceneInfo::of(&scene);
     let text = if args.json {
         let v = json!({

@@ -13,10 +13,10 @@ use scotopia_render::integrator::{render, RenderOptions, CLUSTER_SIZES};
 use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_exr};
 use scotopia_render::scene::IntegratorKind;
 use scotopia_render::wavelength::WavelengthStrategy;
-use scotopia_scene::load_scene;
+use scotopia_scene::load_scene_with;
 
 use crate::display::{write_shown, VisionArgs};
-use crate::info::parameters;
+use crate::info::{load_options, parameters};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -29,6 +29,10 @@ pub struct Args {
     /// Set a scene parameter, overriding its <default> (repeatable).
     #[arg(short = 'D', value_name = "NAME=VALUE")]
     define: Vec<String>,
+    /// Override the film size: W (keeping the film's aspect) or WxH. The
+    /// field of view along the film's fov_axis stays, as in Mitsuba.
+    #[arg(long, value_name = "W|WxH")]
+    res: Option<String>,
     /// Samples per pixel (default: the scene's sampler).
     #[arg(long)]
     spp: Option<u32>,
@@ -112,7 +116,8 @@ pub fn run(args: Args) -> Result<()> {
     if args.spp == Some(0) {
         bail!("--spp must be positive");
     }
-    let scene = load_scene(&args.scene, &parameters(&args.define)?)?;
+    let load = load_options(args.res.as_deref())?;
+    let scene = load_scene_with(&args.scene, &parameters(&args.define)?, &load)?;
     for w in &scene.warnings {
         eprintln!("scotopia: warning: {w}");
     }

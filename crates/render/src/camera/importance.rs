@@ -31,8 +31,7 @@ pub struct LensConnection {
 impl Camera {
     /// Area of the image on the plane z = 1 of camera space.
     fn image_area(&self) -> f32 {
-        let aspect = self.width as f32 / self.height as f32;
-        4.0 * self.tan_half_x * self.tan_half_x / aspect
+        4.0 * self.tan_half_x * self.tan_half_x / self.full_aspect()
     }
 
     /// Area of the aperture (1 for a pinhole, whose lens point is fixed).
@@ -50,11 +49,14 @@ impl Camera {
         if d.z <= 0.0 {
             return None;
         }
-        let aspect = self.width as f32 / self.height as f32;
+        // Position on the whole film, then in the crop window.
         let u = 0.5 * (1.0 - d.x / (d.z * self.tan_half_x));
-        let v = 0.5 * (1.0 - d.y * aspect / (d.z * self.tan_half_x));
-        ((0.0..1.0).contains(&u) && (0.0..1.0).contains(&v))
-            .then_some([u * self.width as f32, v * self.height as f32])
+        let v = 0.5 * (1.0 - d.y * self.full_aspect() / (d.z * self.tan_half_x));
+        let [w, h] = self.full_size.map(|v| v as f32);
+        let x = u * w - self.crop_offset[0] as f32;
+        let y = v * h - self.crop_offset[1] as f32;
+        ((0.0..self.width as f32).contains(&x) && (0.0..self.height as f32).contains(&y))
+            .then_some([x, y])
     }
 
     /// Where a ray leaving lens point `o` (camera space) in direction `d`

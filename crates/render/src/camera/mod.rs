@@ -5,7 +5,9 @@
 //! Camera space (Mitsuba's): +z is the view direction, +y up, +x left. The
 //! film position (x, y) runs from (0, 0) at the top-left corner of the image
 //! to (width, height) at the bottom-right; a pixel (i, j) covers
-//! [i, i + 1) × [j, j + 1).
+//! [i, i + 1) × [j, j + 1). A crop window (Mitsuba's film `crop_*`)
+//! renders a part of a larger film: the image is `width`×`height` pixels
+//! from `crop_offset` of a `full_size` film whose field of view is given.
 
 mod importance;
 
@@ -44,9 +46,14 @@ impl FovAxis {
 pub struct Camera {
     pub world_from_camera: Transform,
     camera_from_world: Transform,
+    /// The image rendered (the crop window), pixels.
     pub width: u32,
     pub height: u32,
-    /// tan of half the horizontal field of view.
+    /// The whole film the field of view spans, pixels.
+    full_size: [u32; 2],
+    /// Top-left pixel of the image on the whole film.
+    crop_offset: [u32; 2],
+    /// tan of half the whole film's horizontal field of view.
     tan_half_x: f32,
     pub near_clip: f32,
     pub far_clip: f32,
@@ -110,6 +117,8 @@ impl Camera {
             world_from_camera,
             width,
             height,
+            full_size: [width, height],
+            crop_offset: [0, 0],
             tan_half_x,
             near_clip,
             far_clip,
@@ -118,23 +127,67 @@ impl Camera {
         })
     }
 
-    /// Horizontal and vertical field of view, degrees.
+    /// Renders only the window of `size` pixels at `offset` of the film
+    /// (Mitsuba's `crop_offset_x/y`, `crop_width/height`).
+    pub fn with_crop(mut self, offset: [u32; 2], size: [u32; 2]) -> Result<Self, CameraError> {
+        let [w, h] = self.full_size;
+        let fits = |o: u32, s: u32, full: u32| s > 0 && o.checked_add(s).is_some_and(|e| e <= full);
+        if !(fits(offset[0], size[0], w) && fits(offset[1], size[1], h)) {
+            return Err(CameraError(format!(
+                "crop window {}×{} at ({}, {}) does not fit the {w}×{h} film",
+                size[0], size[1], offset[0], offset[1]
+            )));
+        }
+        self.crop_offset = offset;
+        [self.width, self.height] = size;
+        Ok(self)
+    }
+
+    /// The whole film (before any crop), pixels.
+    pub fn full_size(&self) -> [u32; 2] {
+        self.full_size
+    }
+
+    /// The crop window's top-left pixel on the whole film.
+    pub fn crop_offset(&self) -> [u32; 2] {
+        self.crop_offset
+    }
+
+    fn full_aspect(&self) -> f32 {
+        self.full_size[0] as f32 / self.full_size[1] as f32
+    }
+
+    /// Horizontal and vertical field of view of the image (the crop
+    /// window's when cropped), degrees.
     pub fn fov_degrees(&self) -> (f32, f32) {
-        let aspect = self.width as f32 / self.height as f32;
+        let span = |from: f32, to: f32, full: f32, tan_half: f32| {
+            // Angles of the window's edges, measured across the film.
+            let edge = |p: f32| ((1.0 - 2.0 * p / full) * tan_half).atan();
+            (edge(from) - edge(to)).abs().to_degrees()
+        };
+        let [fw, fh] = self.full_size.map(|v| v as f32);
+        let [ox, oy] = self.crop_offset.map(|v| v as f32);
         (
-            2.0 * self.tan_half_x.atan().to_degrees(),
-            2.0 * (self.tan_half_x / aspect).atan().to_degrees(),
+            span(ox, ox + self.width as f32, fw, self.tan_half_x),
+            span(
+                oy,
+                oy + self.height as f32,
+                fh,
+                self.tan_half_x / self.full_aspect(),
+            ),
         )
     }
 
-    /// The camera-space direction (z = 1) through film position `film`.
+    /// The camera-space direction (z = 1) through film position `film`
+    /// (pixels of the image, so of the crop window).
     #[inline]
     fn direction(&self, film: [f32; 2]) -> Vec3 {
-        let (u, v) = (film[0] / self.width as f32, film[1] / self.height as f32);
-        let aspect = self.width as f32 / self.height as f32;
+        let [w, h] = self.full_size.map(|v| v as f32);
+        let u = (film[0] + self.crop_offset[0] as f32) / w;
+        let v = (film[1] + self.crop_offset[1] as f32) / h;
         Vec3::new(
             (1.0 - 2.0 * u) * self.tan_half_x,
-            (1.0 - 2.0 * v) * self.tan_half_x / aspect,
+            (1.0 - 2.0 * v) * self.tan_half_x / self.full_aspect(),
             1.0,
         )
     }
@@ -271,6 +324,32 @@ mod tests {
             let t = (focus.z - r.o.z) / r.d.z;
             assert!((r.at(t) - focus).length() < 1e-4, "{lens:?}");
         }
+    }
+
+    #[test]
+    fn a_crop_window_renders_its_part_of_the_film() {
+        let full = camera(200, 100, 90.0, FovAxis::X);
+        let crop = camera(200, 100, 90.0, FovAxis::X)
+            .with_crop([120, 30], [50, 40])
+            .unwrap();
+        assert_eq!((crop.width, crop.height), (50, 40));
+        for film in [[0.0, 0.0], [12.5, 7.25], [50.0, 40.0]] {
+            let a = crop.generate_ray(film, [0.5, 0.5]).d;
+            let b = full
+                .generate_ray([film[0] + 120.0, film[1] + 30.0], [0.5, 0.5])
+                .d;
+            assert!((a - b).length() < 1e-6, "{film:?}");
+        }
+        // The window's field: from 20 px right of centre to 70 px, of a
+        // film whose half width (100 px) spans tan 45° = 1.
+        let fx = (0.7f32.atan() - 0.2f32.atan()).to_degrees();
+        assert!((crop.fov_degrees().0 - fx).abs() < 1e-4);
+        assert!(camera(20, 10, 45.0, FovAxis::X)
+            .with_crop([15, 0], [6, 10])
+            .is_err());
+        assert!(camera(20, 10, 45.0, FovAxis::X)
+            .with_crop([0, 0], [0, 10])
+            .is_err());
     }
 
     #[test]

@@ -11,6 +11,8 @@ mod shape;
 mod texture;
 mod world;
 
+pub use sensor::Resolution;
+
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -31,6 +33,8 @@ pub struct Builder {
     textures: HashMap<(String, SpectrumKind), Texture>,
     /// Ids being built through references, to refuse cycles.
     resolving: Vec<String>,
+    /// A film size that overrides the scene's.
+    resolution: Option<Resolution>,
 }
 
 impl Builder {
@@ -41,6 +45,7 @@ impl Builder {
             named: HashMap::new(),
             textures: HashMap::new(),
             resolving: Vec::new(),
+            resolution: None,
         }
     }
 
@@ -131,13 +136,31 @@ impl Builder {
     }
 }
 
+/// How a scene is loaded, beyond its parameters.
+#[derive(Debug, Clone, Default)]
+pub struct LoadOptions {
+    /// Overrides the film size (`--res`), keeping the field of view along
+    /// the film's `fov_axis`, as Mitsuba does when width and height change.
+    pub resolution: Option<Resolution>,
+}
+
 /// Loads a Mitsuba 3 scene file with parameters (`$name` values). On
 /// failure, every error found (up to [`SceneErrors::LIMIT`]) with the
 /// warnings so far.
 pub fn load_scene(path: &Path, params: &Parameters) -> Result<Scene, SceneErrors> {
+    load_scene_with(path, params, &LoadOptions::default())
+}
+
+/// [`load_scene`] with options.
+pub fn load_scene_with(
+    path: &Path,
+    params: &Parameters,
+    options: &LoadOptions,
+) -> Result<Scene, SceneErrors> {
     let parsed = parse_scene(path, params)?;
     let root = parsed.root;
     let mut b = Builder::new();
+    b.resolution = options.resolution;
     b.warnings.extend(parsed.warnings);
     if let Some(v) = root.attr("version") {
         if !v.starts_with('3') {

@@ -34,6 +34,7 @@ pub fn build_sensor(b: &mut Builder, node: &Node) -> Result<Sensor, SceneError> 
     };
     // Film and sampler, with Mitsuba's defaults.
     let (mut width, mut height, mut filter) = (768, 576, Filter::Gaussian { stddev: 0.5 });
+    let mut crop = None;
     let mut spp = 4;
     for child in &node.children {
         match child.tag.as_str() {
@@ -41,6 +42,7 @@ pub fn build_sensor(b: &mut Builder, node: &Node) -> Result<Sensor, SceneError> 
                 let fp = Props::new(child);
                 width = positive(child, fp.integer("width", 768)?)?;
                 height = positive(child, fp.integer("height", 576)?)?;
+                crop = film_crop(&fp, child, width, height)?;
                 for f in child.children.iter().filter(|c| c.tag == "rfilter") {
                     let t = f.require("type")?;
                     let rp = Props::new(f);
@@ -76,10 +78,25 @@ pub fn build_sensor(b: &mut Builder, node: &Node) -> Result<Sensor, SceneError> 
         }
     }
     b.report_unused(&p);
-    let camera = Camera::new(
+    // A resolution override scales the film, and any crop with it.
+    if let Some(res) = b.resolution {
+        let (w, h) = res.size(width, height);
+        crop = crop.map(|(o, s): Crop| {
+            let sx = |v: u32| (v as u64 * w as u64 / width as u64) as u32;
+            let sy = |v: u32| (v as u64 * h as u64 / height as u64) as u32;
+            ([sx(o[0]), sy(o[1])], [sx(s[0]).max(1), sy(s[1]).max(1)])
+        });
+        (width, height) = (w, h);
+    }
+    let mut camera = Camera::new(
         to_world, width, height, fov, axis, near, far, aperture, focus,
     )
     .map_err(|e| node.error(e.to_string()))?;
+    if let Some((offset, size)) = crop {
+        camera = camera
+            .with_crop(offset, size)
+            .map_err(|e| node.error(e.to_string()))?;
+    }
     Ok(Sensor {
         camera,
         filter,
@@ -121,4 +138,64 @@ fn positive(node: &Node, v: i64) -> Result<u32, SceneError> {
         .ok()
         .filter(|&v| v > 0)
         .ok_or_else(|| node.error(format!("{v} must be a positive integer")))
+}
+
+/// A crop window: top-left pixel and size.
+type Crop = ([u32; 2], [u32; 2]);
+
+/// Mitsuba's film crop window: `crop_offset_x/y` (0), `crop_width/height`
+/// (the rest of the film); `None` when it is the whole film.
+fn film_crop(fp: &Props, film: &Node, width: u32, height: u32) -> Result<Option<Crop>, SceneError> {
+    let ox = fp.integer("crop_offset_x", 0)?;
+    let oy = fp.integer("crop_offset_y", 0)?;
+    let cw = fp.integer("crop_width", width as i64 - ox)?;
+    let ch = fp.integer("crop_height", height as i64 - oy)?;
+    let fits = |o: i64, s: i64, full: u32| o >= 0 && s > 0 && o + s <= full as i64;
+    if !(fits(ox, cw, width) && fits(oy, ch, height)) {
+        return Err(film.error(format!(
+            "crop window {cw}×{ch} at ({ox}, {oy}) does not fit the {width}×{height} film"
+        )));
+    }
+    let whole = ox == 0 && oy == 0 && cw == width as i64 && ch == height as i64;
+    Ok((!whole).then_some(([ox as u32, oy as u32], [cw as u32, ch as u32])))
+}
+
+/// A film size that overrides the scene's (`scotopia render --res`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Resolution {
+    pub width: u32,
+    /// `None`: keep the film's aspect ratio.
+    pub height: Option<u32>,
+}
+
+impl Resolution {
+    /// `W` or `WxH`.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let bad = || format!("resolution '{text}': give W or WxH, e.g. 640 or 640x480");
+        let num = |s: &str| {
+            s.trim()
+                .parse::<u32>()
+                .ok()
+                .filter(|&v| (1..=65536).contains(&v))
+                .ok_or_else(bad)
+        };
+        match text.split_once(['x', 'X']) {
+            Some((w, h)) => Ok(Self {
+                width: num(w)?,
+                height: Some(num(h)?),
+            }),
+            None => Ok(Self {
+                width: num(text)?,
+                height: None,
+            }),
+        }
+    }
+
+    /// The film size for a scene film of `width`×`height`.
+    pub fn size(self, width: u32, height: u32) -> (u32, u32) {
+        let h = self.height.unwrap_or_else(|| {
+            ((self.width as f64 * height as f64 / width as f64).round() as u32).max(1)
+        });
+        (self.width, h)
+    }
 }

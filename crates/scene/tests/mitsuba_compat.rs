@@ -1,0 +1,330 @@
+//! What real Mitsuba 3 scenes rely on: file lookup through `<path>` and the
+//! scene's folder, top-level emitters referenced from shapes, Mitsuba's
+//! integrator wrappers, all errors in one report, `--res` and film crops.
+
+use std::path::{Path, PathBuf};
+
+use scotopia_render::light::Light;
+use scotopia_render::scene::{IntegratorKind, Scene};
+use scotopia_scene::mitsuba::Parameters;
+use scotopia_scene::{load_scene, load_scene_with, LoadOptions, Resolution};
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("scotopia-compat-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::create_dir_all(p.parent().unwrap()).unwrap();
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+const TRIANGLE: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+const SENSOR: &str = r#"<sensor type="perspective"><float name="fov" value="40"/>
+    <film type="hdrfilm"><integer name="width" value="40"/><integer name="height" value="30"/></film>
+</sensor>"#;
+
+fn scene(body: &str) -> String {
+    format!("<scene version=\"3.0.0\">\n{SENSOR}\n{body}\n</scene>")
+}
+
+fn load(path: &Path) -> Scene {
+    load_scene(path, &Parameters::new()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn files_are_found_through_path_folders() {
+    let d = tmp("path");
+    write(&d, "assets/meshes/tri.obj", TRIANGLE);
+    let f = write(
+        &d,
+        "s.xml",
+        &scene(
+            r#"<path value="assets"/><shape type="obj"><string name="filename" value="meshes/tri.obj"/></shape>"#,
+        ),
+    );
+    assert_eq!(load(&f).geometry.shapes.len(), 1);
+    // Without the <path>, the file is not found, and the error names the
+    // shape that referred to it, with its line.
+    let g = write(
+        &d,
+        "t.xml",
+        &scene(r#"<shape type="obj"><string name="filename" value="meshes/tri.obj"/></shape>"#),
+    );
+    let e = load_scene(&g, &Parameters::new()).unwrap_err().to_string();
+    assert!(
+        e.contains("t.xml:5:1: <shape>") && e.contains("tri.obj"),
+        "{e}"
+    );
+    // A <path> that is not a folder is an error.
+    let h = write(&d, "u.xml", &scene(r#"<path value="nowhere"/>"#));
+    let e = load_scene(&h, &Parameters::new()).unwrap_err().to_string();
+    assert!(e.contains("<path>") && e.contains("nowhere"), "{e}");
+}
+
+#[test]
+fn files_named_in_included_fragments_resolve_from_the_scene() {
+    // Mitsuba's Cornell-box layout: the fragment lives in include/, the
+    // meshes it names are relative to the scene file.
+    let d = tmp("include");
+    write(&d, "meshes/tri.obj", TRIANGLE);
+    write(
+        &d,
+        "include/geometry.xml",
+        r#"<scene version="3.0.0"><shape type="obj"><string name="filename" value="meshes/tri.obj"/></shape></scene>"#,
+    );
+    // scotopia's fallback: a fragment naming a file beside itself.
+    write(&d, "include/beside.obj", TRIANGLE);
+    write(
+        &d,
+        "include/local.xml",
+        r#"<scene version="3.0.0"><shape type="obj"><string name="filename" value="beside.obj"/></shape></scene>"#,
+    );
+    let f = write(
+        &d,
+        "s.xml",
+        &scene(
+            r#"<include filename="include/geometry.xml"/><include filename="include/local.xml"/>"#,
+        ),
+    );
+    assert_eq!(load(&f).geometry.shapes.len(), 2);
+}
+
+#[test]
+fn every_error_is_reported_in_one_run() {
+    let d = tmp("errors");
+    let f = write(
+        &d,
+        "s.xml",
+        &scene(
+            r#"<shape type="teapot"/>
+<bsdf type="velvet" id="a"/>
+<shape type="sphere"><ref id="a"/></shape>
+<emitter type="nova"/>
+<shape type="sphere"><float name="radius" value="-1"/></shape>"#,
+        ),
+    );
+    let e = load_scene(&f, &Parameters::new()).unwrap_err();
+    assert_eq!(e.errors.len(), 4, "{e}");
+    let text = e.to_string();
+    assert!(text.starts_with("4 errors:"), "{text}");
+    for needle in ["s.xml:5:1", "s.xml:6:1", "s.xml:8:1", "s.xml:9:1"] {
+        assert!(text.contains(needle), "{needle} in {text}");
+    }
+    // More than the limit: the first 20, and a note.
+    let many: String = (0..30).map(|_| "<shape type=\"teapot\"/>\n").collect();
+    let g = write(&d, "t.xml", &scene(&many));
+    let e = load_scene(&g, &Parameters::new()).unwrap_err();
+    assert_eq!(e.errors.len(), 20);
+    assert!(e.truncated && e.to_string().contains("stopped after 20"));
+}
+
+#[test]
+fn a_second_object_with_the_same_id_is_an_error_naming_both() {
+    let d = tmp("dup");
+    let f = write(
+        &d,
+        "s.xml",
+        &scene("<bsdf type=\"diffuse\" id=\"m\"/>\n<bsdf type=\"conductor\" id=\"m\"/>"),
+    );
+    let e = load_scene(&f, &Parameters::new()).unwrap_err().to_string();
+    assert!(
+        e.contains("s.xml:6:1") && e.contains("s.xml:5:1") && e.contains("'m'"),
+        "{e}"
+    );
+}
+
+#[test]
+fn area_emitters_can_be_defined_at_the_top_level_and_referenced() {
+    let d = tmp("emitref");
+    let f = write(
+        &d,
+        "s.xml",
+        &scene(
+            r#"<emitter type="area" id="lamp"><rgb name="radiance" value="2, 2, 2"/></emitter>
+<bsdf type="diffuse" id="white"/>
+<shape type="rectangle"><ref id="white"/><ref id="lamp"/></shape>
+<shape type="sphere"><ref id="white"/></shape>"#,
+        ),
+    );
+    let s = load(&f);
+    assert_eq!(s.lights.len(), 1);
+    assert!(matches!(s.lights[0], Light::Area(_)));
+    assert_eq!(s.shape_light, [Some(0), None]);
+    assert_eq!(s.shape_material, [0, 0], "one material, shared");
+}
+
+#[test]
+fn a_constant_emitter_without_radiance_is_mitsubas_unit_d65() {
+    let d = tmp("constant");
+    let f = write(&d, "s.xml", &scene(r#"<emitter type="constant"/>"#));
+    let s = load(&f);
+    let Light::Constant(c) = &s.lights[0] else {
+        panic!("{:?}", s.lights)
+    };
+    // Mitsuba 3.9.1's normalised D65 is 1.01013 at 560 nm (ours 0.11 % higher).
+    assert!((c.radiance.eval(560.0) - 1.01013).abs() < 2e-3);
+}
+
+#[test]
+fn mitsuba_integrators_are_read_with_a_note() {
+    let d = tmp("integrators");
+    let cases = [
+        (r#"<integrator type="direct"/>"#, 2, "max_depth 2"),
+        (
+            r#"<integrator type="aov"><string name="aovs" value="dd.y:depth"/><integrator type="path"><integer name="max_depth" value="3"/></integrator></integrator>"#,
+            3,
+            "AOV channels are not written",
+        ),
+        (
+            r#"<integrator type="moment"><integrator type="bdpt"><integer name="max_depth" value="7"/></integrator></integrator>"#,
+            7,
+            "second moment",
+        ),
+        (
+            r#"<integrator type="volpath"><integer name="max_depth" value="4"/></integrator>"#,
+            4,
+            "no participating media",
+        ),
+    ];
+    for (i, (xml, depth, note)) in cases.iter().enumerate() {
+        let f = write(&d, &format!("s{i}.xml"), &scene(xml));
+        let s = load(&f);
+        assert_eq!(s.integrator.max_depth, *depth, "{xml}");
+        assert!(
+            s.warnings.iter().any(|w| w.contains(note)),
+            "{xml}: {:?}",
+            s.warnings
+        );
+    }
+    let f = write(
+        &d,
+        "bdpt.xml",
+        &scene(r#"<integrator type="moment"><integrator type="bdpt"/></integrator>"#),
+    );
+    assert_eq!(load(&f).integrator.kind, IntegratorKind::Bdpt);
+    let f = write(&d, "empty.xml", &scene(r#"<integrator type="aov"/>"#));
+    let e = load_scene(&f, &Parameters::new()).unwrap_err().to_string();
+    assert!(e.contains("holds no nested <integrator>"), "{e}");
+}
+
+#[test]
+fn media_are_never_ignored_silently() {
+    let d = tmp("media");
+    let f = write(
+        &d,
+        "s.xml",
+        &scene(
+            r#"<medium type="homogeneous" id="fog"/>
+<shape type="sphere"><medium type="homogeneous" name="interior"/></shape>"#,
+        ),
+    );
+    let s = load(&f);
+    let media: Vec<&String> = s
+        .warnings
+        .iter()
+        .filter(|w| w.contains("medium 'homogeneous' is ignored"))
+        .collect();
+    assert_eq!(media.len(), 2, "{:?}", s.warnings);
+}
+
+#[test]
+fn an_unknown_parameter_is_a_warning_naming_the_scenes_parameters() {
+    let d = tmp("params");
+    let f = write(
+        &d,
+        "s.xml",
+        &format!(
+            "<scene version=\"3.0.0\"><default name=\"spp\" value=\"4\"/><default name=\"res\" value=\"8\"/>{SENSOR}</scene>"
+        ),
+    );
+    let mut params = Parameters::new();
+    params.insert("sp".into(), "16".into());
+    params.insert("res".into(), "16".into());
+    let s = load_scene(&f, &params).unwrap();
+    let w: Vec<&String> = s
+        .warnings
+        .iter()
+        .filter(|w| w.contains("parameter"))
+        .collect();
+    assert_eq!(w.len(), 1, "{:?}", s.warnings);
+    assert!(
+        w[0].contains("'sp'") && w[0].contains("res, spp"),
+        "{}",
+        w[0]
+    );
+}
+
+#[test]
+fn res_overrides_the_film_keeping_the_field_of_view() {
+    let d = tmp("res");
+    let f = write(&d, "s.xml", &scene(""));
+    let base = load(&f);
+    let with = |r: &str| {
+        let options = LoadOptions {
+            resolution: Some(Resolution::parse(r).unwrap()),
+        };
+        load_scene_with(&f, &Parameters::new(), &options).unwrap()
+    };
+    let wide = with("80");
+    assert_eq!(
+        (wide.camera.width, wide.camera.height),
+        (80, 60),
+        "aspect kept"
+    );
+    let (a, b) = (base.camera.fov_degrees(), wide.camera.fov_degrees());
+    assert!((a.0 - b.0).abs() < 1e-4 && (a.1 - b.1).abs() < 1e-4);
+    // WxH: the field along fov_axis (x) stays; the vertical one follows.
+    let square = with("30x30");
+    assert_eq!((square.camera.width, square.camera.height), (30, 30));
+    assert!((square.camera.fov_degrees().0 - 40.0).abs() < 1e-4);
+    for bad in ["0", "axb", "10x", "99999999"] {
+        assert!(Resolution::parse(bad).is_err(), "{bad}");
+    }
+}
+
+#[test]
+fn a_film_crop_renders_a_window_of_the_film() {
+    let d = tmp("crop");
+    let crop = r#"<sensor type="perspective"><float name="fov" value="40"/>
+    <film type="hdrfilm"><integer name="width" value="40"/><integer name="height" value="30"/>
+        <integer name="crop_offset_x" value="10"/><integer name="crop_offset_y" value="5"/>
+        <integer name="crop_width" value="20"/><integer name="crop_height" value="10"/></film>
+</sensor>"#;
+    let f = write(
+        &d,
+        "s.xml",
+        &format!("<scene version=\"3.0.0\">{crop}</scene>"),
+    );
+    let s = load(&f);
+    assert_eq!((s.camera.width, s.camera.height), (20, 10));
+    assert_eq!(s.camera.full_size(), [40, 30]);
+    assert_eq!(s.camera.crop_offset(), [10, 5]);
+    assert!(
+        s.warnings.iter().all(|w| !w.contains("crop")),
+        "{:?}",
+        s.warnings
+    );
+    let options = LoadOptions {
+        resolution: Some(Resolution::parse("80").unwrap()),
+    };
+    let big = load_scene_with(&f, &Parameters::new(), &options).unwrap();
+    assert_eq!(
+        (big.camera.width, big.camera.height),
+        (40, 20),
+        "the crop scales too"
+    );
+    let g = write(
+        &d,
+        "t.xml",
+        &format!(
+            "<scene version=\"3.0.0\">{}</scene>",
+            crop.replace("\"20\"", "\"35\"")
+        ),
+    );
+    let e = load_scene(&g, &Parameters::new()).unwrap_err().to_string();
+    assert!(e.contains("does not fit the 40×30 film"), "{e}");
+}
