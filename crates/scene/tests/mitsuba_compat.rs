@@ -328,3 +328,33 @@ fn a_film_crop_renders_a_window_of_the_film() {
     let e = load_scene(&g, &Parameters::new()).unwrap_err().to_string();
     assert!(e.contains("does not fit the 40×30 film"), "{e}");
 }
+
+#[test]
+fn a_negative_rgb_index_is_clamped_with_a_warning() {
+    // Mitsuba 3.9.1 (scalar_spectral) renders a conductor of eta
+    // (−0.2, 0.5, 1.2) exactly as one of (0, 0.5, 1.2).
+    let d = tmp("negeta");
+    let f = write(
+        &d,
+        "s.xml",
+        &scene(
+            r#"<shape type="sphere"><bsdf type="conductor">
+    <rgb name="eta" value="-0.2, 0.5, 1.2"/><rgb name="k" value="3, 2.5, 2"/>
+</bsdf></shape>"#,
+        ),
+    );
+    let s = load(&f);
+    let w: Vec<&String> = s
+        .warnings
+        .iter()
+        .filter(|w| w.contains("negative component"))
+        .collect();
+    assert_eq!(w.len(), 1, "{:?}", s.warnings);
+    assert!(w[0].contains("s.xml:6:5: <rgb>: 'eta'"), "{}", w[0]);
+    let zero = write(
+        &d,
+        "t.xml",
+        &std::fs::read_to_string(&f).unwrap().replace("-0.2", "0"),
+    );
+    assert_eq!(load(&zero).materials, s.materials);
+}

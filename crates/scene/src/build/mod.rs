@@ -70,6 +70,9 @@ impl Builder {
 
     /// One warning per property an object sets that scotopia ignores.
     pub(crate) fn report_unused(&mut self, p: &Props) {
+        for (n, note) in p.take_notes() {
+            self.warn(n, note);
+        }
         for n in p.unused() {
             let name = n.attr("name").unwrap_or("?").to_string();
             self.warn(

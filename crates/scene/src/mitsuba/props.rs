@@ -58,6 +58,9 @@ fn is_property(c: &Node, name: Option<&str>) -> bool {
 pub struct Props<'a> {
     pub node: &'a Node,
     used: RefCell<Vec<&'a str>>,
+    /// Values read with an adjustment the user should hear of: (property
+    /// node, what was done), reported as warnings with the unused ones.
+    notes: RefCell<Vec<(&'a Node, String)>>,
 }
 
 impl<'a> Props<'a> {
@@ -65,7 +68,13 @@ impl<'a> Props<'a> {
         Self {
             node,
             used: RefCell::new(Vec::new()),
+            notes: RefCell::new(Vec::new()),
         }
+    }
+
+    /// Adjustments made while reading (see `notes`), drained.
+    pub fn take_notes(&self) -> Vec<(&'a Node, String)> {
+        std::mem::take(&mut self.notes.borrow_mut())
     }
 
     /// The property child named `name`.
@@ -177,11 +186,24 @@ impl<'a> Props<'a> {
             "float" => Spectrum::Constant(self.number(n)?),
             "rgb" => {
                 let f = parse_floats(n, n.require("value")?)?;
-                let rgb = match f.as_slice() {
+                let mut rgb = match f.as_slice() {
                     [r, g, b] => [*r, *g, *b],
                     [v] => [*v; 3],
                     _ => return Err(n.error("expected 3 numbers (R, G, B)")),
                 };
+                // Mitsuba's spectral upsampling clamps an unbounded colour
+                // (an index fitted in RGB) to non-negative values.
+                if usage == Usage::Unbounded && rgb.iter().any(|&v| v < 0.0) {
+                    let given = format!("{}, {}, {}", rgb[0], rgb[1], rgb[2]);
+                    rgb = rgb.map(|v| v.max(0.0));
+                    self.notes.borrow_mut().push((
+                        n,
+                        format!(
+                            "'{name}' = ({given}) has a negative component: read as ({}, {}, {}), as Mitsuba's spectral upsampling does",
+                            rgb[0], rgb[1], rgb[2]
+                        ),
+                    ));
+                }
                 let kind = match usage {
                     Usage::Reflectance => SpectrumKind::Reflectance,
                     Usage::Unbounded => SpectrumKind::Unbounded,
