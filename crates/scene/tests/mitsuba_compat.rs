@@ -358,3 +358,21 @@ fn a_negative_rgb_index_is_clamped_with_a_warning() {
     );
     assert_eq!(load(&zero).materials, s.materials);
 }
+
+#[test]
+fn curves_and_sdf_grids_are_skipped_with_a_warning() {
+    let d = tmp("skip");
+    let f = write(
+        &d,
+        "s.xml",
+        &scene(
+            r#"<shape type="bsplinecurve"><string name="filename" value="hair.txt"/></shape>
+<shape type="sdfgrid"/>
+<shape type="sphere"/>"#,
+        ),
+    );
+    let s = load(&f);
+    assert_eq!(s.geometry.shapes.len(), 1);
+    let skipped = s.warnings.iter().filter(|w| w.contains("skipped")).count();
+    assert_eq!(skipped, 2, "{:?}", s.warnings);
+}

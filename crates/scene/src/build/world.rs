@@ -16,6 +16,16 @@ use super::sensor::{build_sensor, Sensor};
 use super::{emitter, shape, Builder};
 use crate::mitsuba::{Node, Props, SceneError, Usage};
 
+/// Mitsuba shapes scotopia cannot intersect yet: left out with a warning,
+/// so the rest of the scene renders.
+const SKIPPED_SHAPES: [&str; 5] = [
+    "bsplinecurve",
+    "linearcurve",
+    "sdfgrid",
+    "ellipsoids",
+    "ellipsoidsmesh",
+];
+
 pub struct World {
     pub sensor: Option<Sensor>,
     integrator: IntegratorSettings,
@@ -83,6 +93,14 @@ impl World {
     /// A shape, its material (nested, referenced, or the default diffuse)
     /// and its area emitter (nested or referenced).
     fn add_shape(&mut self, b: &mut Builder, n: &Node) -> Result<(), SceneError> {
+        let kind = n.require("type")?;
+        if SKIPPED_SHAPES.contains(&kind) {
+            b.warn(
+                n,
+                format!("shape type '{kind}' is not supported yet: skipped (the image lacks it)"),
+            );
+            return Ok(());
+        }
         let shape = shape::build_shape(b, n)?;
         let mut bsdf = None;
         let mut emitters = Vec::new();
