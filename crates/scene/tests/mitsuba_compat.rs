@@ -376,3 +376,52 @@ fn curves_and_sdf_grids_are_skipped_with_a_warning() {
     let skipped = s.warnings.iter().filter(|w| w.contains("skipped")).count();
     assert_eq!(skipped, 2, "{:?}", s.warnings);
 }
+
+#[test]
+fn instances_place_the_shapes_of_a_shapegroup() {
+    use scotopia_render::geometry::Shape;
+    use scotopia_render::math::Vec3;
+    let d = tmp("instance");
+    let f = write(
+        &d,
+        "s.xml",
+        &scene(
+            r#"<shape type="shapegroup" id="pair">
+    <shape type="sphere"><point name="center" x="1" y="0" z="0"/><float name="radius" value="0.5"/></shape>
+    <shape type="sphere"><transform name="to_world"><scale value="2"/></transform></shape>
+</shape>
+<shape type="instance"><ref id="pair"/><transform name="to_world"><translate x="0" y="10" z="0"/></transform></shape>
+<shape type="instance"><ref id="pair"/><transform name="to_world"><rotate z="1" angle="90"/></transform></shape>"#,
+        ),
+    );
+    let s = load(&f);
+    let spheres: Vec<(Vec3, f32)> = s
+        .geometry
+        .shapes
+        .iter()
+        .map(|sh| match sh {
+            Shape::Sphere(sp) => (sp.center, sp.radius),
+            other => panic!("{other:?}"),
+        })
+        .collect();
+    let want = [
+        (Vec3::new(1.0, 10.0, 0.0), 0.5),
+        (Vec3::new(0.0, 10.0, 0.0), 2.0),
+        (Vec3::new(0.0, 1.0, 0.0), 0.5),
+        (Vec3::new(0.0, 0.0, 0.0), 2.0),
+    ];
+    assert_eq!(spheres.len(), 4);
+    for ((c, r), (wc, wr)) in spheres.iter().zip(want) {
+        assert!(
+            (*c - wc).length() < 1e-5 && (r - wr).abs() < 1e-5,
+            "{c:?} {r}"
+        );
+    }
+    let g = write(
+        &d,
+        "t.xml",
+        &scene(r#"<bsdf type="diffuse" id="m"/><shape type="instance"><ref id="m"/></shape>"#),
+    );
+    let e = load_scene(&g, &Parameters::new()).unwrap_err().to_string();
+    assert!(e.contains("'m' is a <bsdf>"), "{e}");
+}

@@ -94,6 +94,17 @@ impl World {
     /// and its area emitter (nested or referenced).
     fn add_shape(&mut self, b: &mut Builder, n: &Node) -> Result<(), SceneError> {
         let kind = n.require("type")?;
+        match kind {
+            // Built where an instance refers to it.
+            "shapegroup" => {
+                if n.attr("id").is_none() {
+                    b.warn(n, "a shapegroup without an id is never used".into());
+                }
+                return Ok(());
+            }
+            "instance" => return self.add_instance(b, n),
+            _ => {}
+        }
         if SKIPPED_SHAPES.contains(&kind) {
             b.warn(
                 n,
@@ -162,6 +173,51 @@ impl World {
         Ok(())
     }
 
+    /// `<shape type="instance">`: the shapes of the `shapegroup` it refers
+    /// to, each placed by its own `to_world` and then the instance's.
+    /// The group's shapes are copied per instance (not shared).
+    fn add_instance(&mut self, b: &mut Builder, n: &Node) -> Result<(), SceneError> {
+        let group_ref = n
+            .children
+            .iter()
+            .find(|c| c.tag == "ref" || (c.tag == "shape" && c.attr("type") == Some("shapegroup")))
+            .ok_or_else(|| n.error("an instance needs a <ref id=\"…\"/> to a shapegroup"))?;
+        let group = if group_ref.tag == "ref" {
+            let id = group_ref.require("id")?;
+            let g = b.named(group_ref, "shape", id)?;
+            if g.attr("type") != Some("shapegroup") {
+                return Err(group_ref.error(format!("'{id}' is not a shapegroup")));
+            }
+            g
+        } else {
+            group_ref.clone()
+        };
+        let p = Props::new(n);
+        let placement = p.get("to_world");
+        if let Some(t) = placement {
+            if t.tag != "transform" {
+                return Err(t.error("'to_world' must be a <transform>"));
+            }
+        }
+        for c in &n.children {
+            if c.tag != "ref" && c.tag != "transform" && c.tag != "shape" {
+                b.warn(c, format!("<{}> in an instance is ignored", c.tag));
+            }
+        }
+        for member in group.children.iter().filter(|c| c.tag == "shape") {
+            if member.attr("type") == Some("shapegroup") || member.attr("type") == Some("instance")
+            {
+                return Err(member.error("a shapegroup cannot hold groups or instances"));
+            }
+            let placed = match placement {
+                Some(t) => place(member, t),
+                None => member.clone(),
+            };
+            self.add_shape(b, &placed)?;
+        }
+        Ok(())
+    }
+
     fn push_material(&mut self, bsdf: Bsdf) -> u32 {
         self.materials.push(bsdf);
         (self.materials.len() - 1) as u32
@@ -201,4 +257,24 @@ pub fn warn_media(b: &mut Builder, node: &Node) {
             warn_media(b, c);
         }
     }
+}
+
+/// `shape` moved by `placement` (a `<transform>`): its own `to_world`
+/// operations followed by the placement's, which Mitsuba's rule (each
+/// operation applies after the previous) makes placement ∘ own.
+fn place(shape: &Node, placement: &Node) -> Node {
+    let mut placed = shape.clone();
+    let own = placed
+        .children
+        .iter_mut()
+        .find(|c| c.tag == "transform" && c.attr("name") == Some("to_world"));
+    match own {
+        Some(t) => t.children.extend(placement.children.iter().cloned()),
+        None => {
+            let mut t = placement.clone();
+            t.attributes = vec![("name".into(), "to_world".into())];
+            placed.children.push(t);
+        }
+    }
+    placed
 }
