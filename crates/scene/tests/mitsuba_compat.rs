@@ -425,3 +425,37 @@ fn instances_place_the_shapes_of_a_shapegroup() {
     let e = load_scene(&g, &Parameters::new()).unwrap_err().to_string();
     assert!(e.contains("'m' is a <bsdf>"), "{e}");
 }
+
+#[test]
+fn mitsubas_spectrum_plugins() {
+    use scotopia_scene::mitsuba::{parse_file, Props, Usage};
+    let d = tmp("spectra");
+    let f = write(
+        &d,
+        "s.xml",
+        r#"<scene version="3.0.0"><bsdf type="diffuse">
+    <spectrum name="reg" type="regular"><float name="wavelength_min" value="400"/><float name="wavelength_max" value="600"/><string name="values" value="0.2, 0.4, 0.8"/></spectrum>
+    <spectrum name="irr" type="irregular"><string name="wavelengths" value="400, 450, 700"/><string name="values" value="1, 3, 2"/></spectrum>
+    <spectrum name="uni" type="uniform"><float name="value" value="0.7"/></spectrum>
+    <spectrum name="band" type="uniform"><float name="value" value="2"/><float name="wavelength_min" value="500"/><float name="wavelength_max" value="600"/></spectrum>
+    <spectrum name="raw" type="rawconstant"><float name="value" value="0.3"/></spectrum>
+    <spectrum name="rgb" type="srgb"><rgb name="color" value="0.8, 0.1, 0.1"/></spectrum>
+    <spectrum name="short" type="irregular"><string name="wavelengths" value="400, 450"/><string name="values" value="1"/></spectrum>
+</bsdf></scene>"#,
+    );
+    let root = parse_file(&f, &Parameters::new()).unwrap();
+    let p = Props::new(&root.children[0]);
+    let s = |n: &str| p.spectrum(n, Usage::Unbounded).unwrap().unwrap();
+    assert!((s("reg").eval(550.0) - 0.6).abs() < 1e-6);
+    assert!((s("irr").eval(425.0) - 2.0).abs() < 1e-6);
+    assert_eq!(s("uni").eval(700.0), 0.7);
+    assert_eq!((s("band").eval(550.0), s("band").eval(450.0)), (2.0, 0.0));
+    assert_eq!(s("raw").eval(500.0), 0.3);
+    let red = p.spectrum("rgb", Usage::Reflectance).unwrap().unwrap();
+    assert!(red.eval(650.0) > 0.5 && red.eval(450.0) < 0.2);
+    let e = p
+        .spectrum("short", Usage::Unbounded)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("2 wavelengths but 1 values"), "{e}");
+}

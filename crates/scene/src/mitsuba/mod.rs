@@ -6,10 +6,12 @@ mod error;
 mod parse;
 mod props;
 mod search;
+mod spectrum;
 mod values;
 
 pub use error::{Location, SceneError, SceneErrors};
 pub use parse::{parse_file, parse_scene, Node, Parameters, Parsed};
-pub use props::{normalised_illuminant, read_spectrum, Props, Usage};
+pub use props::{Props, Usage};
 pub use search::{resolve, SearchPath};
+pub use spectrum::{normalised_illuminant, read_spectrum, read_spectrum_as};
 pub use values::{parse_floats, read_transform};

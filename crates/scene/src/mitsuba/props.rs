@@ -5,15 +5,12 @@
 
 use std::cell::RefCell;
 
-use scotopia_color::photometry::{integrate_observers, spectrum_to_xyzv};
-use scotopia_color::{
-    cie, io, rgb_to_spectrum, RgbSpace, Spectrum, SpectrumKind, Tabulated, UpsampleMethod,
-};
+use scotopia_color::{rgb_to_spectrum, RgbSpace, Spectrum, SpectrumKind, UpsampleMethod};
 use scotopia_render::math::{Transform, Vec3};
 
 use super::error::SceneError;
 use super::parse::Node;
-use super::search::resolve;
+use super::spectrum::read_spectrum_as;
 use super::values::{parse_floats, read_transform};
 
 /// What a colour is used as: it decides how `<rgb>` is upsampled and
@@ -212,7 +209,7 @@ impl<'a> Props<'a> {
                 rgb_to_spectrum(rgb, RgbSpace::Srgb, UpsampleMethod::Jakob2019, kind)
                     .map_err(|e| n.error(e.to_string()))?
             }
-            "spectrum" => read_spectrum(n)?,
+            "spectrum" => read_spectrum_as(n, usage)?,
             "texture" | "ref" => {
                 return Err(n.error(format!(
                     "'{name}' cannot be a texture here: give a <spectrum>, <rgb> or <float>"
@@ -241,94 +238,4 @@ fn check_reflectance(n: &Node, s: &Spectrum) -> Result<(), SceneError> {
         Some(v) => Err(n.error(format!("a reflectance must lie in [0, 1], found {v}"))),
         None => Ok(()),
     }
-}
-
-/// `<spectrum>`: `value="0.5"`, `value="400:0.1, 500:0.3"`, `filename`,
-/// `type="blackbody"` (with `temperature`), or `type` = any CIE illuminant
-/// name (`d65` as in Mitsuba; `a`, `d50`, `f11`, … are scotopia's extension).
-/// `<float name="scale">` multiplies any spectrum (as Mitsuba's `d65`);
-/// scotopia's extension `<float name="luminance" value="Y"/>` instead scales
-/// the spectrum so that 683 ∫ S ȳ dλ = Y: cd/m² for a radiance, cd for an
-/// intensity, lx for an irradiance — the absolute level of a lamp whose
-/// spectrum is known only in relative units.
-pub fn read_spectrum(n: &Node) -> Result<Spectrum, SceneError> {
-    let s = read_spectrum_shape(n)?;
-    let props = Props::new(n);
-    let scale = props.float("scale", f32::NAN)?;
-    let target = props.float("luminance", f32::NAN)?;
-    if !scale.is_nan() {
-        if !target.is_nan() {
-            return Err(n.error("give 'scale' or 'luminance', not both"));
-        }
-        if !(scale.is_finite() && scale >= 0.0) {
-            return Err(n.error(format!("scale must be non-negative, got {scale}")));
-        }
-        return Ok(s.scaled(scale));
-    }
-    if target.is_nan() {
-        return Ok(s);
-    }
-    if !(target.is_finite() && target >= 0.0) {
-        return Err(n.error(format!("luminance must be non-negative, got {target}")));
-    }
-    let y = spectrum_to_xyzv(&s).y;
-    if y.is_nan() || y <= 0.0 {
-        return Err(n.error("the spectrum has no luminance to scale to 'luminance'"));
-    }
-    Ok(s.scaled((target as f64 / y) as f32))
-}
-
-/// The spectrum's shape, before any `luminance` scaling.
-fn read_spectrum_shape(n: &Node) -> Result<Spectrum, SceneError> {
-    if let Some(t) = n.attr("type") {
-        if t == "blackbody" {
-            let props = Props::new(n);
-            let k = props.float("temperature", f32::NAN)?;
-            return Spectrum::blackbody(k).map_err(|e| n.error(e.to_string()));
-        }
-        return normalised_illuminant(t).map_err(|e| n.error(e));
-    }
-    if let Some(file) = n.attr("filename") {
-        let path = resolve(&n.dir, file);
-        return io::read_spectrum_file(&path)
-            .map(Spectrum::from)
-            .map_err(|e| n.error(e.to_string()));
-    }
-    let value = n.require("value")?;
-    if !value.contains(':') {
-        return match parse_floats(n, value)?.as_slice() {
-            [v] => Ok(Spectrum::Constant(*v)),
-            _ => Err(n.error("a constant spectrum is one number; use 'λ:value' pairs for a curve")),
-        };
-    }
-    let mut lambda = Vec::new();
-    let mut values = Vec::new();
-    for pair in value.split(',').map(str::trim).filter(|p| !p.is_empty()) {
-        let (l, v) = pair
-            .split_once(':')
-            .ok_or_else(|| n.error(format!("'{pair}' is not 'wavelength:value'")))?;
-        let num = |s: &str| -> Result<f32, SceneError> {
-            s.trim()
-                .parse::<f32>()
-                .ok()
-                .filter(|x| x.is_finite())
-                .ok_or_else(|| n.error(format!("'{s}' is not a finite number")))
-        };
-        lambda.push(num(l)?);
-        values.push(num(v)?);
-    }
-    Tabulated::new(lambda, values)
-        .map(Spectrum::from)
-        .map_err(|e| n.error(e.to_string()))
-}
-
-/// A CIE illuminant normalised as Mitsuba's `d65`: unit luminance-weighted
-/// mean, so an emitter of this spectrum is as bright as a constant
-/// radiance 1. Mitsuba's spectral variants multiply an emitter's plain
-/// number or RGB by this, and use it alone where an emitter names none.
-pub fn normalised_illuminant(name: &str) -> Result<Spectrum, String> {
-    let s = cie::illuminant(name).map_err(|e| e.to_string())?;
-    let y = integrate_observers(&s)[1];
-    let y_unit = integrate_observers(&Spectrum::Constant(1.0))[1];
-    Ok(s.scaled((y_unit / y) as f32))
 }

@@ -1,0 +1,203 @@
+//! `<spectrum>` values: constants, `λ:value` pairs, files, blackbodies,
+//! CIE illuminants by name, and Mitsuba's spectrum plugins (`regular`,
+//! `irregular`, `uniform`, `srgb`, `rawconstant`), with `scale` or
+//! scotopia's `luminance`.
+
+use scotopia_color::photometry::{integrate_observers, spectrum_to_xyzv};
+use scotopia_color::{
+    cie, io, rgb_to_spectrum, RgbSpace, Spectrum, SpectrumKind, Tabulated, UpsampleMethod,
+};
+
+use super::error::SceneError;
+use super::parse::Node;
+use super::props::{Props, Usage};
+use super::search::resolve;
+use super::values::parse_floats;
+
+/// `<spectrum>`: `value="0.5"`, `value="400:0.1, 500:0.3"`, `filename`,
+/// `type="blackbody"` (with `temperature`), or `type` = any CIE illuminant
+/// name (`d65` as in Mitsuba; `a`, `d50`, `f11`, … are scotopia's extension).
+/// `<float name="scale">` multiplies any spectrum (as Mitsuba's `d65`);
+/// scotopia's extension `<float name="luminance" value="Y"/>` instead scales
+/// the spectrum so that 683 ∫ S ȳ dλ = Y: cd/m² for a radiance, cd for an
+/// intensity, lx for an irradiance — the absolute level of a lamp whose
+/// spectrum is known only in relative units.
+pub fn read_spectrum(n: &Node) -> Result<Spectrum, SceneError> {
+    read_spectrum_as(n, Usage::Unbounded)
+}
+
+/// [`read_spectrum`] for a use (which decides how an `srgb` colour is
+/// upsampled).
+pub fn read_spectrum_as(n: &Node, usage: Usage) -> Result<Spectrum, SceneError> {
+    let s = read_spectrum_shape(n, usage)?;
+    let props = Props::new(n);
+    let scale = props.float("scale", f32::NAN)?;
+    let target = props.float("luminance", f32::NAN)?;
+    if !scale.is_nan() {
+        if !target.is_nan() {
+            return Err(n.error("give 'scale' or 'luminance', not both"));
+        }
+        if !(scale.is_finite() && scale >= 0.0) {
+            return Err(n.error(format!("scale must be non-negative, got {scale}")));
+        }
+        return Ok(s.scaled(scale));
+    }
+    if target.is_nan() {
+        return Ok(s);
+    }
+    if !(target.is_finite() && target >= 0.0) {
+        return Err(n.error(format!("luminance must be non-negative, got {target}")));
+    }
+    let y = spectrum_to_xyzv(&s).y;
+    if y.is_nan() || y <= 0.0 {
+        return Err(n.error("the spectrum has no luminance to scale to 'luminance'"));
+    }
+    Ok(s.scaled((target as f64 / y) as f32))
+}
+
+/// The spectrum's shape, before any `luminance` scaling.
+fn read_spectrum_shape(n: &Node, usage: Usage) -> Result<Spectrum, SceneError> {
+    if let Some(t) = n.attr("type") {
+        if let Some(s) = spectrum_plugin(n, t, usage)? {
+            return Ok(s);
+        }
+        return normalised_illuminant(t).map_err(|e| n.error(e));
+    }
+    if let Some(file) = n.attr("filename") {
+        let path = resolve(&n.dir, file);
+        return io::read_spectrum_file(&path)
+            .map(Spectrum::from)
+            .map_err(|e| n.error(e.to_string()));
+    }
+    let value = n.require("value")?;
+    if !value.contains(':') {
+        return match parse_floats(n, value)?.as_slice() {
+            [v] => Ok(Spectrum::Constant(*v)),
+            _ => Err(n.error("a constant spectrum is one number; use 'λ:value' pairs for a curve")),
+        };
+    }
+    let mut lambda = Vec::new();
+    let mut values = Vec::new();
+    for pair in value.split(',').map(str::trim).filter(|p| !p.is_empty()) {
+        let (l, v) = pair
+            .split_once(':')
+            .ok_or_else(|| n.error(format!("'{pair}' is not 'wavelength:value'")))?;
+        let num = |s: &str| -> Result<f32, SceneError> {
+            s.trim()
+                .parse::<f32>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| n.error(format!("'{s}' is not a finite number")))
+        };
+        lambda.push(num(l)?);
+        values.push(num(v)?);
+    }
+    Tabulated::new(lambda, values)
+        .map(Spectrum::from)
+        .map_err(|e| n.error(e.to_string()))
+}
+
+/// A CIE illuminant normalised as Mitsuba's `d65`: unit luminance-weighted
+/// mean, so an emitter of this spectrum is as bright as a constant
+/// radiance 1. Mitsuba's spectral variants multiply an emitter's plain
+/// number or RGB by this, and use it alone where an emitter names none.
+pub fn normalised_illuminant(name: &str) -> Result<Spectrum, String> {
+    let s = cie::illuminant(name).map_err(|e| e.to_string())?;
+    let y = integrate_observers(&s)[1];
+    let y_unit = integrate_observers(&Spectrum::Constant(1.0))[1];
+    Ok(s.scaled((y_unit / y) as f32))
+}
+
+/// Mitsuba's spectrum plugins other than the illuminants; `None` for a
+/// type that is not one of them.
+fn spectrum_plugin(n: &Node, kind: &str, usage: Usage) -> Result<Option<Spectrum>, SceneError> {
+    let props = Props::new(n);
+    let number_list = |name: &str| -> Result<Vec<f32>, SceneError> {
+        let text = props
+            .string(name)?
+            .ok_or_else(|| n.error(format!("a '{kind}' spectrum needs '{name}'")))?;
+        parse_floats(n, text)
+    };
+    let tabulated = |lambda: Vec<f32>, values: Vec<f32>| {
+        Tabulated::new(lambda, values)
+            .map(Spectrum::from)
+            .map_err(|e| n.error(e.to_string()))
+    };
+    let s = match kind {
+        "blackbody" => {
+            let k = props.float("temperature", f32::NAN)?;
+            Spectrum::blackbody(k).map_err(|e| n.error(e.to_string()))?
+        }
+        // Values at equal steps from wavelength_min to wavelength_max.
+        "regular" => {
+            let values = number_list("values")?;
+            let (lo, hi) = (
+                props.float("wavelength_min", f32::NAN)?,
+                props.float("wavelength_max", f32::NAN)?,
+            );
+            if !(lo < hi) || values.len() < 2 {
+                return Err(n.error(format!(
+                    "a regular spectrum needs wavelength_min < wavelength_max and two or more values (got {lo}, {hi}, {} values)",
+                    values.len()
+                )));
+            }
+            let step = (hi - lo) / (values.len() - 1) as f32;
+            let lambda = (0..values.len()).map(|i| lo + step * i as f32).collect();
+            tabulated(lambda, values)?
+        }
+        "irregular" => {
+            let (lambda, values) = (number_list("wavelengths")?, number_list("values")?);
+            if lambda.len() != values.len() {
+                return Err(n.error(format!(
+                    "{} wavelengths but {} values",
+                    lambda.len(),
+                    values.len()
+                )));
+            }
+            tabulated(lambda, values)?
+        }
+        // A constant, zero outside [wavelength_min, wavelength_max].
+        "uniform" => {
+            let v = props.float("value", f32::NAN)?;
+            if v.is_nan() {
+                return Err(n.error("a uniform spectrum needs 'value'"));
+            }
+            let (lo, hi) = (
+                props.float("wavelength_min", scotopia_color::LAMBDA_MIN)?,
+                props.float("wavelength_max", scotopia_color::LAMBDA_MAX)?,
+            );
+            if lo <= scotopia_color::LAMBDA_MIN && hi >= scotopia_color::LAMBDA_MAX {
+                Spectrum::Constant(v)
+            } else {
+                tabulated(vec![lo, hi], vec![v, v])?
+            }
+        }
+        // The value as given, without upsampling (Mitsuba uses it for
+        // monochrome quantities).
+        "rawconstant" => Spectrum::Constant(props.float("value", f32::NAN)?),
+        "srgb" => {
+            let c = props
+                .get("color")
+                .ok_or_else(|| n.error("an srgb spectrum needs <rgb name=\"color\">"))?;
+            let f = parse_floats(c, c.require("value")?)?;
+            let rgb = match f.as_slice() {
+                [r, g, b] => [*r, *g, *b],
+                [v] => [*v; 3],
+                _ => return Err(c.error("expected 3 numbers (R, G, B)")),
+            };
+            let kind = match usage {
+                Usage::Emission => SpectrumKind::Illuminant,
+                _ if props.boolean("unbounded", false)? => SpectrumKind::Unbounded,
+                Usage::Unbounded => SpectrumKind::Unbounded,
+                Usage::Reflectance => SpectrumKind::Reflectance,
+            };
+            rgb_to_spectrum(rgb, RgbSpace::Srgb, UpsampleMethod::Jakob2019, kind)
+                .map_err(|e| c.error(e.to_string()))?
+        }
+        _ => return Ok(None),
+    };
+    if s.eval(550.0).is_nan() {
+        return Err(n.error(format!("the '{kind}' spectrum has no value")));
+    }
+    Ok(Some(s))
+}
