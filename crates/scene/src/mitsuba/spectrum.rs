@@ -135,7 +135,7 @@ fn spectrum_plugin(n: &Node, kind: &str, usage: Usage) -> Result<Option<Spectrum
                 props.float("wavelength_min", f32::NAN)?,
                 props.float("wavelength_max", f32::NAN)?,
             );
-            if !(lo < hi) || values.len() < 2 {
+            if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) || values.len() < 2 {
                 return Err(n.error(format!(
                     "a regular spectrum needs wavelength_min < wavelength_max and two or more values (got {lo}, {hi}, {} values)",
                     values.len()
