@@ -8,5 +8,5 @@ pub mod materials;
 pub mod mesh;
 pub mod mitsuba;
 
-pub use build::load_scene;
+pub use build::{bsdf_from_xml, load_scene};
 pub use info::{LightInfo, SceneInfo};

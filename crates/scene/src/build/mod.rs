@@ -7,6 +7,7 @@ mod emitter;
 mod ior;
 mod sensor;
 mod shape;
+mod standalone;
 mod texture;
 
 use std::collections::HashMap;
@@ -18,6 +19,8 @@ use scotopia_render::bsdf::{Bsdf, Diffuse};
 use scotopia_render::light::{AreaLight, Light};
 use scotopia_render::scene::{IntegratorKind, IntegratorSettings, Scene};
 use scotopia_render::texture::Texture;
+
+pub use standalone::bsdf_from_xml;
 
 use crate::mitsuba::{parse_file, Node, Parameters, Props, SceneError, Usage};
 

@@ -7,6 +7,6 @@ mod props;
 mod values;
 
 pub use error::{Location, SceneError};
-pub use parse::{parse_file, Node, Parameters};
+pub use parse::{parse_file, parse_str, Node, Parameters};
 pub use props::{read_spectrum, resolve, Props, Usage};
 pub use values::{parse_floats, read_transform};

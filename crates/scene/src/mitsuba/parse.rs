@@ -85,8 +85,44 @@ fn parse_into(
         ));
     }
     let text = std::fs::read_to_string(path).map_err(|e| io_error(path, from, e))?;
-    let file = path.display().to_string();
-    let doc = roxmltree::Document::parse(&text).map_err(|e| {
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    stack.push(canonical);
+    let scene = parse_text(
+        &text,
+        &path.display().to_string(),
+        &dir,
+        params,
+        stack,
+        true,
+    )?;
+    stack.pop();
+    Ok(scene)
+}
+
+/// Parses XML `text` (called `name` in error locations) whose root element is one
+/// object, e.g. a `<bsdf>` (`<scene>` too); relative paths and includes
+/// resolve against `dir`.
+pub fn parse_str(
+    text: &str,
+    name: &str,
+    dir: &Path,
+    params: &Parameters,
+) -> Result<Node, SceneError> {
+    parse_text(text, name, dir, params, &mut Vec::new(), false)
+}
+
+/// The document `text` as a tree of nodes; its root must be `<scene>` when
+/// `scene` is set.
+fn parse_text(
+    text: &str,
+    file: &str,
+    dir: &Path,
+    params: &Parameters,
+    stack: &mut Vec<PathBuf>,
+    scene: bool,
+) -> Result<Node, SceneError> {
+    let file = file.to_string();
+    let doc = roxmltree::Document::parse(text).map_err(|e| {
         let pos = e.pos();
         SceneError::new(
             &Location {
@@ -99,7 +135,6 @@ fn parse_into(
         )
     })?;
     let root = doc.root_element();
-    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let loc = |n: roxmltree::Node| {
         let p = doc.text_pos_at(n.range().start);
         Location {
@@ -108,14 +143,13 @@ fn parse_into(
             column: p.col,
         }
     };
-    if root.tag_name().name() != "scene" {
+    if scene && root.tag_name().name() != "scene" {
         return Err(SceneError::new(
             &loc(root),
             root.tag_name().name(),
             "the root element must be <scene>",
         ));
     }
-    stack.push(canonical);
 
     // Defaults first (anywhere at the top level), overridden by `params`.
     let mut values = HashMap::new();
@@ -142,19 +176,22 @@ fn parse_into(
         values.insert(k.clone(), v.clone());
     }
 
-    let mut scene = Node {
-        tag: "scene".into(),
-        attributes: root
-            .attributes()
-            .map(|a| (a.name().to_string(), a.value().to_string()))
-            .collect(),
+    let tag = root.tag_name().name();
+    let location = loc(root);
+    let mut attributes = Vec::new();
+    for a in root.attributes() {
+        let value = substitute(a.value(), &values, &location, tag)?;
+        attributes.push((a.name().to_string(), value));
+    }
+    let mut node = Node {
+        tag: tag.to_string(),
+        attributes,
         children: Vec::new(),
-        location: loc(root),
-        dir: dir.clone(),
+        location,
+        dir: dir.to_path_buf(),
     };
-    convert_children(root, &mut scene, &values, &loc, &dir, params, stack)?;
-    stack.pop();
-    Ok(scene)
+    convert_children(root, &mut node, &values, &loc, dir, params, stack)?;
+    Ok(node)
 }
 
 /// Replaces `$name` by its parameter value.
