@@ -16,6 +16,17 @@ use scotopia_render::math::Vec3;
 /// The wavelengths the renderer carries together along a path.
 const CLUSTER: usize = 4;
 
+/// eval's result: f·|cos θ_o| (N × K) and pdf (N).
+type Evaluated<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>);
+
+/// sample's result: wo (N × 3), weight (N × K), pdf (N), delta (N).
+type Sampled<'py> = (
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<bool>>,
+);
+
 fn err(e: impl ToString) -> PyErr {
     PyValueError::new_err(e.to_string())
 }
@@ -161,7 +172,7 @@ impl Bsdf {
         wavelengths: PyReadonlyArrayDyn<'py, f64>,
         importance: bool,
         uv: Option<PyReadonlyArray2<'py, f64>>,
-    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>)> {
+    ) -> PyResult<Evaluated<'py>> {
         let wi = directions("wi", &wi.as_array(), None)?;
         let n = wi.len();
         let wo = directions("wo", &wo.as_array(), Some(n))?;
@@ -188,7 +199,7 @@ impl Bsdf {
     /// density (1 for a delta lobe) and whether the lobe is a delta. A row
     /// without a sample has wo = 0, weight 0 and density 0.
     #[pyo3(signature = (wi, wavelengths, u_lobe, u, importance = false, uv = None))]
-    #[allow(clippy::too_many_arguments, clippy::type_complexity)]
+    #[allow(clippy::too_many_arguments)]
     fn sample<'py>(
         &self,
         py: Python<'py>,
@@ -198,12 +209,7 @@ impl Bsdf {
         u: PyReadonlyArray2<'py, f64>,
         importance: bool,
         uv: Option<PyReadonlyArray2<'py, f64>>,
-    ) -> PyResult<(
-        Bound<'py, PyArray2<f64>>,
-        Bound<'py, PyArray2<f64>>,
-        Bound<'py, PyArray1<f64>>,
-        Bound<'py, PyArray1<bool>>,
-    )> {
+    ) -> PyResult<Sampled<'py>> {
         let wi = directions("wi", &wi.as_array(), None)?;
         let n = wi.len();
         let lambdas = self::wavelengths(&wavelengths, n)?;
