@@ -9,13 +9,14 @@ The colour-science core: spectra (``Spectrum``), the CIE observers
 ``scene_info(path)`` of ``scotopia info``, ``render(path, ...)`` of
 ``scotopia render`` (an H × W × 4 array of X, Y, Z, V′ and a metadata dict),
 ``display(image_or_path, ...)`` of ``scotopia display``; ``scotopia.vision``
-holds each stage of the vision pipeline as a function on arrays.
+holds each stage of the vision pipeline as a function on arrays;
+``scotopia.bsdf`` evaluates and samples one BSDF given as Mitsuba XML.
 """
 
 import os
 import warnings
 
-from . import vision  # noqa: F401
+from . import bsdf, vision  # noqa: F401
 from ._scotopia import display as _display
 from ._scotopia import (  # noqa: F401
     K_M,

@@ -2,6 +2,7 @@
 //! array arguments are numpy arrays whose last axis holds the three components.
 
 mod arrays;
+mod bsdf;
 mod colour;
 mod render;
 mod report;
@@ -29,6 +30,7 @@ fn _scotopia(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("K_M", scotopia_color::photometry::K_M)?;
     m.add("K_M_SCOTOPIC", scotopia_color::photometry::K_M_SCOTOPIC)?;
     m.add_class::<spectrum::Spectrum>()?;
+    bsdf::register(m)?;
     spectrum::register(m)?;
     colour::register(m)?;
     report::register(m)?;

@@ -8,5 +8,5 @@ pub mod materials;
 pub mod mesh;
 pub mod mitsuba;
 
-pub use build::{load_scene, load_scene_with, LoadOptions, Resolution};
+pub use build::{bsdf_from_xml, load_scene, load_scene_with, LoadOptions, Resolution};
 pub use info::{LightInfo, SceneInfo};

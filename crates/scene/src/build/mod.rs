@@ -8,10 +8,12 @@ mod integrator;
 mod ior;
 mod sensor;
 mod shape;
+mod standalone;
 mod texture;
 mod world;
 
 pub use sensor::Resolution;
+pub use standalone::bsdf_from_xml;
 
 use std::collections::HashMap;
 use std::path::Path;

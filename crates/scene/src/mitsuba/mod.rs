@@ -10,7 +10,7 @@ mod spectrum;
 mod values;
 
 pub use error::{Location, SceneError, SceneErrors};
-pub use parse::{parse_file, parse_scene, Node, Parameters, Parsed};
+pub use parse::{parse_file, parse_scene, parse_str, Node, Parameters, Parsed};
 pub use props::{Props, Usage};
 pub use search::{resolve, SearchPath};
 pub use spectrum::{normalised_illuminant, read_spectrum, read_spectrum_as};

@@ -181,8 +181,25 @@ impl Parser<'_> {
             ));
         }
         let text = std::fs::read_to_string(path).map_err(|e| io_error(path, from, e))?;
-        let file = path.display().to_string();
-        let doc = roxmltree::Document::parse(&text).map_err(|e| {
+        let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        self.stack.push(canonical);
+        let scene = self.text(&text, &path.display().to_string(), &dir, from.is_some());
+        self.stack.pop();
+        scene
+    }
+
+    /// XML `text` (called `file` in error locations) whose relative paths
+    /// resolve against `dir`: its root's children (or, when `fragment`,
+    /// a root that is a single object, kept) under a `<scene>` node.
+    fn text(
+        &mut self,
+        text: &str,
+        file: &str,
+        dir: &Path,
+        fragment: bool,
+    ) -> Result<Node, SceneError> {
+        let file = file.to_string();
+        let doc = roxmltree::Document::parse(text).map_err(|e| {
             let pos = e.pos();
             SceneError::new(
                 &Location {
@@ -195,7 +212,6 @@ impl Parser<'_> {
             )
         })?;
         let root = doc.root_element();
-        let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
         let loc = |n: roxmltree::Node| {
             let p = doc.text_pos_at(n.range().start);
             Location {
@@ -205,15 +221,13 @@ impl Parser<'_> {
             }
         };
         let is_scene = root.tag_name().name() == "scene";
-        if !is_scene && from.is_none() {
+        if !is_scene && !fragment {
             return Err(SceneError::new(
                 &loc(root),
                 root.tag_name().name(),
                 "the root element must be <scene>",
             ));
         }
-        self.stack.push(canonical);
-
         // Defaults first (anywhere at the top level), overridden by `params`.
         let mut values = HashMap::new();
         for n in root
@@ -240,7 +254,7 @@ impl Parser<'_> {
             values.insert(k.clone(), v.clone());
         }
 
-        let own = Arc::new(SearchPath::single(&dir));
+        let own = Arc::new(SearchPath::single(dir));
         let mut scene = Node {
             tag: "scene".into(),
             attributes: root
@@ -254,7 +268,7 @@ impl Parser<'_> {
         let context = FileContext {
             values: &values,
             loc: &loc,
-            dir: &dir,
+            dir,
             own: &own,
         };
         if is_scene {
@@ -268,9 +282,30 @@ impl Parser<'_> {
             self.element(root, &mut holder, &context, false)?;
             scene.children = holder.children;
         }
-        self.stack.pop();
         Ok(scene)
     }
+}
+
+/// Parses XML `text` (called `name` in error locations) whose root is a
+/// `<scene>` or one object, e.g. a `<bsdf>`, returned as a `<scene>` node
+/// holding it; relative paths and includes resolve against `dir`.
+pub fn parse_str(
+    text: &str,
+    name: &str,
+    dir: &Path,
+    params: &Parameters,
+) -> Result<Node, SceneError> {
+    let mut parser = Parser {
+        params,
+        stack: Vec::new(),
+        paths: Vec::new(),
+        scene_dir: dir.to_path_buf(),
+        known: BTreeSet::new(),
+    };
+    let mut root = parser.text(text, name, dir, true)?;
+    let mut cache = HashMap::new();
+    set_search(&mut root, &parser, &mut cache);
+    Ok(root)
 }
 
 /// What the elements of one file share while they are converted.
