@@ -8,5 +8,6 @@ pub mod materials;
 pub mod mesh;
 pub mod mitsuba;
 
+pub use build::registry;
 pub use build::{bsdf_from_xml, load_scene, load_scene_with, LoadOptions, Resolution};
 pub use info::{LightInfo, SceneInfo};

@@ -6,6 +6,7 @@ mod bsdf;
 mod emitter;
 mod integrator;
 mod ior;
+pub mod registry;
 mod sensor;
 mod shape;
 mod standalone;

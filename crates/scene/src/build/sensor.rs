@@ -27,7 +27,8 @@ pub fn build_sensor(b: &mut Builder, node: &Node) -> Result<Sensor, SceneError> 
     let (aperture, focus) = if kind == "thinlens" {
         (
             p.float("aperture_radius", 0.03)?,
-            p.float("focus_distance", 0.0)?,
+            // Mitsuba: the far clip plane when not given (src/render/sensor.cpp).
+            p.float("focus_distance", far)?,
         )
     } else {
         (0.0, 1.0)
@@ -40,6 +41,13 @@ pub fn build_sensor(b: &mut Builder, node: &Node) -> Result<Sensor, SceneError> 
         match child.tag.as_str() {
             "film" => {
                 let fp = Props::new(child);
+                match child.attr("type") {
+                    Some("hdrfilm") | None => {}
+                    Some(other) => b.warn(
+                        child,
+                        format!("film '{other}' is read as hdrfilm: scotopia's film is X, Y, Z, V′ (render --spectral writes a spectral image)"),
+                    ),
+                }
                 width = positive(child, fp.integer("width", 768)?)?;
                 height = positive(child, fp.integer("height", 576)?)?;
                 crop = film_crop(&fp, child, width, height)?;

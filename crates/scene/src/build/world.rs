@@ -103,6 +103,13 @@ impl World {
                 return Ok(());
             }
             "instance" => return self.add_instance(b, n),
+            // Mitsuba merges its meshes into one for speed: the same image.
+            "merge" => {
+                for c in n.children.iter().filter(|c| c.tag == "shape") {
+                    self.add_shape(b, c)?;
+                }
+                return Ok(());
+            }
             _ => {}
         }
         if SKIPPED_SHAPES.contains(&kind) {
