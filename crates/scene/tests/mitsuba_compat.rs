@@ -459,3 +459,36 @@ fn mitsubas_spectrum_plugins() {
         .to_string();
     assert!(e.contains("2 wavelengths but 1 values"), "{e}");
 }
+
+#[test]
+fn an_orthographic_sensor_loads_and_bdpt_refuses_it() {
+    use scotopia_render::camera::Projection;
+    use scotopia_render::integrator::{render, RenderError, RenderOptions};
+    let d = tmp("ortho");
+    let f = write(
+        &d,
+        "s.xml",
+        r#"<scene version="3.0.0"><sensor type="orthographic">
+    <transform name="to_world"><scale x="3" y="3"/><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film>
+</sensor><integrator type="bdpt"/><shape type="sphere"/></scene>"#,
+    );
+    let s = load(&f);
+    assert_eq!(s.camera.projection, Projection::Orthographic);
+    // The film spans x ∈ [−3, 3] at the camera; the centre ray goes down −z.
+    let r = s.camera.generate_ray([4.0, 4.0], [0.5, 0.5]);
+    assert!((r.d.z + 1.0).abs() < 1e-6, "{:?}", r.d);
+    let edge = s.camera.generate_ray([0.0, 4.0], [0.5, 0.5]);
+    assert!((edge.o.x.abs() - 3.0).abs() < 1e-4, "{:?}", edge.o);
+    let e = render(
+        &s,
+        &RenderOptions::default(),
+        &Default::default(),
+        &|_, _| {},
+    );
+    assert!(
+        matches!(e, Err(RenderError::BdptProjection)),
+        "{:?}",
+        e.err()
+    );
+}

@@ -1,6 +1,6 @@
-//! Cameras: perspective (pinhole) and thin lens, with Mitsuba 3's mapping
-//! from film position to ray, so that a scene rendered by both lines up
-//! pixel for pixel.
+//! Cameras: perspective (pinhole), thin lens and orthographic, with
+//! Mitsuba 3's mapping from film position to ray, so that a scene rendered
+//! by both lines up pixel for pixel.
 //!
 //! Camera space (Mitsuba's): +z is the view direction, +y up, +x left. The
 //! film position (x, y) runs from (0, 0) at the top-left corner of the image
@@ -41,9 +41,22 @@ impl FovAxis {
     }
 }
 
-/// A perspective camera; a thin lens when `aperture_radius` > 0.
+/// How film positions become rays.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Projection {
+    /// Rays from the lens through the image plane (pinhole or thin lens).
+    Perspective,
+    /// Parallel rays along +z from the film rectangle x ∈ [−1, 1],
+    /// y ∈ [−1/aspect, 1/aspect] of camera space (Mitsuba's
+    /// `orthographic`; `to_world`'s scale sets the extent).
+    Orthographic,
+}
+
+/// A perspective camera (a thin lens when `aperture_radius` > 0), or an
+/// orthographic one.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Camera {
+    pub projection: Projection,
     pub world_from_camera: Transform,
     camera_from_world: Transform,
     /// The image rendered (the crop window), pixels.
@@ -113,6 +126,7 @@ impl Camera {
             _ => t,
         };
         Ok(Self {
+            projection: Projection::Perspective,
             camera_from_world: world_from_camera.inverse(),
             world_from_camera,
             width,
@@ -125,6 +139,30 @@ impl Camera {
             aperture_radius,
             focus_distance,
         })
+    }
+
+    /// Mitsuba's `orthographic` sensor over a `width`×`height` film.
+    pub fn orthographic(
+        world_from_camera: Transform,
+        width: u32,
+        height: u32,
+        near_clip: f32,
+        far_clip: f32,
+    ) -> Result<Self, CameraError> {
+        // tan 45° = 1 makes the perspective film mapping give x ∈ [−1, 1].
+        let mut c = Self::new(
+            world_from_camera,
+            width,
+            height,
+            90.0,
+            FovAxis::X,
+            near_clip,
+            far_clip,
+            0.0,
+            1.0,
+        )?;
+        c.projection = Projection::Orthographic;
+        Ok(c)
     }
 
     /// Renders only the window of `size` pixels at `offset` of the film
@@ -158,8 +196,12 @@ impl Camera {
     }
 
     /// Horizontal and vertical field of view of the image (the crop
-    /// window's when cropped), degrees.
+    /// window's when cropped), degrees; (0, 0) for an orthographic camera,
+    /// which has none.
     pub fn fov_degrees(&self) -> (f32, f32) {
+        if self.projection == Projection::Orthographic {
+            return (0.0, 0.0);
+        }
         let span = |from: f32, to: f32, full: f32, tan_half: f32| {
             // Angles of the window's edges, measured across the film.
             let edge = |p: f32| ((1.0 - 2.0 * p / full) * tan_half).atan();
@@ -204,6 +246,20 @@ impl Camera {
     #[inline]
     pub fn generate_ray_from_lens(&self, film: [f32; 2], lens: [f32; 2]) -> (Ray, Vec3) {
         let d = self.direction(film);
+        if self.projection == Projection::Orthographic {
+            // From the film point on the near plane, along +z; Mitsuba's
+            // ray length is far − near, unscaled by to_world.
+            let o = self
+                .world_from_camera
+                .point(Vec3::new(d.x, d.y, self.near_clip));
+            let dir = self.world_from_camera.vector(Vec3::new(0.0, 0.0, 1.0));
+            let ray = Ray {
+                o,
+                d: dir.normalize(),
+                t_max: self.far_clip - self.near_clip,
+            };
+            return (ray, o);
+        }
         let (origin, dir) = if self.aperture_radius > 0.0 {
             // Thin lens: rays through every point of the aperture meet on the
             // plane z = focus_distance.
@@ -350,6 +406,26 @@ mod tests {
         assert!(camera(20, 10, 45.0, FovAxis::X)
             .with_crop([0, 0], [0, 10])
             .is_err());
+    }
+
+    #[test]
+    fn orthographic_rays_are_parallel_from_the_film_rectangle() {
+        // Mitsuba 3's orthographic: x ∈ [−1, 1] (left edge at +1), y ∈
+        // [−1/aspect, 1/aspect], rays along +z, scaled by to_world.
+        let t = Transform::scale(Vec3::new(2.0, 2.0, 1.0)).unwrap();
+        let c = Camera::orthographic(t, 200, 100, 1e-2, 1e4).unwrap();
+        let corner = c.generate_ray([0.0, 0.0], [0.5, 0.5]);
+        assert!(
+            (corner.o - Vec3::new(2.0, 1.0, 1e-2)).length() < 1e-6,
+            "{:?}",
+            corner.o
+        );
+        let centre = c.generate_ray([100.0, 50.0], [0.3, 0.9]);
+        assert!((centre.o - Vec3::new(0.0, 0.0, 1e-2)).length() < 1e-6);
+        assert_eq!(centre.d, Vec3::new(0.0, 0.0, 1.0));
+        assert_eq!(corner.d, centre.d);
+        assert!((centre.t_max - (1e4 - 1e-2)).abs() < 1e-3);
+        assert_eq!(c.fov_degrees(), (0.0, 0.0));
     }
 
     #[test]

@@ -15,6 +15,7 @@ use rayon::prelude::*;
 
 use scotopia_color::SampledWavelengths;
 
+use crate::camera::Projection;
 use crate::film::{Bands, Film, FilterSampler};
 use crate::light::{Light, SceneExtent};
 use crate::math::Vec3;
@@ -120,6 +121,8 @@ pub enum RenderError {
     Bands,
     #[error("strategy s={0}, t={1} does not exist (t ≥ 1, s + t ≥ 2) or needs --integrator bdpt")]
     Strategy(usize, usize),
+    #[error("the bidirectional tracer needs a perspective or thin-lens camera (an orthographic camera cannot be reached from a light); render with path")]
+    BdptProjection,
 }
 
 /// Per-scene state shared by all samples.
@@ -352,6 +355,9 @@ fn render_k<const K: usize>(
     }
     let start = Instant::now();
     let integrator = options.integrator.unwrap_or(scene.integrator.kind);
+    if integrator == IntegratorKind::Bdpt && scene.camera.projection != Projection::Perspective {
+        return Err(RenderError::BdptProjection);
+    }
     let mut renderer = Renderer::with_integrator(scene, options.strategy, integrator);
     if let Some([s, t]) = options.only_strategy {
         if integrator != IntegratorKind::Bdpt || t == 0 || s + t < 2 {

@@ -125,7 +125,7 @@ pub const PLUGINS: &[Plugin] = &[
     // Sensors
     p("sensor", "perspective", Full, "fov, fov_axis, focal_length, near_clip, far_clip, to_world", ""),
     p("sensor", "thinlens", Full, "the above, aperture_radius, focus_distance", ""),
-    p("sensor", "orthographic", Unsupported, "", ""),
+    p("sensor", "orthographic", Partial, "near_clip, far_clip, to_world (its scale sets the extent)", "path tracer only: bdpt refuses it"),
     p("sensor", "radiancemeter", Unsupported, "", ""),
     p("sensor", "irradiancemeter", Unsupported, "", ""),
     p("sensor", "distant", Unsupported, "", ""),

@@ -14,13 +14,18 @@ pub struct Sensor {
 
 pub fn build_sensor(b: &mut Builder, node: &Node) -> Result<Sensor, SceneError> {
     let kind = node.require("type")?;
-    if kind != "perspective" && kind != "thinlens" {
+    if !["perspective", "thinlens", "orthographic"].contains(&kind) {
         return Err(node.error(format!(
-            "sensor type '{kind}' is not supported (perspective, thinlens)"
+            "sensor type '{kind}' is not supported (perspective, thinlens, orthographic)"
         )));
     }
     let p = Props::new(node);
-    let (fov, axis) = field_of_view(&p, node)?;
+    let orthographic = kind == "orthographic";
+    let (fov, axis) = if orthographic {
+        (90.0, FovAxis::X)
+    } else {
+        field_of_view(&p, node)?
+    };
     let near = p.float("near_clip", 1e-2)?;
     let far = p.float("far_clip", 1e4)?;
     let to_world = p.transform("to_world")?;
@@ -96,10 +101,14 @@ pub fn build_sensor(b: &mut Builder, node: &Node) -> Result<Sensor, SceneError> 
         });
         (width, height) = (w, h);
     }
-    let mut camera = Camera::new(
-        to_world, width, height, fov, axis, near, far, aperture, focus,
-    )
-    .map_err(|e| node.error(e.to_string()))?;
+    let camera = if orthographic {
+        Camera::orthographic(to_world, width, height, near, far)
+    } else {
+        Camera::new(
+            to_world, width, height, fov, axis, near, far, aperture, focus,
+        )
+    };
+    let mut camera = camera.map_err(|e| node.error(e.to_string()))?;
     if let Some((offset, size)) = crop {
         camera = camera
             .with_crop(offset, size)
