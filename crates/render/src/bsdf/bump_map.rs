@@ -8,7 +8,7 @@
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
-use super::perturbed::{flip_towards, frame_around, Perturbation};
+use super::perturbed::{self, flip_towards, frame_around, Perturbation};
 use super::{Bsdf, BsdfSample, ShadingPoint, Transport};
 use crate::math::Vec3;
 use crate::texture::FloatTexture;
@@ -26,9 +26,9 @@ pub struct BumpMap {
 }
 
 impl BumpMap {
-    /// The perturbed frame at `at` for `wi`, in the original frame's
+    /// The perturbed frame at `at` seen from `w`, in the original frame's
     /// coordinates (whose normal is z).
-    pub(super) fn perturbation(&self, at: ShadingPoint, wi: Vec3) -> Perturbation {
+    pub(super) fn perturbation(&self, at: ShadingPoint, w: Vec3) -> Perturbation {
         let [hu, hv] = self.height.grad(at.uv);
         let dpdu = Vec3::new(at.dpdu.x, at.dpdu.y, self.scale * hu);
         let dpdv = Vec3::new(at.dpdv.x, at.dpdv.y, self.scale * hv);
@@ -37,7 +37,7 @@ impl BumpMap {
             n = -n;
         }
         if self.flip_invalid_normals {
-            n = flip_towards(n, wi);
+            n = flip_towards(n, w);
         }
         Perturbation {
             frame: frame_around(n, at.dpdu),
@@ -53,8 +53,8 @@ impl BumpMap {
         wo: Vec3,
         mode: Transport,
     ) -> SampledSpectrum<K> {
-        self.perturbation(at, wi)
-            .eval(&self.inner, wl, at, wi, wo, mode)
+        let frame_for = |w| self.perturbation(at, w);
+        perturbed::eval(frame_for, &self.inner, wl, at, wi, wo, mode)
     }
 
     pub fn pdf<const K: usize>(
@@ -64,7 +64,8 @@ impl BumpMap {
         wi: Vec3,
         wo: Vec3,
     ) -> f32 {
-        self.perturbation(at, wi).pdf(&self.inner, wl, at, wi, wo)
+        let frame_for = |w| self.perturbation(at, w);
+        perturbed::pdf(frame_for, &self.inner, wl, at, wi, wo)
     }
 
     pub fn sample<const K: usize>(
@@ -76,7 +77,7 @@ impl BumpMap {
         u: [f32; 2],
         mode: Transport,
     ) -> Option<BsdfSample<K>> {
-        self.perturbation(at, wi)
-            .sample(&self.inner, wl, at, wi, u_lobe, u, mode)
+        let frame_for = |w| self.perturbation(at, w);
+        perturbed::sample(frame_for, &self.inner, wl, at, wi, u_lobe, u, mode)
     }
 }

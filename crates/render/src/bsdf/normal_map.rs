@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
-use super::perturbed::{flip_towards, frame_around, Perturbation};
+use super::perturbed::{self, flip_towards, frame_around, Perturbation};
 use super::{Bsdf, BsdfSample, ShadingPoint, Transport};
 use crate::math::Vec3;
 use crate::texture::RgbBitmap;
@@ -24,13 +24,13 @@ pub struct NormalMap {
 }
 
 impl NormalMap {
-    /// The perturbed frame at `at` for `wi` (the original frame when the
+    /// The perturbed frame at `at` seen from `w` (the original frame when the
     /// map's normal is zero or not finite).
-    pub(super) fn perturbation(&self, at: ShadingPoint, wi: Vec3) -> Perturbation {
+    pub(super) fn perturbation(&self, at: ShadingPoint, w: Vec3) -> Perturbation {
         let [r, g, b] = self.normals.eval(at.uv);
         let mut n = Vec3::new(2.0 * r - 1.0, 2.0 * g - 1.0, 2.0 * b - 1.0);
         if self.flip_invalid_normals {
-            n = flip_towards(n, wi);
+            n = flip_towards(n, w);
         }
         Perturbation {
             frame: frame_around(n, Vec3::new(1.0, 0.0, 0.0)),
@@ -46,8 +46,8 @@ impl NormalMap {
         wo: Vec3,
         mode: Transport,
     ) -> SampledSpectrum<K> {
-        self.perturbation(at, wi)
-            .eval(&self.inner, wl, at, wi, wo, mode)
+        let frame_for = |w| self.perturbation(at, w);
+        perturbed::eval(frame_for, &self.inner, wl, at, wi, wo, mode)
     }
 
     pub fn pdf<const K: usize>(
@@ -57,7 +57,8 @@ impl NormalMap {
         wi: Vec3,
         wo: Vec3,
     ) -> f32 {
-        self.perturbation(at, wi).pdf(&self.inner, wl, at, wi, wo)
+        let frame_for = |w| self.perturbation(at, w);
+        perturbed::pdf(frame_for, &self.inner, wl, at, wi, wo)
     }
 
     pub fn sample<const K: usize>(
@@ -69,7 +70,7 @@ impl NormalMap {
         u: [f32; 2],
         mode: Transport,
     ) -> Option<BsdfSample<K>> {
-        self.perturbation(at, wi)
-            .sample(&self.inner, wl, at, wi, u_lobe, u, mode)
+        let frame_for = |w| self.perturbation(at, w);
+        perturbed::sample(frame_for, &self.inner, wl, at, wi, u_lobe, u, mode)
     }
 }

@@ -4,6 +4,14 @@
 //! normal scatters nothing, and the shadowing term of Estevez et al. 2019
 //! ("A Microfacet-Based Shadowing Function to Solve the Bump Terminator
 //! Problem", Ray Tracing Gems ch. 12) softens the terminator.
+//!
+//! The new normal is mirrored towards the viewer where it faces away
+//! (`flip_invalid_normals`): the frame depends on the camera-side
+//! direction — `wi` for radiance, `wo` for importance — so that the
+//! bidirectional tracer reads the same BSDF as the path tracer. Sampling
+//! and `pdf` take the frame of their first direction, as their densities
+//! are used; an importance sample whose direction would see the other
+//! frame is weighted by eval/pdf.
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
@@ -62,6 +70,60 @@ pub(super) fn flip_towards(n: Vec3, wi: Vec3) -> Vec3 {
     } else {
         n
     }
+}
+
+/// eval with the frame `frame_for` gives for the camera-side direction.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn eval<const K: usize>(
+    frame_for: impl Fn(Vec3) -> Perturbation,
+    inner: &Bsdf,
+    wl: &SampledWavelengths<K>,
+    at: ShadingPoint,
+    wi: Vec3,
+    wo: Vec3,
+    mode: Transport,
+) -> SampledSpectrum<K> {
+    let camera_side = match mode {
+        Transport::Radiance => wi,
+        Transport::Importance => wo,
+    };
+    frame_for(camera_side).eval(inner, wl, at, wi, wo, mode)
+}
+
+/// The density of sampling `wo` from `wi` (in `wi`'s frame).
+pub(super) fn pdf<const K: usize>(
+    frame_for: impl Fn(Vec3) -> Perturbation,
+    inner: &Bsdf,
+    wl: &SampledWavelengths<K>,
+    at: ShadingPoint,
+    wi: Vec3,
+    wo: Vec3,
+) -> f32 {
+    frame_for(wi).pdf(inner, wl, at, wi, wo)
+}
+
+/// A sample in `wi`'s frame, weighted by eval/pdf.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn sample<const K: usize>(
+    frame_for: impl Fn(Vec3) -> Perturbation,
+    inner: &Bsdf,
+    wl: &SampledWavelengths<K>,
+    at: ShadingPoint,
+    wi: Vec3,
+    u_lobe: f32,
+    u: [f32; 2],
+    mode: Transport,
+) -> Option<BsdfSample<K>> {
+    let p = frame_for(wi);
+    let mut s = p.sample(inner, wl, at, wi, u_lobe, u, mode)?;
+    if mode == Transport::Importance && !s.delta {
+        // The value is the camera side's (`wo`'s) frame's.
+        let q = frame_for(s.wo);
+        if q.frame != p.frame {
+            s.weight = q.eval(inner, wl, at, wi, s.wo, mode) / s.pdf;
+        }
+    }
+    Some(s)
 }
 
 impl Perturbation {
