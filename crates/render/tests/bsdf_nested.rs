@@ -105,7 +105,11 @@ fn cases() -> Vec<(&'static str, Bsdf, Vec3)> {
         ));
         cases.push((
             "blend of a blend",
-            blend(0.5, blend(0.4, diffuse(0.5), conductor(0.3)), conductor(0.05)),
+            blend(
+                0.5,
+                blend(0.4, diffuse(0.5), conductor(0.3)),
+                conductor(0.05),
+            ),
             wi,
         ));
         cases.push((
@@ -186,7 +190,11 @@ fn weights_are_eval_over_pdf() {
                         "{name} {mode:?}: {s:?} vs {expected:?}"
                     );
                 }
-                assert!((s.pdf - pdf).abs() <= 1e-3 * pdf, "{name}: {} vs {pdf}", s.pdf);
+                assert!(
+                    (s.pdf - pdf).abs() <= 1e-3 * pdf,
+                    "{name}: {} vs {pdf}",
+                    s.pdf
+                );
             }
         }
     }
@@ -333,7 +341,14 @@ fn a_tilted_normal_map_tilts_a_mirror() {
     );
     let wi_world = Vec3::new(0.0, 0.0, 1.0);
     let s = bsdf
-        .sample(&w, at, frame.to_local(wi_world), 0.5, [0.5, 0.5], Transport::Radiance)
+        .sample(
+            &w,
+            at,
+            frame.to_local(wi_world),
+            0.5,
+            [0.5, 0.5],
+            Transport::Radiance,
+        )
         .unwrap();
     let wo_world = frame.to_world(s.wo);
     assert!(wo_world.y > 0.49 && wo_world.x.abs() < 1e-5, "{wo_world:?}");
@@ -359,7 +374,10 @@ fn a_height_ramp_tilts_a_mirror_by_its_slope() {
         .sample(&w, [0.5, 0.5], wi, 0.5, [0.5, 0.5], Transport::Radiance)
         .unwrap();
     let angle = steeper.wo.z.acos().to_degrees();
-    assert!((angle - 2.0 * 1.0f32.atan().to_degrees()).abs() < 1e-2, "{angle}");
+    assert!(
+        (angle - 2.0 * 1.0f32.atan().to_degrees()).abs() < 1e-2,
+        "{angle}"
+    );
     // The slope is per unit of u: with ∂p/∂u twice as long, half the tilt.
     let at = ShadingPoint {
         uv: [0.5, 0.5],
@@ -371,7 +389,10 @@ fn a_height_ramp_tilts_a_mirror_by_its_slope() {
         .sample(&w, at, wi, 0.5, [0.5, 0.5], Transport::Radiance)
         .unwrap();
     let angle = s.wo.z.acos().to_degrees();
-    assert!((angle - 2.0 * 0.25f32.atan().to_degrees()).abs() < 1e-2, "{angle}");
+    assert!(
+        (angle - 2.0 * 0.25f32.atan().to_degrees()).abs() < 1e-2,
+        "{angle}"
+    );
 }
 
 #[test]
@@ -393,7 +414,10 @@ fn pplastic_conserves_energy_and_is_reciprocal() {
             }
             let mean = sum / n as f64;
             let se = ((sum2 / n as f64 - mean * mean).max(0.0) / n as f64).sqrt();
-            assert!(mean - 4.0 * se <= 1.0, "α {alpha}, θ {theta}: {mean} ± {se}");
+            assert!(
+                mean - 4.0 * se <= 1.0,
+                "α {alpha}, θ {theta}: {mean} ± {se}"
+            );
         }
         for _ in 0..200 {
             let (a, c) = (

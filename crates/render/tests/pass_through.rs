@@ -260,6 +260,10 @@ fn a_normal_mapped_floor_renders_alike_in_both_tracers() {
     // the flip decided by the light's side, at less than half the image).
     let traced = luminance_with(&scene, IntegratorKind::Bdpt, Some([2, 1]), 1024, 7);
     let (d, se) = difference(&traced, &path, 1.0);
-    assert!(d.abs() <= Z * se, "light tracing: {d} ± {se} (mean {})", mean(&path));
+    assert!(
+        d.abs() <= Z * se,
+        "light tracing: {d} ± {se} (mean {})",
+        mean(&path)
+    );
     assert!(se < 0.03 * mean(&path), "{se}");
 }

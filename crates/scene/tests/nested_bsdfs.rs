@@ -127,7 +127,10 @@ fn normal_and_bump_maps_load() {
         .sample(&w, [0.5, 0.5], up, 0.5, [0.5, 0.5], Transport::Radiance)
         .unwrap();
     let angle = s.wo.z.acos().to_degrees();
-    assert!((angle - 2.0 * 0.5f32.atan().to_degrees()).abs() < 0.01, "{angle}");
+    assert!(
+        (angle - 2.0 * 0.5f32.atan().to_degrees()).abs() < 0.01,
+        "{angle}"
+    );
 }
 
 #[test]
@@ -145,7 +148,9 @@ fn polarisation_plugins_load_with_a_warning() {
         ],
     );
     assert_eq!(warnings.len(), 5, "{warnings:?}");
-    assert!(warnings.iter().all(|w| w.contains("polaris") || w.contains("pBRDF")));
+    assert!(warnings
+        .iter()
+        .all(|w| w.contains("polaris") || w.contains("pBRDF")));
     assert!(matches!(m[0], Bsdf::PolarizedPlastic(_)));
     // Unpolarised light through a polariser: half; a retarder: all.
     let w = wl();

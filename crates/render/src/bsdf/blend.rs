@@ -78,7 +78,7 @@ impl Blend {
         let f_chosen = s.weight * s.pdf;
         let f_other = other.eval(wl, at, wi, s.wo, mode);
         let pdf = p_chosen * s.pdf + (1.0 - p_chosen) * other.pdf_at(wl, at, wi, s.wo);
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         s.weight = (f_chosen * p_chosen + f_other * (1.0 - p_chosen)) / pdf;

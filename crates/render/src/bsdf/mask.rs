@@ -63,9 +63,7 @@ impl Mask {
         let opacity = self.opacity(at.uv);
         if u_lobe < opacity {
             // The surface: the lobe number is reused, rescaled to [0, 1).
-            let mut s = self
-                .inner
-                .sample(wl, at, wi, u_lobe / opacity, u, mode)?;
+            let mut s = self.inner.sample(wl, at, wi, u_lobe / opacity, u, mode)?;
             s.pdf *= opacity;
             Some(s)
         } else {

@@ -105,4 +105,3 @@ pub(super) fn uv_derivatives(p: [Vec3; 3], t: [[f32; 2]; 3]) -> (Vec3, Vec3) {
         (f.s, f.t)
     }
 }
-

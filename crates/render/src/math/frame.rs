@@ -88,7 +88,13 @@ mod tests {
         let want = (tangent - n * n.dot(tangent)).normalize();
         assert!((f.s - want).length() < 1e-6);
         // A tangent along the normal (or zero) falls back to any frame.
-        assert_eq!(Frame::from_normal_tangent(n, n * 3.0), Frame::from_normal(n));
-        assert_eq!(Frame::from_normal_tangent(n, Vec3::ZERO), Frame::from_normal(n));
+        assert_eq!(
+            Frame::from_normal_tangent(n, n * 3.0),
+            Frame::from_normal(n)
+        );
+        assert_eq!(
+            Frame::from_normal_tangent(n, Vec3::ZERO),
+            Frame::from_normal(n)
+        );
     }
 }

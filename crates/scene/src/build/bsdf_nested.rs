@@ -113,12 +113,7 @@ pub fn build(b: &mut Builder, kind: &str, p: &Props, node: &Node) -> Result<Bsdf
                  refractions)"
                     .into(),
             );
-            Bsdf::PolarizedPlastic(PolarizedPlastic::new(
-                diffuse,
-                specular,
-                int / ext,
-                alpha,
-            ))
+            Bsdf::PolarizedPlastic(PolarizedPlastic::new(diffuse, specular, int / ext, alpha))
         }
         "polarizer" | "retarder" | "circular" => {
             let transmittance = b.texture(p, "transmittance", Usage::Reflectance, 1.0)?;
@@ -163,7 +158,8 @@ pub fn build(b: &mut Builder, kind: &str, p: &Props, node: &Node) -> Result<Bsdf
 
 /// Whether `<ref>` node `c` names a top-level texture.
 fn is_texture_ref(b: &Builder, c: &Node) -> bool {
-    c.attr("id").is_some_and(|id| b.named_textures.contains_key(id))
+    c.attr("id")
+        .is_some_and(|id| b.named_textures.contains_key(id))
 }
 
 /// The nested BSDFs of `node`, in order: `<bsdf>` children and `<ref>`s
@@ -173,7 +169,9 @@ fn bsdf_children<'n>(b: &Builder, p: &Props, node: &'n Node) -> Vec<&'n Node> {
         .iter()
         .filter(|c| {
             c.tag == "bsdf"
-                || (c.tag == "ref" && c.attr("id").is_some_and(|id| b.named_bsdfs.contains_key(id)))
+                || (c.tag == "ref"
+                    && c.attr("id")
+                        .is_some_and(|id| b.named_bsdfs.contains_key(id)))
         })
         .inspect(|c| {
             // A named reference reads as a property: mark it used.

@@ -237,9 +237,9 @@ impl Renderer<'_> {
             c.light_last_rev = pdf_cam * y.cos(dir) / dist2;
             if s >= 2 {
                 let (frame, at) = y.shading();
-                let pdf =
-                    self.bsdf_at(y)
-                        .pdf_at(wl, at, frame.to_local(dir), frame.to_local(y.wi));
+                let pdf = self
+                    .bsdf_at(y)
+                    .pdf_at(wl, at, frame.to_local(dir), frame.to_local(y.wi));
                 c.light_prev_rev = y.convert(pdf, &light[s - 2]);
             }
         } else if s == 1 {
