@@ -430,3 +430,184 @@ fn pplastic_conserves_energy_and_is_reciprocal() {
         }
     }
 }
+
+/// (θi, φi, θo, φo) in degrees, then Mitsuba 3.9.1's (`scalar_spectral`)
+/// eval and pdf of a `normalmap` (raw 1×1 bitmap of the normal tilted 25°
+/// at azimuth 30°) and of a `bumpmap` (raw 2×1 ramp 0 | 1, `scale` 0.25),
+/// each over `diffuse` 0.5, at uv (0.4, 0.5) of a flat surface with
+/// ∂p/∂u = x, ∂p/∂v = y.
+const MITSUBA_MAPS: [[f32; 8]; 6] = [
+    [
+        30.0,
+        0.0,
+        30.0,
+        180.0,
+        9.557720274e-02,
+        1.915864199e-01,
+        1.584574282e-01,
+        3.177379966e-01,
+    ],
+    [
+        10.0,
+        20.0,
+        60.0,
+        150.0,
+        4.215398431e-02,
+        8.599293977e-02,
+        1.217684150e-01,
+        2.491168678e-01,
+    ],
+    [
+        70.0,
+        0.0,
+        40.0,
+        200.0,
+        6.759674847e-02,
+        1.358372420e-01,
+        6.569684297e-02,
+        1.321125180e-01,
+    ],
+    [
+        45.0,
+        90.0,
+        45.0,
+        270.0,
+        7.769046724e-02,
+        1.564296782e-01,
+        9.988407791e-02,
+        2.013168335e-01,
+    ],
+    [
+        20.0,
+        0.0,
+        80.0,
+        30.0,
+        7.706778497e-02,
+        1.825750470e-01,
+        0.0,
+        0.0,
+    ],
+    [
+        60.0,
+        210.0,
+        50.0,
+        30.0,
+        1.428775191e-01,
+        2.884867191e-01,
+        4.380235821e-02,
+        8.856622130e-02,
+    ],
+];
+
+/// The same directions' eval and pdf of Mitsuba 3.9.1's `pplastic` (GGX
+/// α 0.2, int_ior 1.5, diffuse 0.5) in its unpolarised variant.
+const MITSUBA_PPLASTIC: [[f32; 6]; 5] = [
+    [
+        30.0,
+        0.0,
+        30.0,
+        180.0,
+        0.22137883305549622,
+        1.618286371231079,
+    ],
+    [
+        10.0,
+        20.0,
+        60.0,
+        150.0,
+        0.07185918092727661,
+        0.0898917019367218,
+    ],
+    [
+        70.0,
+        0.0,
+        40.0,
+        200.0,
+        0.12154324352741241,
+        0.33448508381843567,
+    ],
+    [
+        45.0,
+        90.0,
+        45.0,
+        270.0,
+        0.24010685086250305,
+        1.9322950839996338,
+    ],
+    [
+        20.0,
+        0.0,
+        80.0,
+        90.0,
+        0.016759192571043968,
+        0.027875764295458794,
+    ],
+];
+
+fn close_to(got: f32, want: f32, what: &str) {
+    assert!(
+        (got - want).abs() <= 2e-4 * want.abs().max(1e-3),
+        "{what}: {got} vs Mitsuba's {want}"
+    );
+}
+
+#[test]
+fn normal_map_bump_map_and_pplastic_match_mitsuba() {
+    let w = wl();
+    let (t, p) = (25.0f32.to_radians(), 30.0f32.to_radians());
+    // The colour Mitsuba read, as f32.
+    let c = [
+        (t.sin() * p.cos() + 1.0) / 2.0,
+        (t.sin() * p.sin() + 1.0) / 2.0,
+        (t.cos() + 1.0) / 2.0,
+    ];
+    let nm = Bsdf::NormalMap(Box::new(NormalMap {
+        normals: Arc::new(RgbBitmap::new(1, 1, vec![c]).unwrap()),
+        inner: diffuse(0.5),
+        flip_invalid_normals: true,
+        use_shadowing_function: true,
+    }));
+    let ramp = RgbBitmap::new(2, 1, vec![[0.0; 3], [1.0; 3]]).unwrap();
+    let bump = Bsdf::BumpMap(Box::new(BumpMap {
+        height: FloatTexture::Bitmap(Arc::new(ramp)),
+        scale: 0.25,
+        inner: diffuse(0.5),
+        flip_invalid_normals: true,
+        use_shadowing_function: true,
+    }));
+    let uv = [0.4, 0.5];
+    for [ti, pi, to, po, nm_f, nm_p, bump_f, bump_p] in MITSUBA_MAPS {
+        let (wi, wo) = (dir(ti, pi), dir(to, po));
+        let case = format!("({ti}, {pi}) → ({to}, {po})");
+        close_to(
+            nm.eval(&w, uv, wi, wo, Transport::Radiance)[0],
+            nm_f,
+            &format!("normalmap eval {case}"),
+        );
+        close_to(
+            nm.pdf_at(&w, uv, wi, wo),
+            nm_p,
+            &format!("normalmap pdf {case}"),
+        );
+        close_to(
+            bump.eval(&w, uv, wi, wo, Transport::Radiance)[0],
+            bump_f,
+            &format!("bumpmap eval {case}"),
+        );
+        close_to(
+            bump.pdf_at(&w, uv, wi, wo),
+            bump_p,
+            &format!("bumpmap pdf {case}"),
+        );
+    }
+    let pp = pplastic(0.2);
+    for [ti, pi, to, po, f, pdf] in MITSUBA_PPLASTIC {
+        let (wi, wo) = (dir(ti, pi), dir(to, po));
+        close_to(
+            pp.eval(&w, UV, wi, wo, Transport::Radiance)[0],
+            f,
+            "pplastic eval",
+        );
+        close_to(pp.pdf(&w, wi, wo), pdf, "pplastic pdf");
+    }
+}
