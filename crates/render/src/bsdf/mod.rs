@@ -5,28 +5,46 @@
 //! (z = normal) and both point away from the surface — `wi` towards where
 //! the path came from, `wo` the sampled continuation. `eval` returns
 //! f(wi, wo)·|cos θ_o| (the cosine included), `sample` returns the weight
-//! eval/pdf, so delta lobes need no infinite values. `uv` are the hit's
-//! texture coordinates, where textured parameters are looked up.
+//! eval/pdf, so delta lobes need no infinite values. `at` is where the
+//! BSDF is evaluated ([`ShadingPoint`]): the hit's texture coordinates,
+//! where textured parameters are looked up, and the surface's local
+//! geometry, which normal and bump maps perturb. A bare `[f32; 2]` of
+//! texture coordinates converts to a flat point.
 
+mod blend;
+mod bump_map;
 mod conductor;
 mod dielectric;
 mod diffuse;
 mod fluorescent;
 mod fresnel;
+mod mask;
 mod microfacet;
+mod normal_map;
+mod null;
+mod perturbed;
 mod plastic;
+mod polarized_plastic;
 mod rough_dielectric;
 mod rough_plastic;
+mod shading;
 
+pub use blend::Blend;
+pub use bump_map::BumpMap;
 pub use conductor::Conductor;
 pub use dielectric::{Dielectric, Ior, ThinDielectric};
 pub use diffuse::Diffuse;
 pub use fluorescent::{Donaldson, Fluorescent, Reradiation, Separable};
 pub use fresnel::{fresnel_conductor, fresnel_dielectric};
+pub use mask::Mask;
 pub use microfacet::Ggx;
+pub use normal_map::NormalMap;
+pub use null::Null;
 pub use plastic::{diffuse_fresnel_reflectance, Plastic};
+pub use polarized_plastic::PolarizedPlastic;
 pub use rough_dielectric::RoughDielectric;
 pub use rough_plastic::RoughPlastic;
+pub use shading::ShadingPoint;
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
@@ -70,6 +88,18 @@ pub enum Bsdf {
     Fluorescent(Fluorescent),
     /// The inner BSDF on both sides (Mitsuba's `twosided`).
     TwoSided(Box<Bsdf>),
+    /// No scattering: light passes straight through (Mitsuba's `null`).
+    Null(Null),
+    /// The inner BSDF with probability `opacity`, else null.
+    Mask(Box<Mask>),
+    /// A mixture of two BSDFs (Mitsuba's `blendbsdf`).
+    Blend(Box<Blend>),
+    /// The inner BSDF in a frame read from a normal map.
+    NormalMap(Box<NormalMap>),
+    /// The inner BSDF in a frame tilted by a height texture.
+    BumpMap(Box<BumpMap>),
+    /// Mitsuba's `pplastic` read without polarisation.
+    PolarizedPlastic(PolarizedPlastic),
 }
 
 /// Mirror `w` about the normal (0, 0, 1).
@@ -89,11 +119,13 @@ impl Bsdf {
     pub fn eval<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        at: impl Into<ShadingPoint>,
         wi: Vec3,
         wo: Vec3,
         mode: Transport,
     ) -> SampledSpectrum<K> {
+        let at: ShadingPoint = at.into();
+        let uv = at.uv;
         match self {
             Bsdf::Diffuse(b) => b.eval(wl, uv, wi, wo),
             Bsdf::Conductor(b) => b.eval(wl, uv, wi, wo),
@@ -103,15 +135,37 @@ impl Bsdf {
             Bsdf::RoughPlastic(b) => b.eval(wl, uv, wi, wo),
             Bsdf::Fluorescent(b) => b.eval(wi, wo),
             Bsdf::TwoSided(inner) => {
-                let (wi, wo) = two_sided(wi, wo);
-                inner.eval(wl, uv, wi, wo, mode)
+                let (at, wi, wo) = two_sided(at, wi, wo);
+                inner.eval(wl, at, wi, wo, mode)
             }
+            Bsdf::Null(_) => SampledSpectrum::splat(0.0),
+            Bsdf::Mask(b) => b.eval(wl, at, wi, wo, mode),
+            Bsdf::Blend(b) => b.eval(wl, at, wi, wo, mode),
+            Bsdf::NormalMap(b) => b.eval(wl, at, wi, wo, mode),
+            Bsdf::BumpMap(b) => b.eval(wl, at, wi, wo, mode),
+            Bsdf::PolarizedPlastic(b) => b.eval(wl, uv, wi, wo),
         }
     }
 
-    /// Density of `sample` producing `wo` by its non-delta lobes (zero for
-    /// pure delta BSDFs); for a dispersive lobe, the first wavelength's.
+    /// [`Bsdf::pdf_at`] at texture coordinates (0, 0) of a flat surface:
+    /// the density of every BSDF whose sampling does not depend on the
+    /// point (all but `mask`, `blendbsdf`, `normalmap`, `bumpmap` with
+    /// textures); the tracers use `pdf_at`.
     pub fn pdf<const K: usize>(&self, wl: &SampledWavelengths<K>, wi: Vec3, wo: Vec3) -> f32 {
+        self.pdf_at(wl, [0.0, 0.0], wi, wo)
+    }
+
+    /// Density of `sample` at `at` producing `wo` by its non-delta lobes
+    /// (zero for pure delta BSDFs); for a dispersive lobe, the first
+    /// wavelength's.
+    pub fn pdf_at<const K: usize>(
+        &self,
+        wl: &SampledWavelengths<K>,
+        at: impl Into<ShadingPoint>,
+        wi: Vec3,
+        wo: Vec3,
+    ) -> f32 {
+        let at: ShadingPoint = at.into();
         match self {
             Bsdf::Diffuse(b) => b.pdf(wi, wo),
             Bsdf::Conductor(b) => b.pdf(wi, wo),
@@ -121,9 +175,15 @@ impl Bsdf {
             Bsdf::RoughPlastic(b) => b.pdf(wi, wo),
             Bsdf::Fluorescent(b) => b.pdf(wi, wo),
             Bsdf::TwoSided(inner) => {
-                let (wi, wo) = two_sided(wi, wo);
-                inner.pdf(wl, wi, wo)
+                let (at, wi, wo) = two_sided(at, wi, wo);
+                inner.pdf_at(wl, at, wi, wo)
             }
+            Bsdf::Null(_) => 0.0,
+            Bsdf::Mask(b) => b.pdf(wl, at, wi, wo),
+            Bsdf::Blend(b) => b.pdf(wl, at, wi, wo),
+            Bsdf::NormalMap(b) => b.pdf(wl, at, wi, wo),
+            Bsdf::BumpMap(b) => b.pdf(wl, at, wi, wo),
+            Bsdf::PolarizedPlastic(b) => b.pdf(wi, wo),
         }
     }
 
@@ -131,12 +191,14 @@ impl Bsdf {
     pub fn sample<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        at: impl Into<ShadingPoint>,
         wi: Vec3,
         u_lobe: f32,
         u: [f32; 2],
         mode: Transport,
     ) -> Option<BsdfSample<K>> {
+        let at: ShadingPoint = at.into();
+        let uv = at.uv;
         match self {
             Bsdf::Diffuse(b) => b.sample(wl, uv, wi, u),
             Bsdf::Conductor(b) => b.sample(wl, uv, wi, u),
@@ -148,17 +210,23 @@ impl Bsdf {
             Bsdf::Fluorescent(b) => b.sample(wi, u),
             Bsdf::TwoSided(inner) => {
                 let flip = wi.z < 0.0;
-                let wi = if flip {
-                    Vec3::new(wi.x, wi.y, -wi.z)
+                let (at, wi) = if flip {
+                    (at.mirrored(), Vec3::new(wi.x, wi.y, -wi.z))
                 } else {
-                    wi
+                    (at, wi)
                 };
-                let mut s = inner.sample(wl, uv, wi, u_lobe, u, mode)?;
+                let mut s = inner.sample(wl, at, wi, u_lobe, u, mode)?;
                 if flip {
                     s.wo.z = -s.wo.z;
                 }
                 Some(s)
             }
+            Bsdf::Null(b) => Some(b.sample(wl, uv, wi)),
+            Bsdf::Mask(b) => b.sample(wl, at, wi, u_lobe, u, mode),
+            Bsdf::Blend(b) => b.sample(wl, at, wi, u_lobe, u, mode),
+            Bsdf::NormalMap(b) => b.sample(wl, at, wi, u_lobe, u, mode),
+            Bsdf::BumpMap(b) => b.sample(wl, at, wi, u_lobe, u, mode),
+            Bsdf::PolarizedPlastic(b) => b.sample(wl, uv, wi, u_lobe, u),
         }
     }
 
@@ -177,6 +245,8 @@ impl Bsdf {
         match self {
             Bsdf::Fluorescent(b) => Some(b.reradiate(wl, uv, u)),
             Bsdf::TwoSided(inner) => inner.reradiate(wl, uv, u),
+            Bsdf::NormalMap(b) => b.inner.reradiate(wl, uv, u),
+            Bsdf::BumpMap(b) => b.inner.reradiate(wl, uv, u),
             _ => None,
         }
     }
@@ -186,6 +256,10 @@ impl Bsdf {
         match self {
             Bsdf::Fluorescent(f) => Some(f),
             Bsdf::TwoSided(inner) => inner.fluorescent(),
+            Bsdf::NormalMap(b) => b.inner.fluorescent(),
+            Bsdf::BumpMap(b) => b.inner.fluorescent(),
+            // The loader refuses fluorescence under a mask or a blend,
+            // whose other part would take its re-emission.
             _ => None,
         }
     }
@@ -198,16 +272,27 @@ impl Bsdf {
             Bsdf::Dielectric(_) | Bsdf::ThinDielectric(_) => true,
             Bsdf::RoughDielectric(_) | Bsdf::Plastic(_) | Bsdf::RoughPlastic(_) => false,
             Bsdf::TwoSided(inner) => inner.is_delta(),
+            Bsdf::Null(_) => true,
+            Bsdf::Mask(b) => b.inner.is_delta(),
+            Bsdf::Blend(b) => b.first.is_delta() && b.second.is_delta(),
+            Bsdf::NormalMap(b) => b.inner.is_delta(),
+            Bsdf::BumpMap(b) => b.inner.is_delta(),
+            Bsdf::PolarizedPlastic(_) => false,
         }
     }
 }
 
-/// Both directions moved to the upper side when `wi` is below.
+/// The point and both directions moved to the upper side when `wi` is
+/// below.
 #[inline]
-fn two_sided(wi: Vec3, wo: Vec3) -> (Vec3, Vec3) {
+fn two_sided(at: ShadingPoint, wi: Vec3, wo: Vec3) -> (ShadingPoint, Vec3, Vec3) {
     if wi.z < 0.0 {
-        (Vec3::new(wi.x, wi.y, -wi.z), Vec3::new(wo.x, wo.y, -wo.z))
+        (
+            at.mirrored(),
+            Vec3::new(wi.x, wi.y, -wi.z),
+            Vec3::new(wo.x, wo.y, -wo.z),
+        )
     } else {
-        (wi, wo)
+        (at, wi, wo)
     }
 }

@@ -87,3 +87,21 @@ impl TriangleMesh {
         0.5 * (b - a).cross(c - a).length()
     }
 }
+
+/// ∂p/∂u and ∂p/∂v over the triangle `p` with texture coordinates `t`
+/// (solving the 2×2 system of its two edges, as Mitsuba's mesh does); an
+/// arbitrary tangent pair of the face when its coordinates are degenerate.
+pub(super) fn uv_derivatives(p: [Vec3; 3], t: [[f32; 2]; 3]) -> (Vec3, Vec3) {
+    let (dp0, dp1) = (p[1] - p[0], p[2] - p[0]);
+    let (du0, dv0) = (t[1][0] - t[0][0], t[1][1] - t[0][1]);
+    let (du1, dv1) = (t[2][0] - t[0][0], t[2][1] - t[0][1]);
+    let det = du0 * dv1 - dv0 * du1;
+    let dpdu = (dp0 * dv1 - dp1 * dv0) / det;
+    let dpdv = (dp1 * du0 - dp0 * du1) / det;
+    if det != 0.0 && dpdu.is_finite() && dpdv.is_finite() {
+        (dpdu, dpdv)
+    } else {
+        let f = crate::math::Frame::from_normal(dp0.cross(dp1).normalize());
+        (f.s, f.t)
+    }
+}

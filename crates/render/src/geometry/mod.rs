@@ -44,13 +44,18 @@ pub struct Hit {
 }
 
 /// The surface at a hit: position, geometric and shading normals (unit,
-/// facing the side the shape's normals point to), and texture coordinates.
+/// facing the side the shape's normals point to), texture coordinates, and
+/// the position's partial derivatives along them (Mitsuba's `dp_du`,
+/// `dp_dv`: the shading frame's tangent follows `dpdu`, which normal maps
+/// and bump maps rely on).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Surface {
     pub p: Vec3,
     pub n_geometric: Vec3,
     pub n_shading: Vec3,
     pub uv: [f32; 2],
+    pub dpdu: Vec3,
+    pub dpdv: Vec3,
 }
 
 impl Shape {
@@ -134,11 +139,18 @@ impl Shape {
                 let uv = m.uvs.as_ref().map_or([b1, b2], |t| {
                     std::array::from_fn(|k| t[ia][k] * b0 + t[ib][k] * b1 + t[ic][k] * b2)
                 });
+                let (dpdu, dpdv) = match &m.uvs {
+                    Some(t) => mesh::uv_derivatives([a, b, c], [t[ia], t[ib], t[ic]]),
+                    // The texture coordinates are the barycentrics (b1, b2).
+                    None => (b - a, c - a),
+                };
                 Surface {
                     p,
                     n_geometric,
                     n_shading,
                     uv,
+                    dpdu,
+                    dpdv,
                 }
             }
             Shape::Sphere(s) => {
@@ -148,29 +160,41 @@ impl Shape {
                 let p = s.center + n * s.radius;
                 let phi = n.y.atan2(n.x).rem_euclid(2.0 * std::f32::consts::PI);
                 let theta = n.z.clamp(-1.0, 1.0).acos();
+                // u = φ/2π, v = θ/π: ∂p/∂u = 2π r (−sin θ sin φ, sin θ cos φ, 0),
+                // ∂p/∂v = π r (cos θ cos φ, cos θ sin φ, −sin θ).
+                let (pi, r) = (std::f32::consts::PI, s.radius);
+                let (sin_t, cos_t) = (theta.sin(), n.z.clamp(-1.0, 1.0));
+                let (sin_p, cos_p) = phi.sin_cos();
                 Surface {
                     p,
                     n_geometric: n,
                     n_shading: n,
-                    uv: [
-                        phi / (2.0 * std::f32::consts::PI),
-                        theta / std::f32::consts::PI,
-                    ],
+                    uv: [phi / (2.0 * pi), theta / pi],
+                    dpdu: Vec3::new(-sin_t * sin_p, sin_t * cos_p, 0.0) * (2.0 * pi * r),
+                    dpdv: Vec3::new(cos_t * cos_p, cos_t * sin_p, -sin_t) * (pi * r),
                 }
             }
             Shape::Planar(pl) => {
                 let [x, y] = hit.uv;
                 let p = pl.world_from_object.point(Vec3::new(x, y, 0.0));
                 let n = pl.normal();
-                let uv = match pl.kind {
-                    PlanarKind::Rectangle => [0.5 * (x + 1.0), 0.5 * (y + 1.0)],
+                let two_pi = 2.0 * std::f32::consts::PI;
+                // Object-space derivatives, then placed by the transform.
+                let (uv, dpdu, dpdv) = match pl.kind {
+                    PlanarKind::Rectangle => (
+                        [0.5 * (x + 1.0), 0.5 * (y + 1.0)],
+                        Vec3::new(2.0, 0.0, 0.0),
+                        Vec3::new(0.0, 2.0, 0.0),
+                    ),
                     PlanarKind::Disk => {
                         let r = (x * x + y * y).sqrt();
-                        [
-                            r,
-                            y.atan2(x).rem_euclid(2.0 * std::f32::consts::PI)
-                                / (2.0 * std::f32::consts::PI),
-                        ]
+                        let phi = y.atan2(x).rem_euclid(two_pi);
+                        let (sin_p, cos_p) = phi.sin_cos();
+                        (
+                            [r, phi / two_pi],
+                            Vec3::new(cos_p, sin_p, 0.0),
+                            Vec3::new(-y, x, 0.0) * two_pi,
+                        )
                     }
                 };
                 Surface {
@@ -178,6 +202,8 @@ impl Shape {
                     n_geometric: n,
                     n_shading: n,
                     uv,
+                    dpdu: pl.world_from_object.vector(dpdu),
+                    dpdv: pl.world_from_object.vector(dpdv),
                 }
             }
         }

@@ -8,9 +8,9 @@ use scotopia_color::photometry::estimate_xyzv;
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::Renderer;
-use crate::bsdf::Transport;
+use crate::bsdf::{ShadingPoint, Transport};
 use crate::light::{Light, LightSample};
-use crate::math::{offset_ray_origin, Frame, Ray, Vec3};
+use crate::math::{offset_ray_origin, Ray, Vec3};
 use crate::sampling::sobol::Sampler;
 
 /// What one camera sample found.
@@ -155,7 +155,13 @@ impl Renderer<'_> {
                 break;
             }
             let bsdf = &scene.materials[scene.shape_material[hit.shape as usize] as usize];
-            let frame = Frame::from_normal(surface.n_shading);
+            let (frame, at) = ShadingPoint::at(
+                surface.uv,
+                surface.n_shading,
+                surface.n_geometric,
+                surface.dpdu,
+                surface.dpdv,
+            );
             let wi = frame.to_local(wo_world);
             let uv = surface.uv;
             let [u_light, u_select, u_l0, u_l1] = sampler.get_4d();
@@ -177,7 +183,7 @@ impl Renderer<'_> {
                         light.sample_li(&self.extent(), &now, surface.p, u_select, [u_l0, u_l1])
                     {
                         let wo = frame.to_local(ls.wi);
-                        let f = bsdf.eval(&now, uv, wi, wo, Transport::Radiance);
+                        let f = bsdf.eval(&now, at, wi, wo, Transport::Radiance);
                         if ls.pdf > 0.0 && !f.is_zero() && !ls.radiance.is_zero() {
                             let shadow = shadow_ray(surface.p, surface.n_geometric, &ls);
                             *rays += 1;
@@ -186,7 +192,7 @@ impl Renderer<'_> {
                                 let w = if ls.delta {
                                     1.0
                                 } else {
-                                    power_heuristic(p_light, bsdf.pdf(&now, wi, wo))
+                                    power_heuristic(p_light, bsdf.pdf_at(&now, at, wi, wo))
                                 };
                                 l += beta * f * ls.radiance * (w / p_light);
                             }
@@ -196,7 +202,7 @@ impl Renderer<'_> {
             }
 
             // Continue by sampling the BSDF.
-            let Some(bs) = bsdf.sample(&now, uv, wi, u_lobe, [u_b0, u_b1], Transport::Radiance)
+            let Some(bs) = bsdf.sample(&now, at, wi, u_lobe, [u_b0, u_b1], Transport::Radiance)
             else {
                 break;
             };

@@ -25,6 +25,24 @@ impl Frame {
         }
     }
 
+    /// A frame with `n` (unit) as z and its x axis along `tangent`'s part
+    /// perpendicular to `n` (Gram–Schmidt, as Mitsuba orients a shading
+    /// frame by ∂p/∂u); [`Frame::from_normal`] when that part vanishes.
+    #[inline]
+    pub fn from_normal_tangent(n: Vec3, tangent: Vec3) -> Self {
+        let s = tangent - n * n.dot(tangent);
+        let len2 = s.length_squared();
+        if !(len2 > 1e-12 * tangent.length_squared() && len2.is_finite()) {
+            return Self::from_normal(n);
+        }
+        let s = s / len2.sqrt();
+        Self {
+            s,
+            t: n.cross(s),
+            n,
+        }
+    }
+
     #[inline]
     pub fn to_local(&self, v: Vec3) -> Vec3 {
         Vec3::new(v.dot(self.s), v.dot(self.t), v.dot(self.n))
@@ -57,5 +75,26 @@ mod tests {
             let v = Vec3::new(0.2, 0.5, -0.3);
             assert!((f.to_world(f.to_local(v)) - v).length() < 1e-6);
         }
+    }
+
+    #[test]
+    fn a_tangent_orients_the_frame() {
+        let n = Vec3::new(0.3, -0.4, 0.866).normalize();
+        let tangent = Vec3::new(2.0, 0.5, 0.0);
+        let f = Frame::from_normal_tangent(n, tangent);
+        assert!(f.s.dot(n).abs() < 1e-6 && (f.s.length() - 1.0).abs() < 1e-6);
+        assert!((f.s.cross(f.t) - n).length() < 1e-5, "right-handed");
+        // s is the tangent with its normal part removed, in its direction.
+        let want = (tangent - n * n.dot(tangent)).normalize();
+        assert!((f.s - want).length() < 1e-6);
+        // A tangent along the normal (or zero) falls back to any frame.
+        assert_eq!(
+            Frame::from_normal_tangent(n, n * 3.0),
+            Frame::from_normal(n)
+        );
+        assert_eq!(
+            Frame::from_normal_tangent(n, Vec3::ZERO),
+            Frame::from_normal(n)
+        );
     }
 }

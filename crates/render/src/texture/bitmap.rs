@@ -32,7 +32,7 @@ pub enum Wrap {
 impl Wrap {
     /// Texel index `i` folded into 0..n.
     #[inline]
-    fn index(self, i: i64, n: usize) -> usize {
+    pub(super) fn index(self, i: i64, n: usize) -> usize {
         let n = n as i64;
         (match self {
             Wrap::Repeat => i.rem_euclid(n),

@@ -5,12 +5,14 @@
 
 mod bitmap;
 mod checkerboard;
+mod scalar;
 mod uv;
 
 use std::sync::Arc;
 
 pub use bitmap::{Bitmap, Filter, Wrap};
 pub use checkerboard::Checkerboard;
+pub use scalar::{luminance, FloatCheckerboard, FloatTexture, RgbBitmap};
 pub use uv::UvTransform;
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};

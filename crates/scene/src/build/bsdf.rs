@@ -9,6 +9,7 @@ use scotopia_render::bsdf::{
 };
 use scotopia_render::texture::Texture;
 
+use super::bsdf_nested::{self, NESTED_TYPES};
 use super::ior::read_ior;
 use super::Builder;
 use crate::materials::{named_conductor, CONDUCTOR_NAMES};
@@ -118,6 +119,7 @@ pub fn build_bsdf(b: &mut Builder, node: &Node) -> Result<Bsdf, SceneError> {
                 _ => return Err(node.error("twosided needs exactly one nested <bsdf> or <ref>")),
             }
         }
+        nested if NESTED_TYPES.contains(&nested) => bsdf_nested::build(b, nested, &p, node)?,
         other => return Err(node.error(format!("BSDF type '{other}' is not supported"))),
     };
     b.report_unused(&p);
@@ -127,7 +129,7 @@ pub fn build_bsdf(b: &mut Builder, node: &Node) -> Result<Bsdf, SceneError> {
 /// `alpha` (GGX). An explicit Beckmann or anisotropic roughness would render
 /// a different material, so they are errors; an unstated distribution
 /// (Mitsuba's default is Beckmann) is a warning.
-fn roughness(b: &mut Builder, p: &Props, node: &Node) -> Result<f32, SceneError> {
+pub(super) fn roughness(b: &mut Builder, p: &Props, node: &Node) -> Result<f32, SceneError> {
     match p.string("distribution")? {
         Some("ggx") => {}
         Some(other) => {

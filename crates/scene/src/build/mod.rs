@@ -3,6 +3,7 @@
 //! collects warnings about what scotopia reads but does not use.
 
 mod bsdf;
+mod bsdf_nested;
 mod emitter;
 mod integrator;
 mod ior;

@@ -3,7 +3,7 @@
 //! referenced by `<ref name="…" id="…"/>`.
 
 use scotopia_color::{RgbSpace, SpectrumKind};
-use scotopia_image::read_rgb;
+use scotopia_image::{read_rgb, RgbImage};
 use scotopia_render::math::Transform;
 use scotopia_render::texture::{Bitmap, Checkerboard, Filter, Texture, UvTransform, Wrap};
 
@@ -21,9 +21,40 @@ pub fn spectrum_kind(usage: Usage) -> SpectrumKind {
 
 /// Mitsuba's `to_uv`: the x and y rows of the 4×4 transform with its
 /// translation (what Mitsuba 3 keeps; checked against Mitsuba 3.9).
-fn uv_transform(t: &Transform) -> UvTransform {
+pub(super) fn uv_transform(t: &Transform) -> UvTransform {
     let m = t.matrix();
     UvTransform([m[0][0], m[0][1], m[0][3], m[1][0], m[1][1], m[1][3]].map(|v| v as f32))
+}
+
+/// A `bitmap`'s image (linear unless `raw`), filter and wrap mode.
+pub(super) fn read_bitmap(p: &Props, node: &Node) -> Result<(RgbImage, Filter, Wrap), SceneError> {
+    let file = p
+        .string("filename")?
+        .ok_or_else(|| node.error("a bitmap needs a 'filename'"))?;
+    let filter = match p.string("filter_type")?.unwrap_or("bilinear") {
+        "bilinear" => Filter::Bilinear,
+        "nearest" => Filter::Nearest,
+        other => {
+            return Err(node.error(format!(
+                "filter_type '{other}' is not one of bilinear, nearest"
+            )))
+        }
+    };
+    let wrap = match p.string("wrap_mode")?.unwrap_or("repeat") {
+        "repeat" => Wrap::Repeat,
+        "mirror" => Wrap::Mirror,
+        "clamp" => Wrap::Clamp,
+        other => {
+            return Err(node.error(format!(
+                "wrap_mode '{other}' is not one of repeat, mirror, clamp"
+            )))
+        }
+    };
+    let raw = p.boolean("raw", false)?;
+    let image = read_rgb(&resolve(&node.dir, file)).map_err(|e| node.error(e.to_string()))?;
+    // `raw` keeps integer images' values as stored (already linear).
+    let image = if raw { image } else { image.into_linear() };
+    Ok((image, filter, wrap))
 }
 
 pub fn build_texture(b: &mut Builder, node: &Node, usage: Usage) -> Result<Texture, SceneError> {
@@ -32,33 +63,7 @@ pub fn build_texture(b: &mut Builder, node: &Node, usage: Usage) -> Result<Textu
     let to_uv = uv_transform(&p.transform("to_uv")?);
     let texture = match kind {
         "bitmap" => {
-            let file = p
-                .string("filename")?
-                .ok_or_else(|| node.error("a bitmap needs a 'filename'"))?;
-            let filter = match p.string("filter_type")?.unwrap_or("bilinear") {
-                "bilinear" => Filter::Bilinear,
-                "nearest" => Filter::Nearest,
-                other => {
-                    return Err(node.error(format!(
-                        "filter_type '{other}' is not one of bilinear, nearest"
-                    )))
-                }
-            };
-            let wrap = match p.string("wrap_mode")?.unwrap_or("repeat") {
-                "repeat" => Wrap::Repeat,
-                "mirror" => Wrap::Mirror,
-                "clamp" => Wrap::Clamp,
-                other => {
-                    return Err(node.error(format!(
-                        "wrap_mode '{other}' is not one of repeat, mirror, clamp"
-                    )))
-                }
-            };
-            let raw = p.boolean("raw", false)?;
-            let image =
-                read_rgb(&resolve(&node.dir, file)).map_err(|e| node.error(e.to_string()))?;
-            // `raw` keeps integer images' values as stored (already linear).
-            let image = if raw { image } else { image.into_linear() };
+            let (image, filter, wrap) = read_bitmap(&p, node)?;
             let mut bitmap = Bitmap::from_rgb(
                 image.width,
                 image.height,

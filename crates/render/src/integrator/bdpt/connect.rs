@@ -15,7 +15,7 @@ use crate::bsdf::{Bsdf, Transport};
 use crate::integrator::path::shadow_ray;
 use crate::integrator::Renderer;
 use crate::light::Light;
-use crate::math::{offset_ray_origin, Frame, Ray, Vec3};
+use crate::math::{offset_ray_origin, Ray, Vec3};
 use crate::sampling::sobol::Sampler;
 
 /// Relative margin a connection ray stops short of its far end.
@@ -217,10 +217,10 @@ impl Renderer<'_> {
                 self.emitted(y, wl, dir) * (y.beta.0[0] * y.cos(dir)) * initial_only(&mut min_s)
             } else {
                 let bsdf = self.bsdf_at(y);
-                let frame = Frame::from_normal(y.ns);
+                let (frame, at) = y.shading();
                 let f_dir = bsdf.eval(
                     wl,
-                    y.uv,
+                    at,
                     frame.to_local(y.wi),
                     frame.to_local(dir),
                     Transport::Importance,
@@ -236,10 +236,10 @@ impl Renderer<'_> {
             let pdf_cam = self.scene.camera.pdf_direction(conn.lens, -dir);
             c.light_last_rev = pdf_cam * y.cos(dir) / dist2;
             if s >= 2 {
-                let frame = Frame::from_normal(y.ns);
+                let (frame, at) = y.shading();
                 let pdf = self
                     .bsdf_at(y)
-                    .pdf(wl, frame.to_local(dir), frame.to_local(y.wi));
+                    .pdf_at(wl, at, frame.to_local(dir), frame.to_local(y.wi));
                 c.light_prev_rev = y.convert(pdf, &light[s - 2]);
             }
         } else if s == 1 {
@@ -256,9 +256,9 @@ impl Renderer<'_> {
             if ls.pdf.is_nan() || ls.pdf <= 0.0 || ls.radiance.is_zero() {
                 return None;
             }
-            let frame = Frame::from_normal(z.ns);
+            let (frame, at) = z.shading();
             let (wi, wo) = (frame.to_local(z.wi), frame.to_local(ls.wi));
-            let f = bsdf.eval(wl, z.uv, wi, wo, Transport::Radiance) * elastic(bsdf, wl, z.uv);
+            let f = bsdf.eval(wl, at, wi, wo, Transport::Radiance) * elastic(bsdf, wl, z.uv);
             if f.is_zero() {
                 return None;
             }
@@ -289,10 +289,14 @@ impl Renderer<'_> {
             c.light_origin = Some(self.origin_density(sub.choice, &y0));
             c.delta_light = ls.delta;
             c.light_at_infinity = at_infinity;
-            let pdf_towards = if ls.delta { 0.0 } else { bsdf.pdf(wl, wi, wo) };
+            let pdf_towards = if ls.delta {
+                0.0
+            } else {
+                bsdf.pdf_at(wl, at, wi, wo)
+            };
             c.light_last_rev = z.convert(pdf_towards, &y0);
             c.camera_last_rev = self.emission_density(&y0, z);
-            c.camera_prev_rev = z.convert(bsdf.pdf(wl, wo, wi), &camera[t - 2]);
+            c.camera_prev_rev = z.convert(bsdf.pdf_at(wl, at, wo, wi), &camera[t - 2]);
         } else {
             // Two surface points joined.
             let (y, z) = (&light[s - 1], &camera[t - 1]);
@@ -309,22 +313,22 @@ impl Renderer<'_> {
                 return None;
             }
             let dir = d / dist2.sqrt();
-            let (fy, fz) = (Frame::from_normal(y.ns), Frame::from_normal(z.ns));
+            let ((fy, y_at), (fz, z_at)) = (y.shading(), z.shading());
             let (y_wi, y_wo) = (fy.to_local(y.wi), fy.to_local(dir));
             let (z_wi, z_wo) = (fz.to_local(z.wi), fz.to_local(-dir));
-            let f_y = by.eval(wl, y.uv, y_wi, y_wo, Transport::Importance)
+            let f_y = by.eval(wl, y_at, y_wi, y_wo, Transport::Importance)
                 * shading_correction(y.ng, y.ns, y.wi, dir);
-            let f_z = bz.eval(wl, z.uv, z_wi, z_wo, Transport::Radiance) * elastic(bz, wl, z.uv);
+            let f_z = bz.eval(wl, z_at, z_wi, z_wo, Transport::Radiance) * elastic(bz, wl, z.uv);
             let rho = elastic(by, wl, y.uv);
             let f = f_y * f_z * self.light_factor(y, s - 1, lanes, &rho, &mut min_s);
             if f.is_zero() || !self.unoccluded(y.p, y.ng, z.p, z.ng, rays) {
                 return None;
             }
             l = f * z.beta * (1.0 / dist2);
-            c.light_last_rev = z.convert(bz.pdf(wl, z_wi, z_wo), y);
-            c.light_prev_rev = y.convert(by.pdf(wl, y_wo, y_wi), &light[s - 2]);
-            c.camera_last_rev = y.convert(by.pdf(wl, y_wi, y_wo), z);
-            c.camera_prev_rev = z.convert(bz.pdf(wl, z_wo, z_wi), &camera[t - 2]);
+            c.light_last_rev = z.convert(bz.pdf_at(wl, z_at, z_wi, z_wo), y);
+            c.light_prev_rev = y.convert(by.pdf_at(wl, y_at, y_wo, y_wi), &light[s - 2]);
+            c.camera_last_rev = y.convert(by.pdf_at(wl, y_at, y_wi, y_wo), z);
+            c.camera_prev_rev = z.convert(bz.pdf_at(wl, z_at, z_wo, z_wi), &camera[t - 2]);
         }
         if l.is_zero() {
             return None;

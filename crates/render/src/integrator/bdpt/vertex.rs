@@ -6,7 +6,8 @@
 
 use scotopia_color::SampledSpectrum;
 
-use crate::math::Vec3;
+use crate::bsdf::ShadingPoint;
+use crate::math::{Frame, Vec3};
 
 /// Longest subpath, vertices (fluorescence runs are indexed by `u8`).
 pub(super) const MAX_VERTICES: usize = 250;
@@ -31,6 +32,9 @@ pub(super) struct Vertex<const K: usize> {
     pub ng: Vec3,
     pub ns: Vec3,
     pub uv: [f32; 2],
+    /// ∂p/∂u and ∂p/∂v (surfaces), which orient the shading frame.
+    pub dpdu: Vec3,
+    pub dpdv: Vec3,
     /// The shape (surfaces) or the light (light vertices).
     pub index: u32,
     /// Unit direction towards the previous vertex of its subpath; for
@@ -64,6 +68,8 @@ impl<const K: usize> Vertex<K> {
             ng: Vec3::ZERO,
             ns: Vec3::ZERO,
             uv: [0.0; 2],
+            dpdu: Vec3::ZERO,
+            dpdv: Vec3::ZERO,
             index: 0,
             wi: Vec3::ZERO,
             beta,
@@ -76,6 +82,12 @@ impl<const K: usize> Vertex<K> {
             shift: SampledSpectrum::splat(0.0),
             lambda_out: [0.0; K],
         }
+    }
+
+    /// The shading frame at a surface vertex and the point its BSDF sees.
+    #[inline]
+    pub fn shading(&self) -> (Frame, ShadingPoint) {
+        ShadingPoint::at(self.uv, self.ns, self.ng, self.dpdu, self.dpdv)
     }
 
     pub fn on_surface(&self) -> bool {

@@ -9,7 +9,7 @@ use super::vertex::{Kind, Vertex, MAX_VERTICES};
 use crate::bsdf::Transport;
 use crate::integrator::path::spawn;
 use crate::integrator::Renderer;
-use crate::math::{Frame, Ray, Vec3};
+use crate::math::{Ray, Vec3};
 use crate::sampling::sobol::Sampler;
 
 /// The factor that makes shading normals symmetric for light paths
@@ -167,6 +167,8 @@ impl Renderer<'_> {
             v.ng = surface.n_geometric;
             v.ns = surface.n_shading;
             v.uv = surface.uv;
+            v.dpdu = surface.dpdu;
+            v.dpdv = surface.dpdv;
             v.index = hit.shape;
             v.wi = -ray.d;
             v.pdf_fwd = prev.convert(pdf, &v);
@@ -181,7 +183,7 @@ impl Renderer<'_> {
             // Scatter: fluorescence first (light paths move wavelengths,
             // camera paths see the elastic part), then the BSDF.
             let bsdf = &scene.materials[scene.shape_material[hit.shape as usize] as usize];
-            let frame = Frame::from_normal(v.ns);
+            let (frame, at) = v.shading();
             let wi = frame.to_local(v.wi);
             let [u_lobe, u_rr, u_b0, u_b1] = sampler.get_4d();
             if let Some(f) = bsdf.fluorescent() {
@@ -203,7 +205,7 @@ impl Renderer<'_> {
                     break;
                 }
             }
-            let Some(bs) = bsdf.sample(wl, v.uv, wi, u_lobe, [u_b0, u_b1], mode) else {
+            let Some(bs) = bsdf.sample(wl, at, wi, u_lobe, [u_b0, u_b1], mode) else {
                 break;
             };
             let wo = frame.to_world(bs.wo);
@@ -222,7 +224,7 @@ impl Renderer<'_> {
             let (pdf_fwd, pdf_rev) = if bs.delta {
                 (0.0, 0.0)
             } else {
-                (bs.pdf, bsdf.pdf(wl, bs.wo, wi))
+                (bs.pdf, bsdf.pdf_at(wl, at, bs.wo, wi))
             };
             path[i].delta = bs.delta;
             path[i - 1].pdf_rev = path[i].convert(pdf_rev, &path[i - 1]);
