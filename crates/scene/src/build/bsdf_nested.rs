@@ -86,8 +86,11 @@ pub fn build(b: &mut Builder, kind: &str, p: &Props, node: &Node) -> Result<Bsdf
                     textures.len()
                 )));
             };
-            if let Some(name) = texture.attr("name") {
-                p.get(name);
+            match texture.attr("name") {
+                Some(name) => {
+                    p.get(name);
+                }
+                None => p.mark_unnamed_used(),
             }
             let height = float_texture_node(b, texture)?;
             let scale = p.float("scale", 1.0)?;
@@ -159,7 +162,7 @@ pub fn build(b: &mut Builder, kind: &str, p: &Props, node: &Node) -> Result<Bsdf
 /// Whether `<ref>` node `c` names a top-level texture.
 fn is_texture_ref(b: &Builder, c: &Node) -> bool {
     c.attr("id")
-        .is_some_and(|id| b.named_textures.contains_key(id))
+        .is_some_and(|id| b.named.get(id).is_some_and(|n| n.tag == "texture"))
 }
 
 /// The nested BSDFs of `node`, in order: `<bsdf>` children and `<ref>`s
@@ -171,7 +174,7 @@ fn bsdf_children<'n>(b: &Builder, p: &Props, node: &'n Node) -> Vec<&'n Node> {
             c.tag == "bsdf"
                 || (c.tag == "ref"
                     && c.attr("id")
-                        .is_some_and(|id| b.named_bsdfs.contains_key(id)))
+                        .is_some_and(|id| b.named.get(id).is_some_and(|n| n.tag == "bsdf")))
         })
         .inspect(|c| {
             // A named reference reads as a property: mark it used.
@@ -231,11 +234,7 @@ fn float_texture(
 fn float_texture_node(b: &mut Builder, node: &Node) -> Result<FloatTexture, SceneError> {
     if node.tag == "ref" {
         let id = node.require("id")?;
-        let target = b
-            .named_textures
-            .get(id)
-            .cloned()
-            .ok_or_else(|| node.error(format!("no <texture id=\"{id}\"> is defined")))?;
+        let target = b.named(node, "texture", id)?;
         return b.resolve(node, id, |b| float_texture_node(b, &target));
     }
     let p = Props::new(node);
@@ -292,11 +291,7 @@ fn rgb_texture(
         },
         "ref" => {
             let id = n.require("id")?;
-            let target = b
-                .named_textures
-                .get(id)
-                .cloned()
-                .ok_or_else(|| n.error(format!("no <texture id=\"{id}\"> is defined")))?;
+            let target = b.named(n, "texture", id)?;
             b.resolve(n, id, |b| rgb_texture_node(b, &target))
         }
         "texture" => rgb_texture_node(b, n),

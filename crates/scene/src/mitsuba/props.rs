@@ -85,6 +85,12 @@ impl<'a> Props<'a> {
         Some(n)
     }
 
+    /// Marks the unnamed properties as read (a plugin that takes its one
+    /// nested texture whatever its name, as Mitsuba's `bumpmap`).
+    pub fn mark_unnamed_used(&self) {
+        self.used.borrow_mut().push("");
+    }
+
     /// Properties set but never read: (node, name), for one warning each.
     pub fn unused(&self) -> Vec<&'a Node> {
         let used = self.used.borrow();
