@@ -1,10 +1,11 @@
-//! `<shape>` elements: spheres, rectangles, disks and cubes.
+//! `<shape>` elements: spheres, rectangles, disks, cubes and meshes (OBJ,
+//! PLY, Mitsuba's serialized).
 
 use scotopia_render::geometry::{Planar, PlanarKind, Shape, Sphere, TriangleMesh};
 use scotopia_render::math::{Transform, Vec3};
 
 use super::Builder;
-use crate::mesh::{read_obj, read_ply};
+use crate::mesh::{read_obj, read_ply, read_serialized, MeshData};
 use crate::mitsuba::{resolve, Node, Props, SceneError};
 
 pub fn build_shape(b: &mut Builder, node: &Node) -> Result<Shape, SceneError> {
@@ -52,47 +53,66 @@ pub fn build_shape(b: &mut Builder, node: &Node) -> Result<Shape, SceneError> {
         ))),
         "disk" => Shape::Planar(Box::new(Planar::new(PlanarKind::Disk, flipped(to_world)))),
         "cube" => Shape::Mesh(cube(&to_world, flip).map_err(|e| node.error(e.to_string()))?),
-        "obj" | "ply" => {
+        "obj" | "ply" | "serialized" => {
             let file = p
                 .string("filename")?
                 .ok_or_else(|| node.error("missing <string name=\"filename\">"))?;
             let path = resolve(&node.dir, file);
-            let read = if kind == "obj" {
-                read_obj(&path)
-            } else {
-                read_ply(&path)
-            };
-            let mut data = read.map_err(|e| node.error(e.to_string()))?;
-            // Mitsuba flips texture v by default for OBJ, not for PLY.
-            if p.boolean("flip_tex_coords", kind == "obj")? {
+            let mut data = match kind {
+                "obj" => read_obj(&path),
+                "ply" => read_ply(&path),
+                _ => {
+                    let index = p.integer("shape_index", 0)?;
+                    let index = usize::try_from(index).map_err(|_| {
+                        node.error(format!("shape_index must be nonnegative, got {index}"))
+                    })?;
+                    read_serialized(&path, index).map(|s| s.mesh)
+                }
+            }
+            .map_err(|e| node.error(e.to_string()))?;
+            // Mitsuba flips texture v by default for OBJ, not for PLY; its
+            // serialized loader has no such option.
+            if kind != "serialized" && p.boolean("flip_tex_coords", kind == "obj")? {
                 if let Some(uvs) = data.uvs.as_mut() {
                     uvs.iter_mut().for_each(|t| t[1] = 1.0 - t[1]);
                 }
             }
-            if p.boolean("face_normals", false)? {
-                data.normals = None;
-            }
-            if flip {
-                data.indices.iter_mut().for_each(|t| t.swap(1, 2));
-                if let Some(n) = data.normals.as_mut() {
-                    n.iter_mut().for_each(|v| *v = -*v);
-                }
-            }
+            let face_normals = p.boolean("face_normals", false)?;
             Shape::Mesh(
-                TriangleMesh::new(
-                    data.positions,
-                    data.normals,
-                    data.uvs,
-                    data.indices,
-                    &to_world,
-                )
-                .map_err(|e| node.error(format!("{file}: {e}")))?,
+                mesh(data, face_normals, flip, &to_world)
+                    .map_err(|e| node.error(format!("{file}: {e}")))?,
             )
         }
         other => return Err(node.error(format!("shape type '{other}' is not supported"))),
     };
     b.report_unused(&p);
     Ok(shape)
+}
+
+/// A mesh file's data placed in the world: face normals drop the vertex
+/// normals; flipped normals reverse the winding and the vertex normals.
+fn mesh(
+    mut data: MeshData,
+    face_normals: bool,
+    flip: bool,
+    to_world: &Transform,
+) -> Result<TriangleMesh, scotopia_render::geometry::GeometryError> {
+    if face_normals {
+        data.normals = None;
+    }
+    if flip {
+        data.indices.iter_mut().for_each(|t| t.swap(1, 2));
+        if let Some(n) = data.normals.as_mut() {
+            n.iter_mut().for_each(|v| *v = -*v);
+        }
+    }
+    TriangleMesh::new(
+        data.positions,
+        data.normals,
+        data.uvs,
+        data.indices,
+        to_world,
+    )
 }
 
 /// Mitsuba's cube: [−1, 1]³, outward normals (inward when flipped).

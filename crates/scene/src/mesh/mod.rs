@@ -1,11 +1,14 @@
-//! Mesh files: Wavefront OBJ and PLY, read into plain vertex and index
-//! arrays. Errors name the file and line (the byte offset for binary PLY).
+//! Mesh files: Wavefront OBJ, PLY and Mitsuba's serialized meshes, read
+//! into plain vertex and index arrays. Errors name the file and line (the
+//! byte offset for binary PLY and serialized files).
 
 mod obj;
 mod ply;
+mod serialized;
 
 pub use obj::{parse_obj, read_obj};
 pub use ply::{parse_ply, read_ply};
+pub use serialized::{parse_serialized, read_serialized, SerializedShape};
 
 use scotopia_render::math::Vec3;
 
