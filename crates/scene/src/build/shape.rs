@@ -89,8 +89,11 @@ pub fn build_shape(b: &mut Builder, node: &Node) -> Result<Shape, SceneError> {
     Ok(shape)
 }
 
-/// A mesh file's data placed in the world: face normals drop the vertex
-/// normals; flipped normals reverse the winding and the vertex normals.
+/// A mesh file's data placed in the world, as Mitsuba places it: face
+/// normals drop the vertex normals; a mesh without them gets smooth
+/// ones computed from its faces; flipped normals negate the vertex
+/// normals; the winding is reversed when flipped or mirrored (not both),
+/// so that face normals point as the vertex normals do.
 fn mesh(
     mut data: MeshData,
     face_normals: bool,
@@ -100,19 +103,26 @@ fn mesh(
     if face_normals {
         data.normals = None;
     }
-    if flip {
+    if flip != to_world.swaps_handedness() {
         data.indices.iter_mut().for_each(|t| t.swap(1, 2));
+    }
+    if flip {
         if let Some(n) = data.normals.as_mut() {
             n.iter_mut().for_each(|v| *v = -*v);
         }
     }
-    TriangleMesh::new(
+    let smooth = !face_normals && data.normals.is_none();
+    let mut m = TriangleMesh::new(
         data.positions,
         data.normals,
         data.uvs,
         data.indices,
         to_world,
-    )
+    )?;
+    if smooth {
+        m.compute_smooth_normals(data.points.as_deref());
+    }
+    Ok(m)
 }
 
 /// Mitsuba's cube: [−1, 1]³, outward normals (inward when flipped).

@@ -19,6 +19,11 @@ pub struct MeshData {
     pub normals: Option<Vec<Vec3>>,
     pub uvs: Option<Vec<[f32; 2]>>,
     pub indices: Vec<[u32; 3]>,
+    /// The surface point of each vertex, where vertices are split copies of
+    /// one point (OBJ: the `v` line of a corner split by its `vt`/`vn`), so
+    /// computed normals stay smooth across texture seams; `None`: each
+    /// vertex is its own point.
+    pub points: Option<Vec<u32>>,
 }
 
 /// A mesh file that cannot be read.

@@ -220,6 +220,7 @@ fn read_shape(stream: &[u8], version: u16) -> Result<SerializedShape, String> {
             normals,
             uvs,
             indices,
+            points: None,
         },
     })
 }
