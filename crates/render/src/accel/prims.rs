@@ -2,7 +2,7 @@
 //! needs stored inline: a traversal step reads one entry instead of
 //! following shape → mesh → index → position.
 
-use crate::geometry::{intersect_triangle, PlaneTest, RayShear, Shape, Sphere};
+use crate::geometry::{intersect_triangle, CylinderTest, PlaneTest, RayShear, Shape, Sphere};
 use crate::math::{Ray, Vec3};
 
 #[derive(Debug, Clone, Copy)]
@@ -10,6 +10,7 @@ enum Test {
     Triangle([Vec3; 3]),
     Sphere(Sphere),
     Plane(PlaneTest),
+    Cylinder(CylinderTest),
 }
 
 /// One primitive: its test, and which shape and primitive it is.
@@ -29,6 +30,7 @@ impl Prim {
             }
             Shape::Sphere(s) => Test::Sphere(*s),
             Shape::Planar(p) => Test::Plane(p.test),
+            Shape::Cylinder(c) => Test::Cylinder(c.test),
         };
         Self { test, shape, index }
     }
@@ -42,6 +44,7 @@ impl Prim {
             }
             Test::Sphere(s) => s.intersect(ray, t_max).map(|t| (t, [0.0, 0.0])),
             Test::Plane(p) => p.intersect(ray, t_max),
+            Test::Cylinder(c) => c.intersect(ray, t_max),
         }
     }
 }

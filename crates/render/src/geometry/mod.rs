@@ -1,12 +1,14 @@
-//! Shapes: triangle meshes, spheres, disks, rectangles; what a ray hit on
-//! them, and the surface there.
+//! Shapes: triangle meshes, spheres, cylinders, disks, rectangles; what a
+//! ray hit on them, and the surface there.
 
+mod cylinder;
 mod mesh;
 mod planar;
 mod sample;
 mod sphere;
 mod triangle;
 
+pub use cylinder::{Cylinder, CylinderTest};
 pub use mesh::TriangleMesh;
 pub use planar::{Planar, PlanarKind, PlaneTest};
 pub use sample::SurfacePoint;
@@ -30,6 +32,8 @@ pub enum Shape {
     Sphere(Sphere),
     /// Boxed: it carries two 4×4 transforms.
     Planar(Box<Planar>),
+    /// Boxed: it carries two 4×4 transforms.
+    Cylinder(Box<Cylinder>),
 }
 
 /// The minimum a traversal records about the closest hit; the surface is
@@ -78,6 +82,7 @@ impl Shape {
                 let pts = corners.map(|(x, y)| p.world_from_object.point(Vec3::new(x, y, 0.0)));
                 Aabb::from_points(&pts)
             }
+            Shape::Cylinder(c) => c.bounds(),
         }
     }
 
@@ -97,6 +102,7 @@ impl Shape {
             }
             Shape::Sphere(s) => s.intersect(ray, t_max).map(|t| (t, [0.0, 0.0])),
             Shape::Planar(p) => p.intersect(ray, t_max),
+            Shape::Cylinder(c) => c.intersect(ray, t_max),
         }
     }
 
@@ -106,6 +112,7 @@ impl Shape {
             Shape::Mesh(m) => (0..m.triangle_count()).map(|f| m.face_area(f)).sum(),
             Shape::Sphere(s) => s.area(),
             Shape::Planar(p) => p.area(),
+            Shape::Cylinder(c) => c.area(),
         }
     }
 
@@ -173,6 +180,15 @@ impl Shape {
                         ]
                     }
                 };
+                Surface {
+                    p,
+                    n_geometric: n,
+                    n_shading: n,
+                    uv,
+                }
+            }
+            Shape::Cylinder(c) => {
+                let (p, n, uv) = c.surface_at(ray.at(hit.t));
                 Surface {
                     p,
                     n_geometric: n,

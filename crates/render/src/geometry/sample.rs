@@ -49,6 +49,7 @@ impl Shape {
                     n: pl.normal(),
                 })
             }
+            Shape::Cylinder(c) => Some(c.sample_area(u)),
         }
     }
 }

@@ -1,7 +1,7 @@
 //! `<shape>` elements: spheres, rectangles, disks, cubes and meshes (OBJ,
 //! PLY, Mitsuba's serialized).
 
-use scotopia_render::geometry::{Planar, PlanarKind, Shape, Sphere, TriangleMesh};
+use scotopia_render::geometry::{Cylinder, Planar, PlanarKind, Shape, Sphere, TriangleMesh};
 use scotopia_render::math::{Transform, Vec3};
 
 use super::Builder;
@@ -52,6 +52,15 @@ pub fn build_shape(b: &mut Builder, node: &Node) -> Result<Shape, SceneError> {
             flipped(to_world),
         ))),
         "disk" => Shape::Planar(Box::new(Planar::new(PlanarKind::Disk, flipped(to_world)))),
+        "cylinder" => {
+            let p0 = p.point("p0", Vec3::ZERO)?;
+            let p1 = p.point("p1", Vec3::new(0.0, 0.0, 1.0))?;
+            let radius = p.float("radius", 1.0)?;
+            Shape::Cylinder(Box::new(
+                Cylinder::new(p0, p1, radius, &to_world, flip)
+                    .map_err(|e| node.error(e.to_string()))?,
+            ))
+        }
         "cube" => Shape::Mesh(cube(&to_world, flip).map_err(|e| node.error(e.to_string()))?),
         "obj" | "ply" | "serialized" => {
             let file = p
