@@ -87,3 +87,122 @@ fn a_cylinder_loads_with_mitsubas_parameters() {
     .unwrap_err();
     assert!(e.contains("p0 and p1 must differ"), "{e}");
 }
+
+#[test]
+fn a_rotated_spheres_uvs_turn_with_it() {
+    // World centre (1, 2, 3), radius 1, turned 90° about z (then x).
+    let shapes = load(
+        "sphere-uv",
+        r#"<shape type="sphere"><float name="radius" value="0.5"/><transform name="to_world"><scale value="2"/><rotate z="1" angle="90"/><translate x="1" y="2" z="3"/></transform></shape>
+<shape type="sphere"><transform name="to_world"><rotate x="1" angle="90"/></transform></shape>
+<shape type="sphere"/>"#,
+    )
+    .unwrap();
+    // Hit at world direction −x: object direction +y, φ = 90°: u = 1/4
+    // (unrotated it would be 1/2), θ = 90°: v = 1/2.
+    let ray = Ray::new(Vec3::new(-4.0, 2.0, 3.0), Vec3::new(1.0, 0.0, 0.0));
+    let s = hit(&shapes[0], &ray).unwrap();
+    assert!((s.p - Vec3::new(0.0, 2.0, 3.0)).length() < 1e-5, "{s:?}");
+    assert!(
+        (s.uv[0] - 0.25).abs() < 1e-5 && (s.uv[1] - 0.5).abs() < 1e-5,
+        "{s:?}"
+    );
+    // Turned about x: world +z is object +y (v = 1/2, u = 1/4), where the
+    // unrotated sphere has its pole (v = 0).
+    let down = Ray::new(Vec3::new(0.0, 0.0, 5.0), Vec3::new(0.0, 0.0, -1.0));
+    let s = hit(&shapes[1], &down).unwrap();
+    assert!(
+        (s.uv[0] - 0.25).abs() < 1e-5 && (s.uv[1] - 0.5).abs() < 1e-5,
+        "{s:?}"
+    );
+    let s = hit(&shapes[2], &down).unwrap();
+    assert!(s.uv[1].abs() < 1e-3, "{s:?}");
+    // The unrotated sphere: world −x is φ = 180°, u = 1/2.
+    let s = hit(
+        &shapes[2],
+        &Ray::new(Vec3::new(-5.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0)),
+    )
+    .unwrap();
+    assert!(
+        (s.uv[0] - 0.5).abs() < 1e-5 && (s.uv[1] - 0.5).abs() < 1e-5,
+        "{s:?}"
+    );
+}
+
+#[test]
+fn each_cube_face_maps_its_corners_as_mitsubas_cube() {
+    // Mitsuba's cube, face by face: the four corners and the uv there
+    // ((0, 1), (1, 1), (1, 0), (0, 0) in this order), and the outward normal.
+    let faces: [([[f32; 3]; 4], [f32; 3]); 6] = [
+        (
+            [
+                [1., -1., -1.],
+                [1., -1., 1.],
+                [-1., -1., 1.],
+                [-1., -1., -1.],
+            ],
+            [0., -1., 0.],
+        ),
+        (
+            [[1., 1., -1.], [-1., 1., -1.], [-1., 1., 1.], [1., 1., 1.]],
+            [0., 1., 0.],
+        ),
+        (
+            [[1., -1., -1.], [1., 1., -1.], [1., 1., 1.], [1., -1., 1.]],
+            [1., 0., 0.],
+        ),
+        (
+            [[1., -1., 1.], [1., 1., 1.], [-1., 1., 1.], [-1., -1., 1.]],
+            [0., 0., 1.],
+        ),
+        (
+            [
+                [-1., -1., 1.],
+                [-1., 1., 1.],
+                [-1., 1., -1.],
+                [-1., -1., -1.],
+            ],
+            [-1., 0., 0.],
+        ),
+        (
+            [
+                [1., 1., -1.],
+                [1., -1., -1.],
+                [-1., -1., -1.],
+                [-1., 1., -1.],
+            ],
+            [0., 0., -1.],
+        ),
+    ];
+    let uv = [[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]];
+    let shapes = load(
+        "cube-uv",
+        r#"<shape type="cube"/>
+<shape type="cube"><boolean name="flip_normals" value="true"/></shape>
+<shape type="cube"><transform name="to_world"><scale x="-1"/></transform></shape>"#,
+    )
+    .unwrap();
+    let v = |a: [f32; 3]| Vec3::new(a[0], a[1], a[2]);
+    for (corners, normal) in faces {
+        let n = v(normal);
+        for (k, c) in corners.iter().enumerate() {
+            // Just inside the corner, seen from outside along the normal.
+            let target = v(*c) * 0.99 + n * 0.01;
+            let ray = Ray::new(target + n * 3.0, -n);
+            let s = hit(&shapes[0], &ray).unwrap();
+            let want = uv[k];
+            assert!(
+                (s.uv[0] - want[0]).abs() < 0.006 && (s.uv[1] - want[1]).abs() < 0.006,
+                "face {normal:?} corner {c:?}: uv {:?}, want {want:?}",
+                s.uv
+            );
+            assert!((s.n_geometric - n).length() < 1e-6, "{s:?}");
+            // Flipped: normals inwards, same uv.
+            let f = hit(&shapes[1], &ray).unwrap();
+            assert!((f.n_geometric + n).length() < 1e-6 && (f.uv[0] - s.uv[0]).abs() < 1e-6);
+            // Mirrored in x: still outwards.
+            let m = hit(&shapes[2], &ray).unwrap();
+            assert!((m.n_geometric - n).length() < 1e-6, "mirrored: {m:?}");
+        }
+    }
+}

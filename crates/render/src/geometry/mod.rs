@@ -153,16 +153,11 @@ impl Shape {
                 let n = (p - s.center).normalize();
                 // Re-project onto the surface to remove the distance's rounding.
                 let p = s.center + n * s.radius;
-                let phi = n.y.atan2(n.x).rem_euclid(2.0 * std::f32::consts::PI);
-                let theta = n.z.clamp(-1.0, 1.0).acos();
                 Surface {
                     p,
                     n_geometric: n,
                     n_shading: n,
-                    uv: [
-                        phi / (2.0 * std::f32::consts::PI),
-                        theta / std::f32::consts::PI,
-                    ],
+                    uv: s.uv(n),
                 }
             }
             Shape::Planar(pl) => {
