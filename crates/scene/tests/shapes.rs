@@ -206,3 +206,18 @@ fn each_cube_face_maps_its_corners_as_mitsubas_cube() {
         }
     }
 }
+
+#[test]
+fn a_flipped_sphere_loads_with_inward_normals() {
+    let shapes = load(
+        "sphere-flip",
+        r#"<shape type="sphere"><boolean name="flip_normals" value="true"/></shape>"#,
+    )
+    .unwrap();
+    let s = hit(
+        &shapes[0],
+        &Ray::new(Vec3::new(0.0, 0.0, 5.0), Vec3::new(0.0, 0.0, -1.0)),
+    )
+    .unwrap();
+    assert!(s.n_geometric.z < -0.9999 && s.uv[1].abs() < 1e-3, "{s:?}");
+}

@@ -8,7 +8,7 @@ use crate::math::{Ray, Vec3};
 #[derive(Debug, Clone, Copy)]
 enum Test {
     Triangle([Vec3; 3]),
-    Sphere(Sphere),
+    Sphere(Vec3, f32),
     Plane(PlaneTest),
     Cylinder(CylinderTest),
 }
@@ -28,7 +28,7 @@ impl Prim {
                 let (a, b, c) = m.vertices(index as usize);
                 Test::Triangle([a, b, c])
             }
-            Shape::Sphere(s) => Test::Sphere(*s),
+            Shape::Sphere(s) => Test::Sphere(s.center, s.radius),
             Shape::Planar(p) => Test::Plane(p.test),
             Shape::Cylinder(c) => Test::Cylinder(c.test),
         };
@@ -42,7 +42,9 @@ impl Prim {
             Test::Triangle([a, b, c]) => {
                 intersect_triangle(ray, shear, *a, *b, *c, t_max).map(|h| (h.t, [h.b[1], h.b[2]]))
             }
-            Test::Sphere(s) => s.intersect(ray, t_max).map(|t| (t, [0.0, 0.0])),
+            Test::Sphere(c, r) => {
+                Sphere::intersect_ball(*c, *r, ray, t_max).map(|t| (t, [0.0, 0.0]))
+            }
             Test::Plane(p) => p.intersect(ray, t_max),
             Test::Cylinder(c) => c.intersect(ray, t_max),
         }

@@ -155,8 +155,8 @@ impl Shape {
                 let p = s.center + n * s.radius;
                 Surface {
                     p,
-                    n_geometric: n,
-                    n_shading: n,
+                    n_geometric: s.normal(n),
+                    n_shading: s.normal(n),
                     uv: s.uv(n),
                 }
             }

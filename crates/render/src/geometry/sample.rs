@@ -36,7 +36,7 @@ impl Shape {
                 let n = square_to_uniform_sphere(u);
                 Some(SurfacePoint {
                     p: s.center + n * s.radius,
-                    n,
+                    n: s.normal(n),
                 })
             }
             Shape::Planar(pl) => {

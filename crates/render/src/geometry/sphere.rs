@@ -12,6 +12,8 @@ pub struct Sphere {
     /// `to_world` mirrors): texture coordinates are computed in object
     /// space, as Mitsuba computes them, so they turn with the sphere.
     pub frame: Frame,
+    /// Normals point inwards (Mitsuba's `flip_normals`).
+    pub flip: bool,
 }
 
 impl Sphere {
@@ -31,6 +33,22 @@ impl Sphere {
             center,
             radius,
             frame,
+            flip: false,
+        }
+    }
+
+    /// The same sphere with its normals inwards when `flip`.
+    pub fn with_flipped_normals(self, flip: bool) -> Self {
+        Self { flip, ..self }
+    }
+
+    /// The normal at unit outward direction `n` from the centre.
+    #[inline]
+    pub fn normal(&self, n: Vec3) -> Vec3 {
+        if self.flip {
+            -n
+        } else {
+            n
         }
     }
 
@@ -52,12 +70,18 @@ impl Sphere {
     /// with the numerically stable quadratic (no cancellation in −b ± √Δ).
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<f32> {
-        let o = ray.o - self.center;
+        Self::intersect_ball(self.center, self.radius, ray, t_max)
+    }
+
+    /// [`Sphere::intersect`] for the ball of `center` and `radius`.
+    #[inline]
+    pub fn intersect_ball(center: Vec3, radius: f32, ray: &Ray, t_max: f32) -> Option<f32> {
+        let o = ray.o - center;
         let (ox, oy, oz) = (o.x as f64, o.y as f64, o.z as f64);
         let (dx, dy, dz) = (ray.d.x as f64, ray.d.y as f64, ray.d.z as f64);
         let a = dx * dx + dy * dy + dz * dz;
         let b = 2.0 * (dx * ox + dy * oy + dz * oz);
-        let r = self.radius as f64;
+        let r = radius as f64;
         // c = |o|² − r², via (|o| − r)(|o| + r) to keep precision near the surface.
         let len = (ox * ox + oy * oy + oz * oz).sqrt();
         let c = (len - r) * (len + r);
@@ -126,7 +150,7 @@ impl Sphere {
         n.is_finite().then_some((
             SurfacePoint {
                 p: self.center + n * self.radius,
-                n,
+                n: self.normal(n),
             },
             uniform_cone_pdf(one_minus_max as f32),
         ))

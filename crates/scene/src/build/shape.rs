@@ -22,9 +22,6 @@ pub fn build_shape(b: &mut Builder, node: &Node) -> Result<Shape, SceneError> {
     };
     let shape = match kind {
         "sphere" => {
-            if flip {
-                return Err(node.error("flip_normals on a sphere is not supported"));
-            }
             let center = p.point("center", Vec3::ZERO)?;
             let radius = p.float("radius", 1.0)?;
             // Mitsuba allows similarity transforms only: one scale factor.
@@ -50,11 +47,10 @@ pub fn build_shape(b: &mut Builder, node: &Node) -> Result<Shape, SceneError> {
                 t: axes[1] / lengths[1],
                 n: axes[2] / lengths[2],
             };
-            Shape::Sphere(Sphere::oriented(
-                to_world.point(center),
-                radius * lengths[0],
-                frame,
-            ))
+            Shape::Sphere(
+                Sphere::oriented(to_world.point(center), radius * lengths[0], frame)
+                    .with_flipped_normals(flip),
+            )
         }
         "rectangle" => Shape::Planar(Box::new(Planar::new(
             PlanarKind::Rectangle,
