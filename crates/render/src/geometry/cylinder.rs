@@ -52,7 +52,7 @@ impl CylinderTest {
         let rho = (ox * ox + oy * oy).sqrt();
         let c = (rho - 1.0) * (rho + 1.0);
         let disc = b * b - 4.0 * a * c;
-        if !(disc >= 0.0) {
+        if disc < 0.0 || disc.is_nan() {
             return None;
         }
         let q = -0.5 * (b + b.signum() * disc.sqrt());
@@ -82,12 +82,12 @@ impl Cylinder {
     ) -> Result<Self, GeometryError> {
         let d = p1 - p0;
         let length = d.length();
-        if !(length > 0.0 && length.is_finite()) {
+        if length.is_nan() || length <= 0.0 || length.is_infinite() {
             return Err(GeometryError::Invalid(format!(
                 "the cylinder's p0 and p1 must differ, got {p0:?} and {p1:?}"
             )));
         }
-        if !(radius > 0.0 && radius.is_finite()) {
+        if radius.is_nan() || radius <= 0.0 || radius.is_infinite() {
             return Err(GeometryError::Invalid(format!(
                 "radius must be positive, got {radius}"
             )));
