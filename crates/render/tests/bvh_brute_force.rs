@@ -159,10 +159,7 @@ fn mixed_shapes_match_brute_force() {
     let mut rng = Rng(3);
     let mut shapes = vec![random_mesh(&mut rng, 300)];
     for _ in 0..20 {
-        shapes.push(Shape::Sphere(Sphere {
-            center: rng.point(4.0),
-            radius: 0.1 + rng.next(),
-        }));
+        shapes.push(Shape::Sphere(Sphere::new(rng.point(4.0), 0.1 + rng.next())));
         let t = Transform::translate(rng.point(4.0))
             .then_after(&Transform::rotate(rng.direction(), rng.next() * 360.0).unwrap())
             .then_after(

@@ -108,10 +108,7 @@ fn sky() -> Spectrum {
 
 #[test]
 fn a_white_sphere_vanishes_under_a_uniform_sky() {
-    let sphere = Shape::Sphere(Sphere {
-        center: Vec3::ZERO,
-        radius: 1.0,
-    });
+    let sphere = Shape::Sphere(Sphere::new(Vec3::ZERO, 1.0));
     // The camera sees only the sphere.
     let cam = camera(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, 10.0);
     let lights = vec![Light::Constant(ConstantLight { radiance: sky() })];
@@ -139,10 +136,7 @@ fn a_coloured_sphere_shows_albedo_times_sky() {
     let albedo = Spectrum::tabulated(
         Tabulated::new(vec![400.0, 500.0, 600.0, 700.0], vec![0.1, 0.7, 0.3, 0.5]).unwrap(),
     );
-    let sphere = Shape::Sphere(Sphere {
-        center: Vec3::ZERO,
-        radius: 1.0,
-    });
+    let sphere = Shape::Sphere(Sphere::new(Vec3::ZERO, 1.0));
     let cam = camera(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, 10.0);
     // A convex sphere sees only the sky: one bounce, ρ·L exactly.
     let lights = vec![Light::Constant(ConstantLight { radiance: sky() })];
@@ -220,10 +214,7 @@ fn a_dispersive_glass_sphere_vanishes_under_a_uniform_sky() {
     // A lossless dielectric in a uniform radiance field is invisible, even
     // when it disperses: the collapsed cluster must stay unbiased (a
     // survivor always drawn from the bluest stratum would tint it).
-    let sphere = Shape::Sphere(Sphere {
-        center: Vec3::ZERO,
-        radius: 1.0,
-    });
+    let sphere = Shape::Sphere(Sphere::new(Vec3::ZERO, 1.0));
     let cam = camera(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, 10.0);
     let lights = vec![Light::Constant(ConstantLight { radiance: sky() })];
     let mut s = scene(
@@ -373,10 +364,7 @@ fn fluorescent_radiance(
 }
 
 fn fluorescent_sphere(sky: Spectrum, material: Bsdf) -> Scene {
-    let sphere = Shape::Sphere(Sphere {
-        center: Vec3::ZERO,
-        radius: 1.0,
-    });
+    let sphere = Shape::Sphere(Sphere::new(Vec3::ZERO, 1.0));
     let cam = camera(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, 10.0);
     alone_under_sky(cam, sphere, sky, material)
 }

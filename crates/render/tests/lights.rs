@@ -72,10 +72,7 @@ fn disk_light_on_axis() {
 fn sphere_and_mesh_lights() {
     // A sphere of radius r at distance d: E = π L (r/d)² facing it.
     let (r, d, l) = (0.4f32, 3.0f32, 2.0f32);
-    let shapes = vec![Shape::Sphere(Sphere {
-        center: Vec3::new(0.0, 0.0, d),
-        radius: r,
-    })];
+    let shapes = vec![Shape::Sphere(Sphere::new(Vec3::new(0.0, 0.0, d), r))];
     let light = Light::Area(AreaLight::new(0, &shapes[0], Spectrum::Constant(l)));
     let (e, se) = irradiance(
         &light,

@@ -9,6 +9,9 @@ use scotopia_scene::load_scene;
 use scotopia_scene::mitsuba::Parameters;
 use scotopia_scene::registry::{markdown_table, summary_table, Support, PLUGINS};
 
+mod common;
+use common::{quad, write};
+
 fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
@@ -35,7 +38,7 @@ fn example(kind: &str, name: &str) -> String {
             let file = match name {
                 "obj" => "tri.obj",
                 "ply" => "tri.ply",
-                _ => "missing.serialized",
+                _ => "quad.serialized",
             };
             format!(r#"<shape type="{name}"><string name="filename" value="{file}"/></shape>"#)
         }
@@ -96,6 +99,11 @@ fn every_plugin_loads_as_the_registry_says() {
     )
     .unwrap();
     // A 1×1 PNG of (128, 128, 255): a flat normal map, a grey texture.
+    std::fs::write(
+        dir.join("quad.serialized"),
+        write(&[quad("q", 0.0)], 4, false),
+    )
+    .unwrap();
     image::RgbImage::from_pixel(1, 1, image::Rgb([128, 128, 255]))
         .save(dir.join("flat.png"))
         .unwrap();

@@ -2,14 +2,15 @@
 //! needs stored inline: a traversal step reads one entry instead of
 //! following shape → mesh → index → position.
 
-use crate::geometry::{intersect_triangle, PlaneTest, RayShear, Shape, Sphere};
+use crate::geometry::{intersect_triangle, CylinderTest, PlaneTest, RayShear, Shape, Sphere};
 use crate::math::{Ray, Vec3};
 
 #[derive(Debug, Clone, Copy)]
 enum Test {
     Triangle([Vec3; 3]),
-    Sphere(Sphere),
+    Sphere(Vec3, f32),
     Plane(PlaneTest),
+    Cylinder(CylinderTest),
 }
 
 /// One primitive: its test, and which shape and primitive it is.
@@ -27,8 +28,9 @@ impl Prim {
                 let (a, b, c) = m.vertices(index as usize);
                 Test::Triangle([a, b, c])
             }
-            Shape::Sphere(s) => Test::Sphere(*s),
+            Shape::Sphere(s) => Test::Sphere(s.center, s.radius),
             Shape::Planar(p) => Test::Plane(p.test),
+            Shape::Cylinder(c) => Test::Cylinder(c.test),
         };
         Self { test, shape, index }
     }
@@ -40,8 +42,11 @@ impl Prim {
             Test::Triangle([a, b, c]) => {
                 intersect_triangle(ray, shear, *a, *b, *c, t_max).map(|h| (h.t, [h.b[1], h.b[2]]))
             }
-            Test::Sphere(s) => s.intersect(ray, t_max).map(|t| (t, [0.0, 0.0])),
+            Test::Sphere(c, r) => {
+                Sphere::intersect_ball(*c, *r, ray, t_max).map(|t| (t, [0.0, 0.0]))
+            }
             Test::Plane(p) => p.intersect(ray, t_max),
+            Test::Cylinder(c) => c.intersect(ray, t_max),
         }
     }
 }

@@ -81,6 +81,53 @@ impl TriangleMesh {
         self.indices.len()
     }
 
+    /// Replaces the vertex normals by smooth ones computed from the
+    /// world-space faces, as Mitsuba 3 computes them when a mesh has none:
+    /// each face adds its unit normal to its three corners, weighted by the
+    /// corner's interior angle (Thürmer & Wüthrich 1998, "Computing Vertex
+    /// Normals from Polygonal Facets", JGT 3(1)). `point_of_vertex` groups
+    /// vertices that are one surface point (an OBJ `v` split by its texture
+    /// coordinates), so they share one normal; `None`: each vertex alone.
+    /// Degenerate faces add nothing; a point with no contribution gets a
+    /// zero normal (the geometric normal is used there).
+    pub fn compute_smooth_normals(&mut self, point_of_vertex: Option<&[u32]>) {
+        // A map of the wrong length is ignored.
+        let point_of_vertex = point_of_vertex.filter(|m| m.len() == self.positions.len());
+        let point = |v: u32| point_of_vertex.map_or(v as usize, |m| m[v as usize] as usize);
+        let points = point_of_vertex.map_or(self.positions.len(), |m| {
+            m.iter().map(|&p| p as usize + 1).max().unwrap_or(0)
+        });
+        let mut sum = vec![[0.0f64; 3]; points];
+        for tri in &self.indices {
+            let p = tri.map(|i| self.positions[i as usize]);
+            let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
+            if !n.is_finite() {
+                continue;
+            }
+            for k in 0..3 {
+                let a = (p[(k + 1) % 3] - p[k]).normalize();
+                let b = (p[(k + 2) % 3] - p[k]).normalize();
+                let angle = unit_angle(a, b) as f64;
+                let s = &mut sum[point(tri[k])];
+                s[0] += n.x as f64 * angle;
+                s[1] += n.y as f64 * angle;
+                s[2] += n.z as f64 * angle;
+            }
+        }
+        let normals = (0..self.positions.len() as u32)
+            .map(|v| {
+                let [x, y, z] = sum[point(v)];
+                let len = (x * x + y * y + z * z).sqrt();
+                if len > 0.0 && len.is_finite() {
+                    Vec3::new((x / len) as f32, (y / len) as f32, (z / len) as f32)
+                } else {
+                    Vec3::ZERO
+                }
+            })
+            .collect();
+        self.normals = Some(normals);
+    }
+
     /// Area of face `face`.
     pub fn face_area(&self, face: usize) -> f32 {
         let (a, b, c) = self.vertices(face);
@@ -103,5 +150,15 @@ pub(super) fn uv_derivatives(p: [Vec3; 3], t: [[f32; 2]; 3]) -> (Vec3, Vec3) {
     } else {
         let f = crate::math::Frame::from_normal(dp0.cross(dp1).normalize());
         (f.s, f.t)
+    }
+}
+
+/// The angle between unit vectors, accurate near 0 and π (the chord
+/// formula; asin of half the chord rather than acos of the dot product).
+fn unit_angle(a: Vec3, b: Vec3) -> f32 {
+    if a.dot(b) < 0.0 {
+        std::f32::consts::PI - 2.0 * ((a + b).length() * 0.5).min(1.0).asin()
+    } else {
+        2.0 * ((b - a).length() * 0.5).min(1.0).asin()
     }
 }

@@ -1,12 +1,14 @@
-//! Shapes: triangle meshes, spheres, disks, rectangles; what a ray hit on
-//! them, and the surface there.
+//! Shapes: triangle meshes, spheres, cylinders, disks, rectangles; what a
+//! ray hit on them, and the surface there.
 
+mod cylinder;
 mod mesh;
 mod planar;
 mod sample;
 mod sphere;
 mod triangle;
 
+pub use cylinder::{Cylinder, CylinderTest};
 pub use mesh::TriangleMesh;
 pub use planar::{Planar, PlanarKind, PlaneTest};
 pub use sample::SurfacePoint;
@@ -30,6 +32,8 @@ pub enum Shape {
     Sphere(Sphere),
     /// Boxed: it carries two 4×4 transforms.
     Planar(Box<Planar>),
+    /// Boxed: it carries two 4×4 transforms.
+    Cylinder(Box<Cylinder>),
 }
 
 /// The minimum a traversal records about the closest hit; the surface is
@@ -83,6 +87,7 @@ impl Shape {
                 let pts = corners.map(|(x, y)| p.world_from_object.point(Vec3::new(x, y, 0.0)));
                 Aabb::from_points(&pts)
             }
+            Shape::Cylinder(c) => c.bounds(),
         }
     }
 
@@ -102,6 +107,7 @@ impl Shape {
             }
             Shape::Sphere(s) => s.intersect(ray, t_max).map(|t| (t, [0.0, 0.0])),
             Shape::Planar(p) => p.intersect(ray, t_max),
+            Shape::Cylinder(c) => c.intersect(ray, t_max),
         }
     }
 
@@ -111,6 +117,7 @@ impl Shape {
             Shape::Mesh(m) => (0..m.triangle_count()).map(|f| m.face_area(f)).sum(),
             Shape::Sphere(s) => s.area(),
             Shape::Planar(p) => p.area(),
+            Shape::Cylinder(c) => c.area(),
         }
     }
 
@@ -158,20 +165,23 @@ impl Shape {
                 let n = (p - s.center).normalize();
                 // Re-project onto the surface to remove the distance's rounding.
                 let p = s.center + n * s.radius;
-                let phi = n.y.atan2(n.x).rem_euclid(2.0 * std::f32::consts::PI);
-                let theta = n.z.clamp(-1.0, 1.0).acos();
-                // u = φ/2π, v = θ/π: ∂p/∂u = 2π r (−sin θ sin φ, sin θ cos φ, 0),
+                // u = φ/2π, v = θ/π in the sphere's own frame:
+                // ∂p/∂u = 2π r (−sin θ sin φ, sin θ cos φ, 0),
                 // ∂p/∂v = π r (cos θ cos φ, cos θ sin φ, −sin θ).
+                let local = s.frame.to_local(n);
                 let (pi, r) = (std::f32::consts::PI, s.radius);
-                let (sin_t, cos_t) = (theta.sin(), n.z.clamp(-1.0, 1.0));
-                let (sin_p, cos_p) = phi.sin_cos();
+                let cos_t = local.z.clamp(-1.0, 1.0);
+                let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
+                let (sin_p, cos_p) = local.y.atan2(local.x).sin_cos();
+                let dpdu = Vec3::new(-sin_t * sin_p, sin_t * cos_p, 0.0) * (2.0 * pi * r);
+                let dpdv = Vec3::new(cos_t * cos_p, cos_t * sin_p, -sin_t) * (pi * r);
                 Surface {
                     p,
-                    n_geometric: n,
-                    n_shading: n,
-                    uv: [phi / (2.0 * pi), theta / pi],
-                    dpdu: Vec3::new(-sin_t * sin_p, sin_t * cos_p, 0.0) * (2.0 * pi * r),
-                    dpdv: Vec3::new(cos_t * cos_p, cos_t * sin_p, -sin_t) * (pi * r),
+                    n_geometric: s.normal(n),
+                    n_shading: s.normal(n),
+                    uv: s.uv(n),
+                    dpdu: s.frame.to_world(dpdu),
+                    dpdv: s.frame.to_world(dpdv),
                 }
             }
             Shape::Planar(pl) => {
@@ -204,6 +214,20 @@ impl Shape {
                     uv,
                     dpdu: pl.world_from_object.vector(dpdu),
                     dpdv: pl.world_from_object.vector(dpdv),
+                }
+            }
+            Shape::Cylinder(c) => {
+                let (p, n, uv) = c.surface_at(ray.at(hit.t));
+                // u = φ/2π around the axis, v along it (object z ∈ [0, 1]).
+                let (sin_p, cos_p) = (2.0 * std::f32::consts::PI * uv[0]).sin_cos();
+                let dpdu = Vec3::new(-sin_p, cos_p, 0.0) * (2.0 * std::f32::consts::PI);
+                Surface {
+                    p,
+                    n_geometric: n,
+                    n_shading: n,
+                    uv,
+                    dpdu: c.world_from_object.vector(dpdu),
+                    dpdv: c.world_from_object.vector(Vec3::new(0.0, 0.0, 1.0)),
                 }
             }
         }

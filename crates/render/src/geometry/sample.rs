@@ -36,7 +36,7 @@ impl Shape {
                 let n = square_to_uniform_sphere(u);
                 Some(SurfacePoint {
                     p: s.center + n * s.radius,
-                    n,
+                    n: s.normal(n),
                 })
             }
             Shape::Planar(pl) => {
@@ -49,6 +49,7 @@ impl Shape {
                     n: pl.normal(),
                 })
             }
+            Shape::Cylinder(c) => Some(c.sample_area(u)),
         }
     }
 }

@@ -8,19 +8,80 @@ use crate::sampling::warp::{square_to_uniform_cone, uniform_cone_pdf};
 pub struct Sphere {
     pub center: Vec3,
     pub radius: f32,
+    /// The object-space axes in world space (orthonormal; a mirror when
+    /// `to_world` mirrors): texture coordinates are computed in object
+    /// space, as Mitsuba computes them, so they turn with the sphere.
+    pub frame: Frame,
+    /// Normals point inwards (Mitsuba's `flip_normals`).
+    pub flip: bool,
 }
 
 impl Sphere {
+    /// A sphere whose object axes are the world's.
+    pub fn new(center: Vec3, radius: f32) -> Self {
+        let frame = Frame {
+            s: Vec3::new(1.0, 0.0, 0.0),
+            t: Vec3::new(0.0, 1.0, 0.0),
+            n: Vec3::new(0.0, 0.0, 1.0),
+        };
+        Self::oriented(center, radius, frame)
+    }
+
+    /// A sphere whose object x, y, z axes are `frame`'s s, t, n.
+    pub fn oriented(center: Vec3, radius: f32, frame: Frame) -> Self {
+        Self {
+            center,
+            radius,
+            frame,
+            flip: false,
+        }
+    }
+
+    /// The same sphere with its normals inwards when `flip`.
+    pub fn with_flipped_normals(self, flip: bool) -> Self {
+        Self { flip, ..self }
+    }
+
+    /// The normal at unit outward direction `n` from the centre.
+    #[inline]
+    pub fn normal(&self, n: Vec3) -> Vec3 {
+        if self.flip {
+            -n
+        } else {
+            n
+        }
+    }
+
+    /// Mitsuba's texture coordinates at unit world direction `n` from the
+    /// centre: (φ/2π, θ/π) of the direction in object space.
+    pub fn uv(&self, n: Vec3) -> [f32; 2] {
+        let local = self.frame.to_local(n);
+        let phi = local
+            .y
+            .atan2(local.x)
+            .rem_euclid(2.0 * std::f32::consts::PI);
+        let u = phi / (2.0 * std::f32::consts::PI);
+        let theta = local.z.clamp(-1.0, 1.0).acos();
+        // rem_euclid can round up to 2π.
+        [if u >= 1.0 { 0.0 } else { u }, theta / std::f32::consts::PI]
+    }
+
     /// Nearest t in (0, t_max) where the ray meets the sphere. Solved in f64
     /// with the numerically stable quadratic (no cancellation in −b ± √Δ).
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<f32> {
-        let o = ray.o - self.center;
+        Self::intersect_ball(self.center, self.radius, ray, t_max)
+    }
+
+    /// [`Sphere::intersect`] for the ball of `center` and `radius`.
+    #[inline]
+    pub fn intersect_ball(center: Vec3, radius: f32, ray: &Ray, t_max: f32) -> Option<f32> {
+        let o = ray.o - center;
         let (ox, oy, oz) = (o.x as f64, o.y as f64, o.z as f64);
         let (dx, dy, dz) = (ray.d.x as f64, ray.d.y as f64, ray.d.z as f64);
         let a = dx * dx + dy * dy + dz * dz;
         let b = 2.0 * (dx * ox + dy * oy + dz * oz);
-        let r = self.radius as f64;
+        let r = radius as f64;
         // c = |o|² − r², via (|o| − r)(|o| + r) to keep precision near the surface.
         let len = (ox * ox + oy * oy + oz * oz).sqrt();
         let c = (len - r) * (len + r);
@@ -89,7 +150,7 @@ impl Sphere {
         n.is_finite().then_some((
             SurfacePoint {
                 p: self.center + n * self.radius,
-                n,
+                n: self.normal(n),
             },
             uniform_cone_pdf(one_minus_max as f32),
         ))
@@ -122,10 +183,7 @@ mod tests {
 
     #[test]
     fn samples_lie_on_the_near_side_with_the_cone_density() {
-        let s = Sphere {
-            center: Vec3::new(1.0, 2.0, -3.0),
-            radius: 0.5,
-        };
+        let s = Sphere::new(Vec3::new(1.0, 2.0, -3.0), 0.5);
         let mut u = uniforms(1);
         for p in [
             Vec3::new(1.0, 2.0, -1.0),
@@ -153,10 +211,7 @@ mod tests {
     fn facing_the_sphere_the_estimate_is_exact() {
         // ∫ over the cone of cos θ dω = π sin²θmax; with cos θ uniform the
         // estimate is linear in u[0], so a midpoint grid gets it exactly.
-        let s = Sphere {
-            center: Vec3::new(0.0, 0.0, 10.0),
-            radius: 1.0,
-        };
+        let s = Sphere::new(Vec3::new(0.0, 0.0, 10.0), 1.0);
         for p in [
             Vec3::ZERO,
             Vec3::new(0.0, 0.0, 7.0),
@@ -184,10 +239,7 @@ mod tests {
     fn cone_and_area_sampling_agree_and_the_cone_has_less_variance() {
         // Irradiance at a receiver tilted 60° away from a sphere 3 radii
         // off, by both strategies (fixed seeds, 4 standard errors).
-        let s = Sphere {
-            center: Vec3::new(0.0, 0.0, 3.0),
-            radius: 1.0,
-        };
+        let s = Sphere::new(Vec3::new(0.0, 0.0, 3.0), 1.0);
         let p = Vec3::ZERO;
         let normal = Vec3::new(60f32.to_radians().sin(), 0.0, 60f32.to_radians().cos());
         let n = 40_000;

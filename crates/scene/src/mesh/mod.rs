@@ -1,11 +1,14 @@
-//! Mesh files: Wavefront OBJ and PLY, read into plain vertex and index
-//! arrays. Errors name the file and line (the byte offset for binary PLY).
+//! Mesh files: Wavefront OBJ, PLY and Mitsuba's serialized meshes, read
+//! into plain vertex and index arrays. Errors name the file and line (the
+//! byte offset for binary PLY and serialized files).
 
 mod obj;
 mod ply;
+mod serialized;
 
 pub use obj::{parse_obj, read_obj};
 pub use ply::{parse_ply, read_ply};
+pub use serialized::{parse_serialized, read_serialized, SerializedShape};
 
 use scotopia_render::math::Vec3;
 
@@ -16,6 +19,11 @@ pub struct MeshData {
     pub normals: Option<Vec<Vec3>>,
     pub uvs: Option<Vec<[f32; 2]>>,
     pub indices: Vec<[u32; 3]>,
+    /// The surface point of each vertex, where vertices are split copies of
+    /// one point (OBJ: the `v` line of a corner split by its `vt`/`vn`), so
+    /// computed normals stay smooth across texture seams; `None`: each
+    /// vertex is its own point.
+    pub points: Option<Vec<u32>>,
 }
 
 /// A mesh file that cannot be read.

@@ -28,6 +28,7 @@ pub fn parse_obj(text: &str, file: &str) -> Result<MeshData, MeshError> {
     let mut corners: HashMap<(usize, Option<usize>, Option<usize>), u32> = HashMap::new();
     let mut out = MeshData::default();
     let (mut positions, mut uvs, mut normals) = (Vec::new(), Vec::new(), Vec::new());
+    let mut points = Vec::new();
     let (mut all_uv, mut all_normal) = (true, true);
 
     for (i, raw) in text.lines().enumerate() {
@@ -104,6 +105,7 @@ pub fn parse_obj(text: &str, file: &str) -> Result<MeshData, MeshError> {
                     let next = positions.len() as u32;
                     let id = *corners.entry(key).or_insert_with(|| {
                         positions.push(v[pi]);
+                        points.push(pi as u32);
                         uvs.push(ti.map(|t| vt[t]));
                         normals.push(ni.map(|n| vn[n]));
                         next
@@ -143,6 +145,7 @@ pub fn parse_obj(text: &str, file: &str) -> Result<MeshData, MeshError> {
             .collect()
     });
     out.positions = positions;
+    out.points = Some(points);
     Ok(out)
 }
 

@@ -1,0 +1,88 @@
+//! Helpers shared by the integration tests: a writer of Mitsuba's
+//! serialized meshes (for loading tests that need one).
+#![allow(dead_code)]
+
+use std::io::Write;
+
+/// One shape to write.
+#[derive(Clone)]
+pub struct Mesh {
+    pub name: &'static str,
+    pub positions: Vec<[f64; 3]>,
+    pub normals: Option<Vec<[f64; 3]>>,
+    pub uvs: Option<Vec<[f64; 2]>>,
+    pub colors: Option<Vec<[f64; 3]>>,
+    pub indices: Vec<[u32; 3]>,
+}
+
+/// A quad in the z = `z` plane, as two triangles.
+pub fn quad(name: &'static str, z: f64) -> Mesh {
+    Mesh {
+        name,
+        positions: vec![[0.0, 0.0, z], [1.0, 0.0, z], [1.0, 1.0, z], [0.0, 1.0, z]],
+        normals: Some(vec![[0.0, 0.0, 1.0]; 4]),
+        uvs: Some(vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]),
+        colors: Some(vec![[0.25, 0.5, 0.75]; 4]),
+        indices: vec![[0, 1, 2], [0, 2, 3]],
+    }
+}
+
+/// Writes a serialized file (version 3 or 4) holding `meshes`, with the
+/// end-of-file dictionary, as Mitsuba's format description states.
+pub fn write(meshes: &[Mesh], version: u16, double: bool) -> Vec<u8> {
+    let mut out = Vec::new();
+    let mut offsets = Vec::new();
+    for m in meshes {
+        offsets.push(out.len() as u64);
+        out.extend_from_slice(&0x041Cu16.to_le_bytes());
+        out.extend_from_slice(&version.to_le_bytes());
+        let mut d = Vec::new();
+        let flags = m.normals.as_ref().map_or(0, |_| 0x1)
+            | m.uvs.as_ref().map_or(0, |_| 0x2)
+            | m.colors.as_ref().map_or(0, |_| 0x8)
+            | if double { 0x2000 } else { 0x1000 };
+        d.extend_from_slice(&(flags as u32).to_le_bytes());
+        if version == 4 {
+            d.extend_from_slice(m.name.as_bytes());
+            d.push(0);
+        }
+        d.extend_from_slice(&(m.positions.len() as u64).to_le_bytes());
+        d.extend_from_slice(&(m.indices.len() as u64).to_le_bytes());
+        let mut put = |values: &[f64]| {
+            for &v in values {
+                if double {
+                    d.extend_from_slice(&v.to_le_bytes());
+                } else {
+                    d.extend_from_slice(&(v as f32).to_le_bytes());
+                }
+            }
+        };
+        put(m.positions.concat().as_slice());
+        if let Some(n) = &m.normals {
+            put(n.concat().as_slice());
+        }
+        if let Some(t) = &m.uvs {
+            put(t.concat().as_slice());
+        }
+        if let Some(c) = &m.colors {
+            put(c.concat().as_slice());
+        }
+        for t in &m.indices {
+            for i in t {
+                d.extend_from_slice(&i.to_le_bytes());
+            }
+        }
+        let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::default());
+        z.write_all(&d).unwrap();
+        out.extend_from_slice(&z.finish().unwrap());
+    }
+    for o in &offsets {
+        if version == 4 {
+            out.extend_from_slice(&o.to_le_bytes());
+        } else {
+            out.extend_from_slice(&(*o as u32).to_le_bytes());
+        }
+    }
+    out.extend_from_slice(&(meshes.len() as u32).to_le_bytes());
+    out
+}
