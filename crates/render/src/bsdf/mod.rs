@@ -23,7 +23,7 @@ pub use dielectric::{Dielectric, Ior, ThinDielectric};
 pub use diffuse::Diffuse;
 pub use fluorescent::{Donaldson, Fluorescent, Reradiation, Separable};
 pub use fresnel::{fresnel_conductor, fresnel_dielectric};
-pub use microfacet::Ggx;
+pub use microfacet::{MicrofacetDistribution, MicrofacetKind, MIN_ALPHA};
 pub use plastic::{diffuse_fresnel_reflectance, Plastic};
 pub use rough_dielectric::RoughDielectric;
 pub use rough_plastic::RoughPlastic;
@@ -194,7 +194,7 @@ impl Bsdf {
     pub fn is_delta(&self) -> bool {
         match self {
             Bsdf::Diffuse(_) | Bsdf::Fluorescent(_) => false,
-            Bsdf::Conductor(c) => c.alpha == 0.0,
+            Bsdf::Conductor(c) => c.is_smooth(),
             Bsdf::Dielectric(_) | Bsdf::ThinDielectric(_) => true,
             Bsdf::RoughDielectric(_) | Bsdf::Plastic(_) | Bsdf::RoughPlastic(_) => false,
             Bsdf::TwoSided(inner) => inner.is_delta(),
