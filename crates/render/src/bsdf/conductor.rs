@@ -99,10 +99,11 @@ impl Conductor {
         if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
-        // eval/pdf = F G₁(wo) for visible-normal sampling (Heitz 2018, eq. 19).
+        // eval/pdf = F G₁(wo) for visible-normal sampling (Heitz & d'Eon
+        // 2014, eq. 19).
         Some(BsdfSample {
             wo,
-            weight: self.fresnel(wl, uv, wi.dot(m)) * dist.g1(wo, m),
+            weight: self.fresnel(wl, uv, wi.dot(m)) * dist.reflection_weight(wi, wo, m),
             pdf,
             delta: false,
             collapse: false,

@@ -3,9 +3,8 @@
 //! "Understanding the Masking-Shadowing Function in Microfacet-Based
 //! BRDFs", JCGT 3(2), §5.3): the caller stretches and unstretches.
 
-use std::f32::consts::PI;
-
 use crate::math::Vec3;
+use crate::sampling::warp::square_to_disk_concentric;
 
 /// D(m)·(π α_u α_v) as a function of s = (m_x/α_u)² + (m_y/α_v)² and
 /// c² = m_z², for a unit m: 1 / (s + c²)² (Walter et al. 2007, eq. 33).
@@ -35,11 +34,9 @@ pub fn sample_visible_11(vh: Vec3, u: [f32; 2]) -> Vec3 {
         Vec3::new(1.0, 0.0, 0.0)
     };
     let t2 = vh.cross(t1);
-    // A point on the projected area, warped towards the visible half disk.
-    let r = u[0].sqrt();
-    let phi = 2.0 * PI * u[1];
-    let p1 = r * phi.cos();
-    let mut p2 = r * phi.sin();
+    // A point on the projected area (Shirley–Chiu's concentric map, as
+    // Mitsuba), warped towards the visible half disk.
+    let [p1, mut p2] = square_to_disk_concentric(u);
     let s = 0.5 * (1.0 + vh.z);
     p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * p2;
     // Project back up to the hemisphere.
