@@ -21,7 +21,9 @@ use rayon::prelude::*;
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::plastic::{specular_probability, specular_weight, substrate};
-use super::{fresnel_dielectric, reflect_about, BsdfSample, MicrofacetDistribution};
+use super::{
+    fresnel_dielectric, reflect_about, BsdfSample, MicrofacetDistribution, MicrofacetKind,
+};
 use crate::math::Vec3;
 use crate::sampling::warp::square_to_cosine_hemisphere;
 use crate::texture::Texture;
@@ -31,12 +33,15 @@ const TABLE: usize = 64;
 
 /// Gauss–Legendre points per side for an albedo at relative index `eta`:
 /// from inside (η < 1) total internal reflection makes the integrand
-/// discontinuous and needs a finer rule (Mitsuba's 32 and 128).
-fn quadrature_points(eta: f32) -> usize {
-    if eta > 1.0 {
-        32
-    } else {
-        128
+/// discontinuous and needs a finer rule (Mitsuba's 32 and 128). Beckmann's
+/// sampler is five times dearer than GGX's and its integrand smoother: 64
+/// points give the internal albedo to 3·10⁻⁵ of 128's at α from 0.02 to 1,
+/// in a quarter of the time.
+fn quadrature_points(eta: f32, kind: MicrofacetKind) -> usize {
+    match (eta > 1.0, kind) {
+        (true, _) => 32,
+        (false, MicrofacetKind::Beckmann) => 64,
+        (false, MicrofacetKind::Ggx) => 128,
     }
 }
 
@@ -72,7 +77,10 @@ impl RoughPlastic {
         nonlinear: bool,
     ) -> Self {
         let d = distribution;
-        let (n_ext, n_int) = (quadrature_points(eta), quadrature_points(1.0 / eta));
+        let (n_ext, n_int) = (
+            quadrature_points(eta, d.kind),
+            quadrature_points(1.0 / eta, d.kind),
+        );
         let transmittance: Vec<f32> = (0..TABLE)
             .into_par_iter()
             .map(|i| d.dielectric_transmittance(node(i), eta, n_ext))

@@ -29,10 +29,9 @@ pub fn erf(x: f64) -> f64 {
     }
 }
 
-/// erf⁻¹(y) for y ∈ (−1, 1): Giles' single-precision rational
+/// erf⁻¹(y) for y ∈ (−1, 1), by Giles' single-precision rational
 /// approximation (M. Giles 2010, "Approximating the erfinv function",
-/// GPU Computing Gems, Table 1), refined by two Newton steps on `erf`
-/// so that the two functions invert each other closely.
+/// GPU Computing Gems), evaluated in double precision.
 pub fn erfinv(y: f64) -> f64 {
     if y <= -1.0 {
         return f64::NEG_INFINITY;
@@ -41,7 +40,7 @@ pub fn erfinv(y: f64) -> f64 {
         return f64::INFINITY;
     }
     let w = -((1.0 - y) * (1.0 + y)).ln();
-    let mut x = if w < 5.0 {
+    if w < 5.0 {
         // Giles 2010, central branch.
         let w = w - 2.5;
         let c = [
@@ -71,15 +70,7 @@ pub fn erfinv(y: f64) -> f64 {
             2.832_976_82,
         ];
         c.iter().fold(0.0, |acc, &k| acc * w + k) * y
-    };
-    // Newton on erf(x) = y; d erf/dx = 2/√π e^{−x²}.
-    for _ in 0..2 {
-        let d = std::f64::consts::FRAC_2_SQRT_PI * (-x * x).exp();
-        if d > 0.0 {
-            x -= (erf(x) - y) / d;
-        }
     }
-    x
 }
 
 #[cfg(test)]
@@ -102,11 +93,14 @@ mod tests {
 
     #[test]
     fn erfinv_inverts_erf() {
-        for i in 1..400 {
-            let y = -1.0 + i as f64 / 200.0;
+        let mut worst = 0.0f64;
+        for i in 1..4000 {
+            let y = -1.0 + i as f64 / 2000.0;
             let x = erfinv(y);
-            assert!((erf(x) - y).abs() < 1e-9, "y {y}: x {x}, erf {}", erf(x));
+            worst = worst.max((erf(x) - y).abs());
         }
-        assert!((erfinv(1.0 - 1e-7) - 3.766_562).abs() < 1e-3);
+        // erf's 1.2·10⁻⁷ and Giles' approximation together.
+        assert!(worst < 2e-7, "{worst}");
+        assert!((erfinv(1.0 - 1e-7) - 3.766_562).abs() < 1e-5);
     }
 }
