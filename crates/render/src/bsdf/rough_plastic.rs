@@ -10,8 +10,9 @@
 //! T(μ) is the coating's own transmittance, E[(1 − F) G₁(wt)] over visible
 //! normals (Mitsuba's `eval_transmittance`), not 1 − R: light shadowed on
 //! the way in or out of the rough interface is lost, which darkens the
-//! diffuse part as roughness grows (at α = 1, 1 − R overstates T by a
-//! quarter and the diffuse lobe, with T twice, by a third or more). Both
+//! diffuse part as roughness grows. For GGX at η = 1.5, 1 − R overstates
+//! the cosine-weighted mean of T by 7 % at α = 0.4 and 35 % at α = 1, and
+//! the diffuse lobe at normal incidence by 10 % and 51 %. Both
 //! albedos are tabulated once per material, with Mitsuba's nodes and
 //! quadrature, so the two renderers agree.
 
