@@ -181,6 +181,16 @@ fn roughness(
              (nor by Mitsuba 3)",
         ));
     }
+    if au != av {
+        // The BSDF is anisotropic in the shading frame, whose tangent the
+        // integrators still take from the normal alone.
+        b.warn(
+            node,
+            "anisotropic roughness is oriented by a tangent scotopia derives from the normal, \
+             not yet Mitsuba's ∂p/∂u: the highlights' direction may differ"
+                .into(),
+        );
+    }
     if au.min(av) < scotopia_render::bsdf::MIN_ALPHA {
         b.warn(
             node,
