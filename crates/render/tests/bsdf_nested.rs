@@ -10,8 +10,8 @@ use std::sync::Arc;
 use common::{chi2_directions, Rng};
 use scotopia_color::{SampledWavelengths, Spectrum};
 use scotopia_render::bsdf::{
-    Blend, Bsdf, BumpMap, Conductor, Diffuse, Mask, NormalMap, PolarizedPlastic, ShadingPoint,
-    Transport,
+    Blend, Bsdf, BumpMap, Conductor, Diffuse, Mask, MicrofacetDistribution, MicrofacetKind,
+    NormalMap, PolarizedPlastic, ShadingPoint, Transport,
 };
 use scotopia_render::math::Vec3;
 use scotopia_render::texture::{FloatTexture, RgbBitmap, Texture};
@@ -42,7 +42,8 @@ fn conductor(alpha: f32) -> Bsdf {
         eta: Spectrum::Constant(0.2),
         k: Spectrum::Constant(3.0),
         specular_reflectance: Texture::constant(1.0),
-        alpha,
+        distribution: (alpha > 0.0)
+            .then(|| MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, alpha)),
     })
 }
 
@@ -83,7 +84,7 @@ fn pplastic(alpha: f32) -> Bsdf {
         Texture::constant(0.5),
         Texture::constant(1.0),
         1.5,
-        alpha,
+        MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, alpha),
     ))
 }
 

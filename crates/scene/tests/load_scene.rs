@@ -63,8 +63,8 @@ fn load_errors_name_the_place() {
             "radius must be positive",
         ),
         (
-            r#"<bsdf type="roughconductor" id="m"><string name="distribution" value="beckmann"/></bsdf><shape type="sphere"><ref id="m"/></shape>"#,
-            "'beckmann' is not supported",
+            r#"<bsdf type="roughconductor" id="m"><string name="distribution" value="phong"/></bsdf><shape type="sphere"><ref id="m"/></shape>"#,
+            "invalid microfacet distribution 'phong'",
         ),
         (
             r#"<shape type="sphere"><bsdf type="conductor"><string name="material" value="Unobtainium"/></bsdf></shape>"#,

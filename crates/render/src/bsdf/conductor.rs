@@ -1,9 +1,10 @@
-//! Conductors, smooth (a mirror) or rough (GGX microfacets), with the
-//! exact Fresnel reflectance of a complex index η + iκ per wavelength.
+//! Conductors, smooth (a mirror) or rough (Beckmann or GGX microfacets,
+//! possibly anisotropic), with the exact Fresnel reflectance of a complex
+//! index η + iκ per wavelength.
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
 
-use super::{fresnel_conductor, reflect, reflect_about, BsdfSample, Ggx};
+use super::{fresnel_conductor, reflect, reflect_about, BsdfSample, MicrofacetDistribution};
 use crate::math::Vec3;
 use crate::texture::Texture;
 
@@ -15,8 +16,8 @@ pub struct Conductor {
     pub k: Spectrum,
     /// A scale on the reflectance (Mitsuba's `specular_reflectance`).
     pub specular_reflectance: Texture,
-    /// GGX roughness; 0 is a perfect mirror.
-    pub alpha: f32,
+    /// The microfacet roughness; `None` is a perfect mirror.
+    pub distribution: Option<MicrofacetDistribution>,
 }
 
 impl Conductor {
@@ -31,8 +32,9 @@ impl Conductor {
         f * self.specular_reflectance.eval(wl, uv)
     }
 
-    fn ggx(&self) -> Ggx {
-        Ggx { alpha: self.alpha }
+    /// Whether this is a perfect mirror (a delta lobe).
+    pub fn is_smooth(&self) -> bool {
+        self.distribution.is_none()
     }
 
     pub fn eval<const K: usize>(
@@ -42,23 +44,31 @@ impl Conductor {
         wi: Vec3,
         wo: Vec3,
     ) -> SampledSpectrum<K> {
-        if self.alpha == 0.0 || wi.z <= 0.0 || wo.z <= 0.0 {
+        let Some(dist) = &self.distribution else {
+            return SampledSpectrum::splat(0.0);
+        };
+        if wi.z <= 0.0 || wo.z <= 0.0 {
             return SampledSpectrum::splat(0.0);
         }
         let m = (wi + wo).normalize();
-        let ggx = self.ggx();
         // f·cos θ_o = F D G / (4 cos θ_i).
-        let v = ggx.d(m) * ggx.g(wi, wo, m) / (4.0 * wi.z);
+        let v = dist.d(m) * dist.g(wi, wo, m) / (4.0 * wi.z);
         self.fresnel(wl, uv, wi.dot(m)) * v
     }
 
     pub fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
-        if self.alpha == 0.0 || wi.z <= 0.0 || wo.z <= 0.0 {
+        let Some(dist) = &self.distribution else {
+            return 0.0;
+        };
+        if wi.z <= 0.0 || wo.z <= 0.0 {
             return 0.0;
         }
         let m = (wi + wo).normalize();
+        if wo.dot(m) <= 0.0 {
+            return 0.0;
+        }
         // Visible-normal density times the reflection Jacobian 1/(4 wo·m).
-        self.ggx().pdf_visible(wi, m) / (4.0 * wo.dot(m))
+        dist.pdf_visible(wi, m) / (4.0 * wo.dot(m))
     }
 
     pub fn sample<const K: usize>(
@@ -71,7 +81,7 @@ impl Conductor {
         if wi.z <= 0.0 {
             return None;
         }
-        if self.alpha == 0.0 {
+        let Some(dist) = &self.distribution else {
             return Some(BsdfSample {
                 wo: reflect(wi),
                 weight: self.fresnel(wl, uv, wi.z),
@@ -79,21 +89,21 @@ impl Conductor {
                 delta: true,
                 collapse: false,
             });
-        }
-        let ggx = self.ggx();
-        let m = ggx.sample_visible(wi, u);
+        };
+        let m = dist.sample_visible(wi, u);
         let wo = reflect_about(wi, m);
         if wo.z <= 0.0 {
             return None;
         }
-        let pdf = ggx.pdf_visible(wi, m) / (4.0 * wo.dot(m));
+        let pdf = dist.pdf_visible(wi, m) / (4.0 * wo.dot(m));
         if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
-        // eval/pdf = F G₁(wo) for visible-normal sampling (Heitz 2018, eq. 19).
+        // eval/pdf = F G₁(wo) for visible-normal sampling (Heitz & d'Eon
+        // 2014, eq. 19).
         Some(BsdfSample {
             wo,
-            weight: self.fresnel(wl, uv, wi.dot(m)) * ggx.g1(wo, m),
+            weight: self.fresnel(wl, uv, wi.dot(m)) * dist.reflection_weight(wi, wo, m),
             pdf,
             delta: false,
             collapse: false,

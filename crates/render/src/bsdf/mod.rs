@@ -37,7 +37,7 @@ pub use diffuse::Diffuse;
 pub use fluorescent::{Donaldson, Fluorescent, Reradiation, Separable};
 pub use fresnel::{fresnel_conductor, fresnel_dielectric};
 pub use mask::Mask;
-pub use microfacet::Ggx;
+pub use microfacet::{MicrofacetDistribution, MicrofacetKind, MIN_ALPHA};
 pub use normal_map::NormalMap;
 pub use null::Null;
 pub use plastic::{diffuse_fresnel_reflectance, Plastic};
@@ -268,7 +268,7 @@ impl Bsdf {
     pub fn is_delta(&self) -> bool {
         match self {
             Bsdf::Diffuse(_) | Bsdf::Fluorescent(_) => false,
-            Bsdf::Conductor(c) => c.alpha == 0.0,
+            Bsdf::Conductor(c) => c.is_smooth(),
             Bsdf::Dielectric(_) | Bsdf::ThinDielectric(_) => true,
             Bsdf::RoughDielectric(_) | Bsdf::Plastic(_) | Bsdf::RoughPlastic(_) => false,
             Bsdf::TwoSided(inner) => inner.is_delta(),

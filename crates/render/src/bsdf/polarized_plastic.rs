@@ -10,7 +10,7 @@ use std::f32::consts::FRAC_1_PI;
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
-use super::{fresnel_dielectric, reflect_about, BsdfSample, Ggx};
+use super::{fresnel_dielectric, reflect_about, BsdfSample, MicrofacetDistribution};
 use crate::math::Vec3;
 use crate::sampling::warp::square_to_cosine_hemisphere;
 use crate::texture::Texture;
@@ -21,8 +21,8 @@ pub struct PolarizedPlastic {
     pub specular_reflectance: Texture,
     /// η_interior / η_exterior.
     pub eta: f32,
-    /// GGX roughness.
-    pub alpha: f32,
+    /// The coating's microfacets (Mitsuba's `distribution`, `alpha`).
+    pub distribution: MicrofacetDistribution,
     /// Probability of sampling the glossy lobe.
     specular_weight: f32,
 }
@@ -32,7 +32,7 @@ impl PolarizedPlastic {
         diffuse_reflectance: Texture,
         specular_reflectance: Texture,
         eta: f32,
-        alpha: f32,
+        distribution: MicrofacetDistribution,
     ) -> Self {
         let (d, s) = (diffuse_reflectance.mean(), specular_reflectance.mean());
         let specular_weight = if d + s > 0.0 { s / (d + s) } else { 0.5 };
@@ -40,15 +40,13 @@ impl PolarizedPlastic {
             diffuse_reflectance,
             specular_reflectance,
             eta,
-            alpha,
+            distribution,
             specular_weight,
         }
     }
 
-    /// The microfacet distribution. Anisotropic roughness (`alpha_u`,
-    /// `alpha_v`) would be built here, and only here.
-    fn ggx(&self) -> Ggx {
-        Ggx { alpha: self.alpha }
+    fn microfacets(&self) -> MicrofacetDistribution {
+        self.distribution
     }
 
     pub fn eval<const K: usize>(
@@ -61,7 +59,7 @@ impl PolarizedPlastic {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return SampledSpectrum::splat(0.0);
         }
-        let ggx = self.ggx();
+        let ggx = self.microfacets();
         let h = (wi + wo).normalize();
         let glossy =
             fresnel_dielectric(wi.dot(h), self.eta).0 * ggx.d(h) * ggx.g(wi, wo, h) / (4.0 * wi.z);
@@ -77,7 +75,7 @@ impl PolarizedPlastic {
         }
         let h = (wi + wo).normalize();
         // Visible-normal density times the reflection Jacobian 1/(4 wo·h).
-        let glossy = self.ggx().pdf_visible(wi, h) / (4.0 * wo.dot(h));
+        let glossy = self.microfacets().pdf_visible(wi, h) / (4.0 * wo.dot(h));
         self.specular_weight * glossy + (1.0 - self.specular_weight) * wo.z * FRAC_1_PI
     }
 
@@ -93,7 +91,7 @@ impl PolarizedPlastic {
             return None;
         }
         let wo = if u_lobe < self.specular_weight {
-            reflect_about(wi, self.ggx().sample_visible(wi, u))
+            reflect_about(wi, self.microfacets().sample_visible(wi, u))
         } else {
             square_to_cosine_hemisphere(u)
         };

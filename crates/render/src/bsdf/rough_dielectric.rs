@@ -1,4 +1,5 @@
-//! Rough dielectric interfaces: GGX microfacets that reflect and refract
+//! Rough dielectric interfaces: microfacets (Beckmann or GGX, possibly
+//! anisotropic) that reflect and refract
 //! (Walter, Marschner, Li & Torrance 2007, "Microfacet Models for
 //! Refraction through Rough Surfaces"), sampled by visible normals. A
 //! dispersive index makes the refracted direction wavelength-dependent:
@@ -8,14 +9,14 @@
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::dielectric::Ior;
-use super::{fresnel_dielectric, reflect_about, BsdfSample, Ggx, Transport};
+use super::{fresnel_dielectric, reflect_about, BsdfSample, MicrofacetDistribution, Transport};
 use crate::math::Vec3;
 use crate::texture::Texture;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct RoughDielectric {
     pub ior: Ior,
-    pub alpha: f32,
+    pub distribution: MicrofacetDistribution,
     pub specular_reflectance: Texture,
     pub specular_transmittance: Texture,
 }
@@ -29,7 +30,7 @@ struct Lobe {
     pdf: f32,
 }
 
-fn lobe(ggx: &Ggx, wi: Vec3, wo: Vec3, eta: f32, mode: Transport) -> Lobe {
+fn lobe(dist: &MicrofacetDistribution, wi: Vec3, wo: Vec3, eta: f32, mode: Transport) -> Lobe {
     let zero = Lobe {
         value: 0.0,
         pdf: 0.0,
@@ -60,11 +61,11 @@ fn lobe(ggx: &Ggx, wi: Vec3, wo: Vec3, eta: f32, mode: Transport) -> Lobe {
     if im * ci <= 0.0 || om * co <= 0.0 {
         return zero;
     }
-    let d = ggx.d(m);
-    let g = ggx.g(wi, wo, m);
+    let d = dist.d(m);
+    let g = dist.g(wi, wo, m);
     let f = fresnel_dielectric(im, eta).0;
     let wi_up = if ci > 0.0 { wi } else { -wi };
-    let visible = ggx.pdf_visible(wi_up, m);
+    let visible = dist.pdf_visible(wi_up, m);
     if reflection {
         Lobe {
             value: f * d * g / (4.0 * ci.abs()),
@@ -86,10 +87,6 @@ fn lobe(ggx: &Ggx, wi: Vec3, wo: Vec3, eta: f32, mode: Transport) -> Lobe {
 }
 
 impl RoughDielectric {
-    fn ggx(&self) -> Ggx {
-        Ggx { alpha: self.alpha }
-    }
-
     fn tint<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
@@ -112,12 +109,12 @@ impl RoughDielectric {
         mode: Transport,
     ) -> SampledSpectrum<K> {
         let eta = self.ior.eta(wl);
-        let ggx = self.ggx();
+        let dist = &self.distribution;
         // One lobe evaluation serves the cluster unless the index varies.
         let v = if self.ior.dispersive() {
-            SampledSpectrum::from_fn(|k| lobe(&ggx, wi, wo, eta[k], mode).value)
+            SampledSpectrum::from_fn(|k| lobe(dist, wi, wo, eta[k], mode).value)
         } else {
-            SampledSpectrum::splat(lobe(&ggx, wi, wo, eta[0], mode).value)
+            SampledSpectrum::splat(lobe(dist, wi, wo, eta[0], mode).value)
         };
         v * self.tint(wl, uv, wi.z * wo.z > 0.0)
     }
@@ -125,7 +122,7 @@ impl RoughDielectric {
     /// Density for the first wavelength (the one sampling uses).
     pub fn pdf<const K: usize>(&self, wl: &SampledWavelengths<K>, wi: Vec3, wo: Vec3) -> f32 {
         let eta = self.ior.eta(wl);
-        lobe(&self.ggx(), wi, wo, eta[0], Transport::Importance).pdf
+        lobe(&self.distribution, wi, wo, eta[0], Transport::Importance).pdf
     }
 
     pub fn sample<const K: usize>(
@@ -141,9 +138,9 @@ impl RoughDielectric {
             return None;
         }
         let eta = self.ior.eta(wl);
-        let ggx = self.ggx();
+        let dist = &self.distribution;
         let wi_up = if wi.z > 0.0 { wi } else { -wi };
-        let m = ggx.sample_visible(wi_up, u);
+        let m = dist.sample_visible(wi_up, u);
         let im = wi.dot(m);
         let (f, cos_t, eta_it) = fresnel_dielectric(im, eta[0]);
         let reflection = u_lobe < f;
@@ -157,7 +154,7 @@ impl RoughDielectric {
         if (wo.z * wi.z > 0.0) != reflection || wo.z == 0.0 {
             return None;
         }
-        let first = lobe(&ggx, wi, wo, eta[0], mode);
+        let first = lobe(dist, wi, wo, eta[0], mode);
         if first.pdf <= 0.0 || first.pdf.is_nan() {
             return None;
         }
@@ -166,7 +163,7 @@ impl RoughDielectric {
             SampledSpectrum::splat(first.value)
         } else if reflection {
             // Same direction for all; each wavelength has its own Fresnel term.
-            SampledSpectrum::from_fn(|k| lobe(&ggx, wi, wo, eta[k], mode).value)
+            SampledSpectrum::from_fn(|k| lobe(dist, wi, wo, eta[k], mode).value)
         } else {
             // Refraction collapses the cluster to its first wavelength.
             SampledSpectrum::from_fn(|k| if k == 0 { first.value } else { 0.0 })

@@ -106,7 +106,7 @@ pub fn chi2_directions(
     const PHI: usize = 20;
     // Midpoint sub-samples per bin in θ and in φ: narrow lobes (a rough
     // refraction at normal incidence) need the finer θ steps.
-    const SUB_T: usize = 64;
+    const SUB_T: usize = 256;
     const SUB_P: usize = 16;
     let bin_of = |w: Vec3| {
         let c = ((w.z.clamp(-1.0, 1.0) + 1.0) * 0.5 * THETA as f32) as usize;
@@ -163,36 +163,48 @@ pub fn chi2_directions(
 }
 
 /// Pearson's chi-square p-value of `observed` counts against `expected`
-/// ones, pooling the bins that expect fewer than 5; a pool that still
-/// expects fewer than 5 joins the regular bin that expects least (so
-/// samples where the pdf says there should be almost none still count,
-/// without failing a pool that merely drew one sample more than expected).
+/// ones, pooling the bins that expect fewer than 5.
 pub fn chi2_p_value(observed: &[f64], expected: &[f64]) -> f64 {
-    let (mut bins, mut pool_o, mut pool_e) = (Vec::new(), 0.0, 0.0);
+    let (mut chi2, mut dof, mut pool_o, mut pool_e) = (0.0, 0usize, 0.0, 0.0);
     for (o, e) in observed.iter().zip(expected) {
         if *e < 5.0 {
             pool_o += o;
             pool_e += e;
         } else {
-            bins.push((*o, *e));
+            chi2 += (o - e) * (o - e) / e;
+            dof += 1;
         }
     }
     if pool_e >= 5.0 {
-        bins.push((pool_o, pool_e));
-    } else if let Some(least) = bins
-        .iter_mut()
-        .min_by(|a, b| a.1.partial_cmp(&b.1).expect("finite expectations"))
-    {
-        least.0 += pool_o;
-        least.1 += pool_e;
-    } else if pool_o > 5.0 {
-        return 0.0;
+        chi2 += (pool_o - pool_e) * (pool_o - pool_e) / pool_e;
+        dof += 1;
+    } else if pool_o > pool_e {
+        // Too few expected for Pearson's statistic: the exact Poisson tail
+        // P(X ≥ pool_o) of samples where the pdf says there should be
+        // (almost) none, combined with the chi-square by Bonferroni.
+        let tail = poisson_upper_tail(pool_e, pool_o.round() as u64);
+        let p = gamma_q((dof - 1) as f64 / 2.0, chi2 / 2.0);
+        return (2.0 * p.min(tail)).min(1.0);
     }
-    if bins.len() < 2 {
-        return 1.0;
+    gamma_q((dof - 1) as f64 / 2.0, chi2 / 2.0)
+}
+
+/// P(X ≥ k) for X ~ Poisson(λ): 1 − Σ_{j<k} e^{−λ} λ^j / j!.
+fn poisson_upper_tail(lambda: f64, k: u64) -> f64 {
+    let (mut term, mut below) = ((-lambda).exp(), 0.0);
+    for j in 0..k {
+        below += term;
+        term *= lambda / (j + 1) as f64;
     }
-    let chi2: f64 = bins.iter().map(|(o, e)| (o - e) * (o - e) / e).sum();
-    gamma_q((bins.len() - 1) as f64 / 2.0, chi2 / 2.0)
+    (1.0 - below).max(0.0)
+}
+
+#[test]
+fn poisson_tail_known_values() {
+    // P(X ≥ 1) = 1 − e^{−λ}; P(X ≥ 0) = 1; P(X ≥ 6 | λ = 1.5) from the pmf.
+    assert!((poisson_upper_tail(2.0, 1) - (1.0 - (-2.0f64).exp())).abs() < 1e-12);
+    assert_eq!(poisson_upper_tail(2.0, 0), 1.0);
+    assert!((poisson_upper_tail(1.5, 6) - 0.004_455_98).abs() < 1e-8);
 }
 
 #[test]

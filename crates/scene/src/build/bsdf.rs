@@ -4,8 +4,8 @@ use std::sync::Arc;
 
 use scotopia_color::{io, Spectrum};
 use scotopia_render::bsdf::{
-    Bsdf, Conductor, Dielectric, Diffuse, Donaldson, Fluorescent, Ior, Plastic, RoughDielectric,
-    RoughPlastic, ThinDielectric,
+    Bsdf, Conductor, Dielectric, Diffuse, Donaldson, Fluorescent, Ior, MicrofacetDistribution,
+    MicrofacetKind, Plastic, RoughDielectric, RoughPlastic, ThinDielectric,
 };
 use scotopia_render::texture::Texture;
 
@@ -23,10 +23,10 @@ pub fn build_bsdf(b: &mut Builder, node: &Node) -> Result<Bsdf, SceneError> {
             reflectance: b.texture(&p, "reflectance", Usage::Reflectance, 0.5)?,
         }),
         "conductor" | "roughconductor" => {
-            let alpha = if kind == "roughconductor" {
-                roughness(b, &p, node)?
+            let distribution = if kind == "roughconductor" {
+                Some(roughness(b, &p, node, Anisotropy::Allowed)?)
             } else {
-                0.0
+                None
             };
             let (eta, k) = match (
                 p.spectrum("eta", Usage::Unbounded)?,
@@ -58,7 +58,7 @@ pub fn build_bsdf(b: &mut Builder, node: &Node) -> Result<Bsdf, SceneError> {
                     Usage::Reflectance,
                     1.0,
                 )?,
-                alpha,
+                distribution,
             })
         }
         "dielectric" | "roughdielectric" | "thindielectric" => {
@@ -80,7 +80,7 @@ pub fn build_bsdf(b: &mut Builder, node: &Node) -> Result<Bsdf, SceneError> {
                     specular_transmittance: st,
                 }),
                 _ => Bsdf::RoughDielectric(RoughDielectric {
-                    alpha: roughness(b, &p, node)?,
+                    distribution: roughness(b, &p, node, Anisotropy::Allowed)?,
                     ior,
                     specular_reflectance: sr,
                     specular_transmittance: st,
@@ -97,12 +97,12 @@ pub fn build_bsdf(b: &mut Builder, node: &Node) -> Result<Bsdf, SceneError> {
             if kind == "plastic" {
                 Bsdf::Plastic(Plastic::new(diffuse, specular, int / ext, nonlinear))
             } else {
-                let alpha = roughness(b, &p, node)?;
+                let distribution = roughness(b, &p, node, Anisotropy::Refused)?;
                 Bsdf::RoughPlastic(RoughPlastic::new(
                     diffuse,
                     specular,
                     int / ext,
-                    alpha,
+                    distribution,
                     nonlinear,
                 ))
             }
@@ -126,31 +126,93 @@ pub fn build_bsdf(b: &mut Builder, node: &Node) -> Result<Bsdf, SceneError> {
     Ok(bsdf)
 }
 
-/// `alpha` (GGX). An explicit Beckmann or anisotropic roughness would render
-/// a different material, so they are errors; an unstated distribution
-/// (Mitsuba's default is Beckmann) is a warning.
-pub(super) fn roughness(b: &mut Builder, p: &Props, node: &Node) -> Result<f32, SceneError> {
-    match p.string("distribution")? {
-        Some("ggx") => {}
-        Some(other) => {
-            return Err(node.error(format!(
-                "microfacet distribution '{other}' is not supported; use ggx"
-            )))
+/// Whether a plugin takes `alpha_u` ≠ `alpha_v` (Mitsuba 3's
+/// `roughplastic` refuses them).
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(super) enum Anisotropy {
+    Allowed,
+    Refused,
+}
+
+/// The microfacet roughness of a rough BSDF, read as Mitsuba 3 reads it
+/// (`microfacet.h`, `roughconductor.cpp`): `distribution` (`beckmann`, the
+/// default, or `ggx`); `alpha` (0.1) or both `alpha_u` and `alpha_v`;
+/// `sample_visible` (true).
+pub(super) fn roughness(
+    b: &mut Builder,
+    p: &Props,
+    node: &Node,
+    anisotropy: Anisotropy,
+) -> Result<MicrofacetDistribution, SceneError> {
+    let kind = match p.string("distribution")? {
+        None => MicrofacetKind::Beckmann,
+        Some(name) => match name.to_lowercase().as_str() {
+            "beckmann" => MicrofacetKind::Beckmann,
+            "ggx" => MicrofacetKind::Ggx,
+            _ => {
+                return Err(p.get("distribution").unwrap_or(node).error(format!(
+                    "invalid microfacet distribution '{name}': must be 'beckmann' or 'ggx'"
+                )))
+            }
+        },
+    };
+    let (alpha, u, v) = (
+        constant_roughness(p, "alpha")?,
+        constant_roughness(p, "alpha_u")?,
+        constant_roughness(p, "alpha_v")?,
+    );
+    let (au, av) = match (alpha, u, v) {
+        (Some(_), Some(_), _) | (Some(_), _, Some(_)) => {
+            return Err(node.error("give either 'alpha' or 'alpha_u' and 'alpha_v', not both"))
         }
-        None => b.warn(
+        (Some(a), None, None) => (a, a),
+        (None, Some(u), Some(v)) => (u, v),
+        (None, Some(_), None) | (None, None, Some(_)) => {
+            return Err(node.error("give both 'alpha_u' and 'alpha_v'"))
+        }
+        (None, None, None) => (0.1, 0.1),
+    };
+    for a in [au, av] {
+        if !(a >= 0.0 && a.is_finite()) {
+            return Err(node.error(format!("roughness must be positive, got {a}")));
+        }
+    }
+    if anisotropy == Anisotropy::Refused && au != av {
+        return Err(node.error(
+            "anisotropic roughness (alpha_u ≠ alpha_v) is not supported by this plugin \
+             (nor by Mitsuba 3)",
+        ));
+    }
+    if au.min(av) < scotopia_render::bsdf::MIN_ALPHA {
+        b.warn(
             node,
-            "no 'distribution' given: Mitsuba would use beckmann, scotopia renders ggx".into(),
-        ),
+            format!(
+                "roughness below {} is raised to it, as Mitsuba does; \
+                 a smooth surface is the smooth plugin",
+                scotopia_render::bsdf::MIN_ALPHA
+            ),
+        );
     }
-    let alpha = p.float("alpha", 0.1)?;
-    let (au, av) = (p.float("alpha_u", alpha)?, p.float("alpha_v", alpha)?);
-    if au != av {
-        return Err(node.error("anisotropic roughness (alpha_u ≠ alpha_v) is not supported"));
+    if !p.boolean("sample_visible", true)? {
+        b.warn(
+            node,
+            "sample_visible=false is not honoured: scotopia samples visible normals \
+             (the same image, with less noise)"
+                .into(),
+        );
     }
-    if !(au > 0.0 && au.is_finite()) {
-        return Err(node.error(format!("roughness alpha must be positive, got {au}")));
+    Ok(MicrofacetDistribution::new(kind, au, av))
+}
+
+/// A roughness given as a number; a texture there is refused.
+fn constant_roughness(p: &Props, name: &str) -> Result<Option<f32>, SceneError> {
+    match p.get(name) {
+        None => Ok(None),
+        Some(n) if n.tag == "texture" || n.tag == "ref" => Err(n.error(format!(
+            "a textured roughness ('{name}') is not supported yet: give a <float>"
+        ))),
+        Some(_) => p.float(name, 0.0).map(Some),
     }
-    Ok(au)
 }
 
 /// `<bsdf type="fluorescent">`: elastic `reflectance` (spectrum or

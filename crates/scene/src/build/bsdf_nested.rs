@@ -12,7 +12,7 @@ use scotopia_render::bsdf::{
 };
 use scotopia_render::texture::{FloatCheckerboard, FloatTexture, RgbBitmap, Texture};
 
-use super::bsdf::roughness;
+use super::bsdf::{roughness, Anisotropy};
 use super::ior::read_ior;
 use super::texture::{read_bitmap, uv_transform};
 use super::Builder;
@@ -108,7 +108,7 @@ pub fn build(b: &mut Builder, kind: &str, p: &Props, node: &Node) -> Result<Bsdf
             let ext = read_ior(p, "ext_ior", "air")?.eval(550.0);
             let diffuse = b.texture(p, "diffuse_reflectance", Usage::Reflectance, 0.5)?;
             let specular = b.texture(p, "specular_reflectance", Usage::Reflectance, 1.0)?;
-            let alpha = roughness(b, p, node)?;
+            let distribution = roughness(b, p, node, Anisotropy::Allowed)?;
             b.warn(
                 node,
                 "pplastic: scotopia does not track polarisation; rendered as Mitsuba's \
@@ -116,7 +116,12 @@ pub fn build(b: &mut Builder, kind: &str, p: &Props, node: &Node) -> Result<Bsdf
                  refractions)"
                     .into(),
             );
-            Bsdf::PolarizedPlastic(PolarizedPlastic::new(diffuse, specular, int / ext, alpha))
+            Bsdf::PolarizedPlastic(PolarizedPlastic::new(
+                diffuse,
+                specular,
+                int / ext,
+                distribution,
+            ))
         }
         "polarizer" | "retarder" | "circular" => {
             let transmittance = b.texture(p, "transmittance", Usage::Reflectance, 1.0)?;
