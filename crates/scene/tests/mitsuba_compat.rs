@@ -492,3 +492,56 @@ fn an_orthographic_sensor_loads_and_bdpt_refuses_it() {
         e.err()
     );
 }
+
+#[test]
+fn a_spot_light_projects_its_texture_in_its_own_frame() {
+    use scotopia_color::SampledWavelengths;
+    use scotopia_render::math::Vec3;
+    let d = tmp("spot");
+    // Black on the left (u < ½), white on the right, read without blending.
+    image::RgbImage::from_fn(2, 1, |x, _| image::Rgb([255 * x as u8; 3]))
+        .save(d.join("half.png"))
+        .unwrap();
+    let f = write(
+        &d,
+        "s.xml",
+        &scene(
+            r#"<emitter type="spot"><rgb name="intensity" value="5"/>
+    <texture name="texture" type="bitmap"><string name="filename" value="half.png"/><string name="filter_type" value="nearest"/></texture>
+    <float name="cutoff_angle" value="20"/><float name="beam_width" value="19"/>
+    <transform name="to_world"><lookat origin="0, 0, 0" target="0, 0, 1" up="0, 1, 0"/></transform>
+</emitter>"#,
+        ),
+    );
+    let s = load(&f);
+    assert!(
+        s.warnings.iter().all(|w| !w.contains("texture")),
+        "{:?}",
+        s.warnings
+    );
+    let Light::Spot(spot) = &s.lights[0] else {
+        panic!("{:?}", s.lights)
+    };
+    let wl = SampledWavelengths::<4>::new([450.0, 520.0, 600.0, 680.0], [1.0; 4]);
+    // u = ½ + ½ x / (z tan 20°): x/z = ±0.8 tan 20° reads u = 0.9 and 0.1.
+    let x = 0.8 * 20f32.to_radians().tan();
+    let at = |sx: f32| {
+        spot.sample_li(&wl, Vec3::new(sx * x, 0.0, 1.0))
+            .map_or(0.0, |l| l.radiance.average())
+    };
+    let (right, left) = (at(1.0), at(-1.0));
+    assert!(
+        right > 1.0 && left < 1e-3 * right,
+        "right {right}, left {left}"
+    );
+    // The unlit half halves the light's power for choosing lights.
+    let plain = scotopia_render::light::SpotLight::new(
+        Vec3::ZERO,
+        Vec3::new(0.0, 0.0, 1.0),
+        spot.intensity.clone(),
+        20.0,
+        19.0,
+    );
+    let ratio = spot.power().watts / plain.power().watts;
+    assert!((ratio - 0.5).abs() < 0.02, "{ratio}");
+}

@@ -89,7 +89,7 @@ impl Light {
                     p: l.position,
                     n: None,
                     d,
-                    le: l.intensity.sample(wl) * f,
+                    le: l.intensity.sample(wl) * l.texture_factor(wl, local) * f,
                     pdf_pos: 1.0,
                     pdf_dir,
                 })

@@ -1,10 +1,11 @@
 //! Point, spot and directional lights, and the constant environment.
 
-use scotopia_color::{SampledWavelengths, Spectrum};
+use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
 
 use super::{spectral_power, LightSample, Power};
 use crate::math::{Frame, Vec3};
 use crate::sampling::warp::{square_to_uniform_sphere, UNIFORM_SPHERE_PDF};
+use crate::texture::Texture;
 
 /// Unit direction, distance and squared distance from `p` to `position`;
 /// `None` when they coincide.
@@ -50,15 +51,20 @@ impl PointLight {
 }
 
 /// A spot light (Mitsuba's `spot`): intensity I along its axis, full out to
-/// `beam_width`, falling linearly in angle to zero at `cutoff_angle`.
+/// `beam_width`, falling linearly in angle to zero at `cutoff_angle`,
+/// optionally times a texture projected over the cone.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SpotLight {
     pub position: Vec3,
-    /// The axis; the light shines along `frame.n`.
+    /// The axis; the light shines along `frame.n`. With a texture, `s` and
+    /// `t` are the emitter's own x and y axes (its `to_world`).
     pub frame: Frame,
     pub intensity: Spectrum,
     pub cutoff: f32,
     pub beam_width: f32,
+    /// Mitsuba's `texture`: a factor over the cone, read at
+    /// uv = ½ + ½ (x, y) / (z tan cutoff) of the local direction.
+    pub texture: Option<Texture>,
 }
 
 impl SpotLight {
@@ -76,6 +82,33 @@ impl SpotLight {
             intensity,
             cutoff: cutoff_deg.to_radians(),
             beam_width: beam_width_deg.min(cutoff_deg).to_radians(),
+            texture: None,
+        }
+    }
+
+    /// The same light projecting `texture`, oriented by `frame` (whose
+    /// `n` must be the axis).
+    pub fn with_texture(self, frame: Frame, texture: Texture) -> Self {
+        Self {
+            frame,
+            texture: Some(texture),
+            ..self
+        }
+    }
+
+    /// The texture's factor in local direction `local` (1 without one),
+    /// mapped as Mitsuba's `direction_to_uv`.
+    pub fn texture_factor<const K: usize>(
+        &self,
+        wl: &SampledWavelengths<K>,
+        local: Vec3,
+    ) -> SampledSpectrum<K> {
+        match &self.texture {
+            None => SampledSpectrum::splat(1.0),
+            Some(t) => {
+                let k = 0.5 / (local.z * self.cutoff.tan());
+                t.eval(wl, [0.5 + local.x * k, 0.5 + local.y * k])
+            }
         }
     }
 
@@ -97,7 +130,8 @@ impl SpotLight {
         p: Vec3,
     ) -> Option<LightSample<K>> {
         let (wi, dist, dist2) = towards(self.position, p)?;
-        let f = self.falloff((-wi).dot(self.frame.n));
+        let local = self.frame.to_local(-wi);
+        let f = self.falloff(local.z);
         if f == 0.0 {
             return None;
         }
@@ -105,7 +139,7 @@ impl SpotLight {
             n: Vec3::ZERO,
             wi,
             distance: dist,
-            radiance: self.intensity.sample(wl) * (f / dist2),
+            radiance: self.intensity.sample(wl) * self.texture_factor(wl, local) * (f / dist2),
             pdf: 1.0,
             delta: true,
         })
@@ -122,7 +156,9 @@ impl SpotLight {
             0.0
         };
         let solid = 2.0 * std::f64::consts::PI * (1.0 - b.cos() + ramp);
-        spectral_power(&self.intensity).scaled(solid)
+        // With a texture, its mean scales the power (light choice only).
+        let mean = self.texture.as_ref().map_or(1.0, |t| t.mean() as f64);
+        spectral_power(&self.intensity).scaled(solid * mean)
     }
 }
 

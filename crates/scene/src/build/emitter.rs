@@ -5,7 +5,7 @@ use scotopia_image::read_rgb;
 use scotopia_render::light::{
     ConstantLight, DirectionalLight, EnvMapLight, Light, PointLight, SpotLight,
 };
-use scotopia_render::math::Vec3;
+use scotopia_render::math::{Frame, Vec3};
 
 use super::Builder;
 use crate::mitsuba::{normalised_illuminant, resolve, Node, Props, SceneError, Usage};
@@ -30,13 +30,28 @@ pub fn build_emitter(b: &mut Builder, node: &Node) -> Result<Light, SceneError> 
             let to_world = p.transform("to_world")?;
             let cutoff = p.float("cutoff_angle", 20.0)?;
             let beam = p.float("beam_width", cutoff * 0.75)?;
-            Light::Spot(SpotLight::new(
+            let spot = SpotLight::new(
                 to_world.point(Vec3::ZERO),
                 to_world.vector(Vec3::new(0.0, 0.0, 1.0)),
                 required("intensity")?,
                 cutoff,
                 beam,
-            ))
+            );
+            match p.get("texture") {
+                None => Light::Spot(spot),
+                Some(_) => {
+                    // Oriented by the emitter's own axes, as Mitsuba reads
+                    // the texture in its local frame.
+                    let axis = |v: Vec3| to_world.vector(v).normalize();
+                    let frame = Frame {
+                        s: axis(Vec3::new(1.0, 0.0, 0.0)),
+                        t: axis(Vec3::new(0.0, 1.0, 0.0)),
+                        n: axis(Vec3::new(0.0, 0.0, 1.0)),
+                    };
+                    let texture = b.texture(&p, "texture", Usage::Reflectance, 1.0)?;
+                    Light::Spot(spot.with_texture(frame, texture))
+                }
+            }
         }
         "directional" => {
             let to_world = p.transform("to_world")?;

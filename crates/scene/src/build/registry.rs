@@ -114,7 +114,7 @@ pub const PLUGINS: &[Plugin] = &[
     // Emitters
     p("emitter", "area", Full, "radiance", "nested in a shape or referenced from one; radiance is a spectrum, not a texture"),
     p("emitter", "point", Full, "intensity, position, to_world", ""),
-    p("emitter", "spot", Partial, "intensity, cutoff_angle, beam_width, to_world", "no `texture`"),
+    p("emitter", "spot", Full, "intensity, cutoff_angle, beam_width, texture, to_world", "a texture scales the light's power by its mean for choosing lights"),
     p("emitter", "directional", Full, "irradiance, direction, to_world", ""),
     p("emitter", "constant", Full, "radiance (Mitsuba's default: unit D65)", ""),
     p("emitter", "envmap", Full, "filename, scale, to_world", ""),
