@@ -49,6 +49,7 @@ impl SceneInfo {
                 kind: match l {
                     Light::Point(_) => "point",
                     Light::Spot(_) => "spot",
+                    Light::Projector(_) => "projector",
                     Light::Directional(_) => "directional",
                     Light::Area(_) => "area",
                     Light::Constant(_) => "constant",

@@ -10,6 +10,7 @@ use std::path::Path;
 use std::sync::atomic::AtomicBool;
 
 use scotopia_render::integrator::{render, RenderOptions};
+use scotopia_render::math::Vec3;
 use scotopia_render::scene::{IntegratorKind, Scene};
 use scotopia_scene::load_scene;
 use scotopia_scene::mitsuba::Parameters;
@@ -206,4 +207,57 @@ fn bdpt_is_chosen_in_the_scene_file_and_bad_strategies_are_errors() {
     assert!(bad([0, 1], IntegratorKind::Bdpt));
     assert!(bad([1, 1], IntegratorKind::Path));
     assert!(!bad([1, 1], IntegratorKind::Bdpt));
+}
+
+#[test]
+fn a_projector_renders_alike_in_both_tracers_and_lights_its_plane_as_mitsuba() {
+    // A projector 2 m in front of a white diffuse wall, its texture black
+    // on the left half and white on the right; the camera beside it.
+    let dir = std::env::temp_dir().join(format!("scotopia-projector-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    image::RgbImage::from_fn(2, 1, |x, _| image::Rgb([255 * x as u8; 3]))
+        .save(dir.join("half.png"))
+        .unwrap();
+    let xml = r#"<scene version="3.0.0">
+    <sensor type="perspective"><float name="fov" value="60"/>
+        <transform name="to_world"><lookat origin="0.3, 0, 0" target="0.3, 0, 2" up="0, 1, 0"/></transform>
+        <film type="hdrfilm"><integer name="width" value="12"/><integer name="height" value="12"/></film></sensor>
+    <integrator type="path"><integer name="max_depth" value="2"/></integrator>
+    <emitter type="projector"><float name="fov" value="40"/><float name="scale" value="3"/>
+        <texture type="bitmap" name="irradiance"><string name="filename" value="half.png"/><string name="filter_type" value="nearest"/></texture>
+        <transform name="to_world"><lookat origin="0, 0, 0" target="0, 0, 1" up="0, 1, 0"/></transform></emitter>
+    <shape type="rectangle"><bsdf type="diffuse"><rgb name="reflectance" value="0.8"/></bsdf>
+        <transform name="to_world"><scale value="3"/><rotate y="1" angle="180"/><translate z="2"/></transform></shape>
+</scene>"#;
+    std::fs::write(dir.join("p.xml"), xml).unwrap();
+    let s = load_scene(&dir.join("p.xml"), &Parameters::new()).unwrap();
+    let Some(scotopia_render::light::Light::Projector(p)) = s.lights.first() else {
+        panic!("{:?}", s.lights)
+    };
+    // Irradiance on a surface facing the projector one unit along a ray
+    // is π·scale·E(uv) (Mitsuba's projector.cpp): E here is the white
+    // texel's illuminant spectrum, 1 luminance-weighted on average.
+    let wl = scotopia_color::SampledWavelengths::<4>::new([450.0, 520.0, 600.0, 680.0], [1.0; 4]);
+    let white = p.irradiance.eval(&wl, [0.75, 0.5]);
+    for x in [0.05f32, 0.2] {
+        let at = Vec3::new(-x, 0.0, 1.0);
+        let l = p.sample_li(&wl, at).unwrap();
+        let cos = l.wi.dot(Vec3::new(0.0, 0.0, -1.0));
+        let e = l.radiance * cos;
+        for i in 0..4 {
+            let want = std::f32::consts::PI * 3.0 * white[i];
+            assert!(
+                (e[i] / want - 1.0).abs() < 1e-4,
+                "x {x}: {} vs {want}",
+                e[i]
+            );
+        }
+        // The left half of the image (+x in camera space) is black.
+        assert!(p.sample_li(&wl, Vec3::new(x, 0.0, 1.0)).is_none());
+    }
+    agree(
+        "projector",
+        &image(&s, bdpt(64, 1)),
+        &image(&s, path(64, 2)),
+    );
 }

@@ -73,6 +73,19 @@ impl Camera {
         }
     }
 
+    /// Where world direction `d` from the lens centre lands on the film
+    /// (pixels), with the cosine of its angle to the optical axis; `None`
+    /// off the film. (A projector is a camera run backwards.)
+    pub fn raster_towards(&self, d: Vec3) -> Option<([f32; 2], f32)> {
+        let dc = self.camera_from_world.vector(d).normalize();
+        self.raster_of(dc).map(|r| (r, dc.z))
+    }
+
+    /// Area of the image on the plane z = 1 of camera space.
+    pub fn film_plane_area(&self) -> f32 {
+        self.image_area()
+    }
+
     /// Density per solid angle of `generate_ray` leaving lens point
     /// `lens` (world) in world direction `d`; zero off the film.
     pub fn pdf_direction(&self, lens: Vec3, d: Vec3) -> f32 {

@@ -42,7 +42,7 @@ impl Light {
     /// hit it) or its direction is (nothing can be connected to it by a
     /// chosen direction): such lights end light paths only by `sample_li`.
     pub fn is_delta_position(&self) -> bool {
-        matches!(self, Light::Point(_) | Light::Spot(_))
+        matches!(self, Light::Point(_) | Light::Spot(_) | Light::Projector(_))
     }
 
     pub fn is_delta_direction(&self) -> bool {
@@ -84,12 +84,22 @@ impl Light {
                     uniform_cone_pdf(one_minus_cos),
                 );
                 let d = l.frame.to_world(local);
-                let f = l.falloff(local.z);
-                (f > 0.0).then(|| Emission {
+                (l.falloff(local.z) > 0.0).then(|| Emission {
                     p: l.position,
                     n: None,
                     d,
-                    le: l.intensity.sample(wl) * l.texture_factor(wl, local) * f,
+                    le: l.intensity_towards(wl, d),
+                    pdf_pos: 1.0,
+                    pdf_dir,
+                })
+            }
+            Light::Projector(l) => {
+                let (d, pdf_dir) = l.sample_direction(u_dir);
+                (pdf_dir > 0.0).then(|| Emission {
+                    p: l.position,
+                    n: None,
+                    d,
+                    le: l.intensity_towards(wl, d),
                     pdf_pos: 1.0,
                     pdf_dir,
                 })
@@ -154,6 +164,10 @@ impl Light {
                     },
                 }
             }
+            Light::Projector(l) => EmissionPdf {
+                pos: 1.0,
+                dir: l.pdf_direction(d),
+            },
             Light::Directional(_) => EmissionPdf {
                 pos: disk_pdf,
                 dir: 1.0,

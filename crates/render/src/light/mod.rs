@@ -12,12 +12,14 @@ mod area;
 mod emit;
 mod envmap;
 mod power;
+mod projector;
 mod simple;
 
 pub use area::AreaLight;
 pub use emit::{Emission, EmissionPdf};
 pub use envmap::EnvMapLight;
 pub use power::{spectral_power, Power};
+pub use projector::ProjectorLight;
 pub use simple::{ConstantLight, DirectionalLight, PointLight, SpotLight};
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
@@ -47,6 +49,8 @@ pub struct LightSample<const K: usize> {
 pub enum Light {
     Point(PointLight),
     Spot(SpotLight),
+    /// Boxed: it carries a camera and a texture.
+    Projector(Box<ProjectorLight>),
     Directional(DirectionalLight),
     Area(AreaLight),
     Constant(ConstantLight),
@@ -76,6 +80,7 @@ impl Light {
         match self {
             Light::Point(l) => l.sample_li(wl, p),
             Light::Spot(l) => l.sample_li(wl, p),
+            Light::Projector(l) => l.sample_li(wl, p),
             Light::Directional(l) => l.sample_li(wl),
             Light::Area(l) => l.sample_li(scene.shapes, wl, p, u_select, u),
             Light::Constant(l) => l.sample_li(wl, u),
@@ -87,7 +92,7 @@ impl Light {
     pub fn is_delta(&self) -> bool {
         matches!(
             self,
-            Light::Point(_) | Light::Spot(_) | Light::Directional(_)
+            Light::Point(_) | Light::Spot(_) | Light::Projector(_) | Light::Directional(_)
         )
     }
 
@@ -127,6 +132,7 @@ impl Light {
         match self {
             Light::Point(l) => &l.intensity,
             Light::Spot(l) => &l.intensity,
+            Light::Projector(l) => l.spectrum(),
             Light::Directional(l) => &l.irradiance,
             Light::Area(l) => &l.radiance,
             Light::Constant(l) => &l.radiance,
@@ -139,6 +145,7 @@ impl Light {
         match self {
             Light::Point(l) => l.power(),
             Light::Spot(l) => l.power(),
+            Light::Projector(l) => l.power(),
             Light::Directional(l) => l.power(scene.radius),
             Light::Area(l) => l.power(),
             Light::Constant(l) => l.power(scene.radius),

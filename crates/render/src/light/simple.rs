@@ -10,7 +10,7 @@ use crate::texture::Texture;
 /// Unit direction, distance and squared distance from `p` to `position`;
 /// `None` when they coincide.
 #[inline]
-fn towards(position: Vec3, p: Vec3) -> Option<(Vec3, f32, f32)> {
+pub(super) fn towards(position: Vec3, p: Vec3) -> Option<(Vec3, f32, f32)> {
     let d = position - p;
     let dist2 = d.length_squared();
     if dist2 == 0.0 {
@@ -112,6 +112,21 @@ impl SpotLight {
         }
     }
 
+    /// Spectral intensity in world direction `d` (unit): I × texture ×
+    /// falloff.
+    pub fn intensity_towards<const K: usize>(
+        &self,
+        wl: &SampledWavelengths<K>,
+        d: Vec3,
+    ) -> SampledSpectrum<K> {
+        let local = self.frame.to_local(d);
+        let f = self.falloff(local.z);
+        if f == 0.0 {
+            return SampledSpectrum::splat(0.0);
+        }
+        self.intensity.sample(wl) * self.texture_factor(wl, local) * f
+    }
+
     /// The angular falloff in [0, 1] at angle θ from the axis.
     pub fn falloff(&self, cos_theta: f32) -> f32 {
         let theta = cos_theta.clamp(-1.0, 1.0).acos();
@@ -130,16 +145,14 @@ impl SpotLight {
         p: Vec3,
     ) -> Option<LightSample<K>> {
         let (wi, dist, dist2) = towards(self.position, p)?;
-        let local = self.frame.to_local(-wi);
-        let f = self.falloff(local.z);
-        if f == 0.0 {
+        if self.falloff(self.frame.n.dot(-wi)) == 0.0 {
             return None;
         }
         Some(LightSample {
             n: Vec3::ZERO,
             wi,
             distance: dist,
-            radiance: self.intensity.sample(wl) * self.texture_factor(wl, local) * (f / dist2),
+            radiance: self.intensity_towards(wl, -wi) / dist2,
             pdf: 1.0,
             delta: true,
         })

@@ -2,11 +2,14 @@
 
 use scotopia_color::{RgbSpace, Spectrum};
 use scotopia_image::read_rgb;
+use scotopia_render::camera::Camera;
 use scotopia_render::light::{
-    ConstantLight, DirectionalLight, EnvMapLight, Light, PointLight, SpotLight,
+    ConstantLight, DirectionalLight, EnvMapLight, Light, PointLight, ProjectorLight, SpotLight,
 };
 use scotopia_render::math::{Frame, Vec3};
+use scotopia_render::texture::Texture;
 
+use super::sensor::field_of_view;
 use super::Builder;
 use crate::mitsuba::{normalised_illuminant, resolve, Node, Props, SceneError, Usage};
 
@@ -92,8 +95,39 @@ pub fn build_emitter(b: &mut Builder, node: &Node) -> Result<Light, SceneError> 
             .map_err(|e| node.error(e.to_string()))?;
             Light::EnvMap(Box::new(env))
         }
+        "projector" => {
+            // Mitsuba's default irradiance: 1 in its spectral units.
+            let irradiance = match p.get("irradiance") {
+                Some(_) => b.texture(&p, "irradiance", Usage::Emission, 1.0)?,
+                None => Texture::Constant(
+                    normalised_illuminant("d65").map_err(|e| node.error(e))?,
+                ),
+            };
+            let (w, h) = match &irradiance {
+                Texture::Bitmap(bm) => (bm.width() as u32, bm.height() as u32),
+                _ => (1, 1),
+            };
+            let (fov, axis) = field_of_view(&p, node)?;
+            let camera = Camera::new(
+                p.transform("to_world")?,
+                w,
+                h,
+                fov,
+                axis,
+                1e-4,
+                1e4,
+                0.0,
+                1.0,
+            )
+            .map_err(|e| node.error(e.to_string()))?;
+            let scale = p.float("scale", 1.0)?;
+            if !(scale.is_finite() && scale >= 0.0) {
+                return Err(node.error(format!("scale must be non-negative, got {scale}")));
+            }
+            Light::Projector(Box::new(ProjectorLight::new(camera, irradiance, scale)))
+        }
         "area" => return Err(node.error("an area emitter must be nested in a <shape>")),
-        other => return Err(node.error(format!("emitter type '{other}' is not supported (area, point, spot, directional, constant, envmap)"))),
+        other => return Err(node.error(format!("emitter type '{other}' is not supported (area, point, spot, projector, directional, constant, envmap)"))),
     };
     b.report_unused(&p);
     Ok(light)

@@ -118,7 +118,7 @@ pub const PLUGINS: &[Plugin] = &[
     p("emitter", "directional", Full, "irradiance, direction, to_world", ""),
     p("emitter", "constant", Full, "radiance (Mitsuba's default: unit D65)", ""),
     p("emitter", "envmap", Full, "filename, scale, to_world", ""),
-    p("emitter", "projector", Unsupported, "", ""),
+    p("emitter", "projector", Full, "irradiance (texture or spectrum), scale, fov, fov_axis, focal_length, to_world", "light paths start uniformly over the image, not by texel power"),
     p("emitter", "directionalarea", Unsupported, "", ""),
     p("emitter", "sunsky", Unsupported, "", ""),
     p("emitter", "timed_sunsky", Unsupported, "", ""),

@@ -123,7 +123,7 @@ pub fn build_sensor(b: &mut Builder, node: &Node) -> Result<Sensor, SceneError> 
 
 /// `fov` along `fov_axis`, or Mitsuba's `focal_length` ("50mm" by default)
 /// of a 36 × 24 mm film, which sets the field along the diagonal.
-fn field_of_view(p: &Props, node: &Node) -> Result<(f32, FovAxis), SceneError> {
+pub(super) fn field_of_view(p: &Props, node: &Node) -> Result<(f32, FovAxis), SceneError> {
     let fov = p.float("fov", f32::NAN)?;
     let focal = p.string("focal_length")?;
     if !fov.is_nan() {

@@ -147,7 +147,8 @@ impl Renderer<'_> {
         match self.light_of(v) {
             Some(Light::Area(a)) => a.radiance(wl, v.ng, d),
             Some(Light::Point(p)) => p.intensity.sample(wl),
-            Some(Light::Spot(s)) => s.intensity.sample(wl) * s.falloff(d.dot(s.frame.n)),
+            Some(Light::Spot(s)) => s.intensity_towards(wl, d),
+            Some(Light::Projector(p)) => p.intensity_towards(wl, d),
             _ => SampledSpectrum::splat(0.0),
         }
     }
