@@ -256,6 +256,37 @@ def first_line(e):
     return lines[0] if lines else type(e).__name__
 
 
+LOCATION = re.compile(r"^\S+:\d+:\d+: ")
+MITSUBA_PREFIX = re.compile(r"^\[[\w.]+:\d+\] (At .*?\(line \d+, col \d+\): )?")
+
+
+def scotopia_errors(text):
+    """The error lines of scotopia's report (without its "N errors:" header
+    and the warnings), each without its file:line:col."""
+    out = []
+    for ln in text.splitlines():
+        ln = ln.strip()
+        if not ln or ln.startswith("warning:") or re.fullmatch(r"\d+ errors?:?", ln):
+            continue
+        out.append(LOCATION.sub("", ln))
+    return out or [first_line(text)]
+
+
+def mitsuba_error(text):
+    return MITSUBA_PREFIX.sub("", first_line(text))
+
+
+def causes(r, who):
+    """The distinct causes of one renderer's load failure."""
+    if r.get("loads"):
+        return []
+    if "full_error" not in r:
+        return [r.get("error", "?")]
+    if who == "scotopia":
+        return list(dict.fromkeys(scotopia_errors(r["full_error"])))
+    return [mitsuba_error(r["full_error"])]
+
+
 def worker(args):
     """One renderer's job for one scene, in a child process; writes its
     result as JSON (and the two half images as .npy) under args.out."""
@@ -456,10 +487,10 @@ def cell(text, n=70):
     return text if len(text) <= n else text[: n - 1] + "…"
 
 
-def load_cell(r, warnings=False):
+def load_cell(r, who):
     if r.get("loads"):
-        return f"yes ({len(r.get('warnings', []))} w)" if warnings else "yes"
-    return cell(r.get("error", "?"))
+        return f"yes ({len(r.get('warnings', []))} w)" if who == "scotopia" else "yes"
+    return cell("; ".join(causes(r, who)), 110)
 
 
 def table(rows):
@@ -471,10 +502,23 @@ def table(rows):
             ratio = f"{r['ratio']:.4f} ± {r['ratio_se']:.4f}"
             dxy = f"{r['dxy']:.4f} ± {r['dxy_se']:.4f}"
         verdict = r.get("verdict") or cell(r.get("skipped", "—"), 50)
-        lines.append(f"| {r['scene']} | {load_cell(r['scotopia'], True)} | "
-                     f"{load_cell(r['mitsuba'])} | {r.get('integrator', '')} | "
+        lines.append(f"| {r['scene']} | {load_cell(r['scotopia'], 'scotopia')} | "
+                     f"{load_cell(r['mitsuba'], 'mitsuba')} | {r.get('integrator', '')} | "
                      f"{r.get('spp', '')} | {ratio} | {dxy} | {verdict} |")
     return "\n".join(lines)
+
+
+def error_groups(rows, who):
+    """Load-error causes of `who`, with the number of scenes each stops,
+    most common first (a scene counts once per distinct cause)."""
+    count = {}
+    for r in rows:
+        for c in causes(r[who], who):
+            count[c] = count.get(c, 0) + 1
+    lines = [f"| {who} load error | scenes |", "|---|---|"]
+    for c, n in sorted(count.items(), key=lambda kv: (-kv[1], kv[0])):
+        lines.append(f"| {cell(c, 160)} | {n} |")
+    return "\n".join(lines), count
 
 
 def totals(rows):
@@ -502,6 +546,8 @@ def main():
     ap.add_argument("--cap", type=float, default=60.0,
                     help="seconds one renderer may spend on one scene's render")
     ap.add_argument("--keep-xml", type=Path, help="keep the rewritten scenes and renders here")
+    ap.add_argument("--table", action="store_true",
+                    help="only print the tables of an earlier run's --json file (DATA_DIR unused)")
     # The child processes' options.
     ap.add_argument("--worker", choices=("scotopia", "mitsuba"), help=argparse.SUPPRESS)
     ap.add_argument("--task", choices=("load", "render"), help=argparse.SUPPRESS)
@@ -510,6 +556,12 @@ def main():
     opts = ap.parse_args()
     if opts.worker:
         worker(argparse.Namespace(renderer=opts.worker, **vars(opts)))
+        return
+    if opts.table:
+        saved = json.loads(opts.json.read_text())
+        settings = saved.get("settings", {})
+        opts.res, opts.spp = settings.get("res", opts.res), settings.get("spp", opts.spp)
+        report(saved["rows"], opts)
         return
     if opts.spp < MIN_SPP or opts.spp % 2:
         sys.exit(f"--spp must be even and at least {MIN_SPP}")
@@ -525,18 +577,27 @@ def main():
     for scene in scenes:
         rows.append(run_scene(scene, data, opts, work))
         if opts.json:  # written as it goes, so a long run can be read early
-            opts.json.write_text(json.dumps({"rows": rows, "totals": totals(rows)}, indent=1))
-    t = totals(rows)
-    print(table(rows))
-    print()
-    print(f"**Totals** (W = {opts.res}, {opts.spp} spp; tolerances |Y ratio − 1| ≤ {Y_TOL}, "
-          f"Δxy ≤ {XY_TOL}): " + ", ".join(f"{k}: {v}" for k, v in t.items()))
+            opts.json.write_text(json.dumps({"rows": rows, "totals": totals(rows),
+                                             "settings": {"res": opts.res, "spp": opts.spp,
+                                                          "cap": opts.cap}}, indent=1))
+    report(rows, opts)
     if opts.json:
-        opts.json.write_text(json.dumps({"rows": rows, "totals": t,
+        opts.json.write_text(json.dumps({"rows": rows, "totals": totals(rows),
                                          "settings": {"res": opts.res, "spp": opts.spp,
                                                       "cap": opts.cap}}, indent=1))
     if cleanup:
         cleanup.cleanup()
+
+
+def report(rows, opts):
+    t = totals(rows)
+    print(table(rows))
+    print()
+    for who in ("scotopia", "mitsuba"):
+        print(error_groups(rows, who)[0])
+        print()
+    print(f"**Totals** (W = {opts.res}, {opts.spp} spp; tolerances |Y ratio − 1| ≤ {Y_TOL}, "
+          f"Δxy ≤ {XY_TOL}): " + ", ".join(f"{k}: {v}" for k, v in t.items()))
 
 
 if __name__ == "__main__":
