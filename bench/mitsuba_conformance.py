@@ -2,7 +2,8 @@
 
 Usage:
   python bench/mitsuba_conformance.py DATA_DIR [--spp 64] [--res 64]
-      [--only GLOB] [--json OUT] [--cap 60] [--keep-xml DIR]
+      [--only GLOB] [--json OUT] [--cap 60] [--keep-xml DIR] [-D NAME=VALUE ...]
+  python bench/mitsuba_conformance.py --table --json OUT _   (reprint a run)
 
 DATA_DIR is a checkout of Mitsuba's data repository (mitsuba-data). Every
 scene XML under it is tried: files under `include/` or `fragments/` folders
@@ -12,7 +13,10 @@ For each scene:
 
 1. Loading. scotopia: `scotopia.scene_info(path, res=W)` (loads / the first
    line of the error / the number of warnings). Mitsuba 3 (`mitsuba`,
-   variant `scalar_spectral`): `mi.load_file` of a rewritten copy (below).
+   variant `scalar_spectral`): `mi.load_file(path)`. Both get the -D
+   parameters (none by default: the scenes are loaded as they are).
+   Whether Mitsuba loads is asked of the file as it is; what it renders
+   is a rewritten copy (below).
 2. Rendering, for scenes that both load: both at the same film size (width
    W, the scene's aspect kept as scotopia's `res` keeps it, any crop
    window scaled with it) and the same samples per pixel, each as two
@@ -51,8 +55,8 @@ from the original, and every `<film>` becomes an `hdrfilm` with
 height (and crop window, scaled as scotopia scales it), every `<sampler>`
 gets `sample_count` = spp. The copy is written to a temporary folder
 outside DATA_DIR (kept with --keep-xml). If the rewrite itself fails (an
-include not found) Mitsuba loads the original file, to report its own
-error. The integrator is left as the scene gives it: a scene with
+include not found) or the copy does not load, the scene is not rendered
+and the table says why. The integrator is left as the scene gives it: a scene with
 `direct` is rendered by Mitsuba with direct lighting, whatever scotopia
 makes of it.
 
@@ -196,13 +200,14 @@ def film_size(width, height, res):
     return res, max(1, math.floor(res * height / width + 0.5))
 
 
-def rewrite_for_mitsuba(scene, res, spp, out):
+def rewrite_for_mitsuba(scene, res, spp, out, given=None):
     """Writes the rewritten copy of `scene` (see the module docstring) to
     `out`; returns notes: the integrator type and the film size set."""
     root = ET.parse(scene).getroot()
     dirs = []
     inline_includes(root, scene.parent, scene.parent, [], dirs)
     params = {d.get("name"): d.get("value", "") for d in root.iter("default")}
+    params.update(given or {})
     integrators = [substitute(e.get("type", "?"), params) for e in root.iter("integrator")]
     sizes = []
     for sensor in root.iter("sensor"):
@@ -257,7 +262,7 @@ def first_line(e):
 
 
 LOCATION = re.compile(r"^\S+:\d+:\d+: ")
-MITSUBA_PREFIX = re.compile(r"^\[[\w.]+:\d+\] (At .*?\(line \d+, col \d+\): )?")
+MITSUBA_PREFIX = re.compile(r"^\[[\w.]+:\d+\] (.*?\(line \d+, col \d+\): )?")
 
 
 def scotopia_errors(text):
@@ -298,12 +303,13 @@ def worker(args):
         (out / "result.json").write_text(json.dumps(res))
 
     scene = Path(args.scene)
+    params = dict(d.split("=", 1) for d in args.define)
     if args.renderer == "scotopia":
         import scotopia
 
         if args.task == "load":
             try:
-                info = scotopia.scene_info(str(scene), res=args.res)
+                info = scotopia.scene_info(str(scene), params=params, res=args.res)
                 res.update(loads=True, warnings=list(info["warnings"]),
                            film=[info["film"]["width"], info["film"]["height"]])
             except Exception as e:  # noqa: BLE001 — any failure is a result
@@ -312,29 +318,30 @@ def worker(args):
             return
 
         def run(spp, seed):
-            img, _ = scotopia.render(str(scene), spp=spp, res=args.res, seed=seed)
+            img, _ = scotopia.render(str(scene), spp=spp, res=args.res, seed=seed,
+                                     params=params)
             return np.asarray(img, dtype=np.float64)[..., :3]
     else:
         import mitsuba as mi
 
         mi.set_variant("scalar_spectral")
         mi.set_log_level(mi.LogLevel.Error)
-        copy = out / "mitsuba.xml"
+        # Whether it loads: the file as it is. What renders: the rewrite.
         try:
-            notes = rewrite_for_mitsuba(scene, args.res, args.spp, copy)
-            res["notes"] = notes
-            target = copy
-        except Exception as e:  # noqa: BLE001
-            res["rewrite_error"] = first_line(e)
-            target = scene
-        try:
-            loaded = mi.load_file(str(target))
+            mi.load_file(str(scene), **params)
             res.update(loads=True)
         except Exception as e:  # noqa: BLE001
-            msg = str(e).replace(str(copy), scene.name)
-            res.update(loads=False, error=first_line(msg), full_error=msg)
+            res.update(loads=False, error=first_line(e), full_error=str(e))
         save()
         if not res["loads"] or args.task == "load":
+            return
+        copy = out / "mitsuba.xml"
+        try:
+            res["notes"] = rewrite_for_mitsuba(scene, args.res, args.spp, copy, params)
+            loaded = mi.load_file(str(copy), **params)
+        except Exception as e:  # noqa: BLE001
+            res["error"] = "rewritten copy: " + first_line(str(e).replace(str(copy), scene.name))
+            save()
             return
 
         def run(spp, seed):
@@ -366,6 +373,8 @@ def spawn(renderer, task, scene, opts, out, timeout, spp=None):
     cmd = [sys.executable, __file__, "--worker", renderer, "--task", task,
            "--scene", str(scene), "--out", str(out), "--res", str(opts.res),
            "--spp", str(spp or opts.spp), "--cap", str(opts.cap), str(scene.parent)]
+    for d in opts.define:
+        cmd += ["-D", d]
     try:
         proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
     except subprocess.TimeoutExpired:
@@ -546,6 +555,8 @@ def main():
     ap.add_argument("--cap", type=float, default=60.0,
                     help="seconds one renderer may spend on one scene's render")
     ap.add_argument("--keep-xml", type=Path, help="keep the rewritten scenes and renders here")
+    ap.add_argument("-D", dest="define", action="append", default=[], metavar="NAME=VALUE",
+                    help="a scene parameter for both renderers (repeatable)")
     ap.add_argument("--table", action="store_true",
                     help="only print the tables of an earlier run's --json file (DATA_DIR unused)")
     # The child processes' options.
@@ -563,6 +574,8 @@ def main():
         opts.res, opts.spp = settings.get("res", opts.res), settings.get("spp", opts.spp)
         report(saved["rows"], opts)
         return
+    if any("=" not in d for d in opts.define):
+        sys.exit("-D takes NAME=VALUE")
     if opts.spp < MIN_SPP or opts.spp % 2:
         sys.exit(f"--spp must be even and at least {MIN_SPP}")
     data = opts.data.resolve()
