@@ -119,7 +119,7 @@ def find_scenes(data, only):
     scenes = []
     for p in sorted(data.rglob("*.xml")):
         rel = p.relative_to(data).as_posix()
-        if only and not fnmatch.fnmatch(rel, only):
+        if only and not any(fnmatch.fnmatch(rel, g) for g in only):
             continue
         if is_fragment(p, data) or root_tag(p) != "scene":
             continue
@@ -550,7 +550,8 @@ def main():
     ap.add_argument("data", type=Path, help="Mitsuba's data repository")
     ap.add_argument("--spp", type=int, default=64)
     ap.add_argument("--res", type=int, default=64, help="film width; the aspect is kept")
-    ap.add_argument("--only", help="glob on the scene's path relative to DATA_DIR")
+    ap.add_argument("--only", action="append",
+                    help="glob on the scene's path relative to DATA_DIR (repeatable)")
     ap.add_argument("--json", type=Path, help="write the rows and totals here")
     ap.add_argument("--cap", type=float, default=60.0,
                     help="seconds one renderer may spend on one scene's render")
