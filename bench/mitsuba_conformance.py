@@ -35,7 +35,8 @@ the correlation between neighbouring pixels that a reconstruction filter
 wider than a pixel brings is counted; the squared block sums, added over
 the image, give the covariance of the mean XYZ with hundreds of degrees
 of freedom. The ratio's and Δxy's standard errors follow by the delta
-method from both renderers' covariances. Verdicts:
+method from both renderers' covariances (noise correlated over more than
+4 × 4 pixels, e.g. from light tracing, would be underestimated). Verdicts:
   pass   both within tolerance, and the tolerance more than 3 SE wide;
   pass?  within tolerance, but the tolerance is within 3 SE (too noisy
          to be sure);
@@ -63,7 +64,8 @@ makes of it.
 Isolation and time. Every load and render runs in a child process with a
 time limit, so a crash or a hang in either renderer costs one scene only:
 scotopia loads; if it does, Mitsuba loads and renders; then scotopia
-renders. Each renderer first renders a 2 spp pilot; when the full spp
+renders. Each renderer first renders pilots of 2 and 6 spp, whose time
+difference gives the time per spp; when the full spp
 would take more than --cap seconds it renders with the (even) spp that
 fits, Mitsuba first and scotopia at most at Mitsuba's spp (the table shows
 "ours/theirs" if they still differ: the means stay comparable, only the
@@ -348,10 +350,17 @@ def worker(args):
             img = mi.render(loaded, spp=spp, seed=seed)
             return np.asarray(img, dtype=np.float64)[..., :3] * MITSUBA_SCALE
 
-    # A pilot to time it; the spp lowered to fit the cap.
-    t0 = time.monotonic()
-    run(PILOT_SPP, 7)
-    per_spp = (time.monotonic() - t0) / PILOT_SPP
+    # Two pilots time it (their difference leaves out what a render costs
+    # whatever its spp: scotopia loads the scene in each); the spp is
+    # lowered to fit the cap.
+    times = []
+    for k in (1, 3):
+        t0 = time.monotonic()
+        run(PILOT_SPP * k, 7 + k)
+        times.append(time.monotonic() - t0)
+    per_spp = (times[1] - times[0]) / (2 * PILOT_SPP)
+    if per_spp <= 0:
+        per_spp = times[1] / (3 * PILOT_SPP)
     spp = args.spp
     if per_spp * spp > args.cap:
         spp = int(args.cap / per_spp) // 2 * 2
@@ -503,8 +512,8 @@ def load_cell(r, who):
 
 
 def table(rows):
-    lines = ["| scene | scotopia loads | Mitsuba loads | integrator | spp | Y ratio ± SE | Δxy ± SE | verdict |",
-             "|---|---|---|---|---|---|---|---|"]
+    lines = ["| scene | scotopia loads | Mitsuba loads | integrator | spp | Y ratio ± SE "
+             "| Δxy ± SE | verdict |", "|---|---|---|---|---|---|---|---|"]
     for r in rows:
         ratio = dxy = ""
         if "ratio_se" in r:
