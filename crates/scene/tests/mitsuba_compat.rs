@@ -545,3 +545,30 @@ fn a_spot_light_projects_its_texture_in_its_own_frame() {
     let ratio = spot.power().watts / plain.power().watts;
     assert!((ratio - 0.5).abs() < 0.02, "{ratio}");
 }
+
+#[test]
+fn included_fragments_see_the_including_files_parameters() {
+    // Mitsuba's participating-media tests: the scene declares the default,
+    // the fragment uses it.
+    let d = tmp("inherit");
+    write(
+        &d,
+        "include/integrator.xml",
+        r#"<scene version="3.0.0"><default name="bounces" value="9"/>
+<integrator type="$integrator"><integer name="max_depth" value="$depth"/><integer name="rr_depth" value="$bounces"/></integrator></scene>"#,
+    );
+    let f = write(
+        &d,
+        "s.xml",
+        &format!(
+            "<scene version=\"3.0.0\"><default name=\"integrator\" value=\"bdpt\"/><default name=\"depth\" value=\"4\"/>{SENSOR}<include filename=\"include/integrator.xml\"/></scene>"
+        ),
+    );
+    let s = load(&f);
+    assert_eq!(s.integrator.kind, IntegratorKind::Bdpt);
+    assert_eq!((s.integrator.max_depth, s.integrator.rr_depth), (4, 9));
+    // A parameter given on the command line reaches the fragment too.
+    let mut params = Parameters::new();
+    params.insert("depth".into(), "6".into());
+    assert_eq!(load_scene(&f, &params).unwrap().integrator.max_depth, 6);
+}

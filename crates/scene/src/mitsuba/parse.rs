@@ -61,8 +61,9 @@ pub fn parse_file(path: &Path, params: &Parameters) -> Result<Node, SceneError> 
 }
 
 /// State shared by a file and the files it includes.
-struct Parser<'p> {
-    params: &'p Parameters,
+struct Parser {
+    /// Parameter values in force for the file being read.
+    inherited: HashMap<String, String>,
     /// Files being read, innermost last, to refuse include cycles.
     stack: Vec<PathBuf>,
     /// `<path>` folders in document order.
@@ -73,7 +74,7 @@ struct Parser<'p> {
     known: BTreeSet<String>,
 }
 
-impl Parser<'_> {
+impl Parser {
     /// Mitsuba's resolver list: `<path>` folders (last first), the scene's
     /// folder, the working directory; then (scotopia) `own`, the folder of
     /// the file an element is written in.
@@ -96,7 +97,7 @@ impl Parser<'_> {
 pub fn parse_scene(path: &Path, params: &Parameters) -> Result<Parsed, SceneError> {
     let scene_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let mut parser = Parser {
-        params,
+        inherited: params.clone(),
         stack: Vec::new(),
         paths: Vec::new(),
         scene_dir,
@@ -163,7 +164,7 @@ fn io_error(path: &Path, from: Option<&Location>, e: std::io::Error) -> SceneErr
     )
 }
 
-impl Parser<'_> {
+impl Parser {
     /// One file: its root's children (or, for an included file whose root
     /// is a single object, that object) under a `<scene>` node.
     fn file(&mut self, path: &Path, from: Option<&Location>) -> Result<Node, SceneError> {
@@ -228,8 +229,10 @@ impl Parser<'_> {
                 "the root element must be <scene>",
             ));
         }
-        // Defaults first (anywhere at the top level), overridden by `params`.
-        let mut values = HashMap::new();
+        // The values in force: the parameters given, or in an included
+        // file the including file's values (Mitsuba passes them down);
+        // this file's defaults (anywhere at its top level) fill the gaps.
+        let mut values = self.inherited.clone();
         for n in root
             .children()
             .filter(|n| n.is_element() && n.tag_name().name() == "default")
@@ -249,9 +252,6 @@ impl Parser<'_> {
                     ))
                 }
             }
-        }
-        for (k, v) in self.params {
-            values.insert(k.clone(), v.clone());
         }
 
         let own = Arc::new(SearchPath::single(dir));
@@ -296,7 +296,7 @@ pub fn parse_str(
     params: &Parameters,
 ) -> Result<Node, SceneError> {
     let mut parser = Parser {
-        params,
+        inherited: params.clone(),
         stack: Vec::new(),
         paths: Vec::new(),
         scene_dir: dir.to_path_buf(),
@@ -316,7 +316,7 @@ struct FileContext<'a> {
     own: &'a Arc<SearchPath>,
 }
 
-impl Parser<'_> {
+impl Parser {
     /// Replaces `$name` by its parameter value.
     fn substitute(
         &mut self,
@@ -403,7 +403,10 @@ impl Parser<'_> {
                 let mut search = vec![cx.dir.to_path_buf()];
                 search.extend(self.search(None).folders().iter().cloned());
                 let path = SearchPath::new(search).resolve(&file);
-                let included = self.file(&path, Some(&location))?;
+                let outer = std::mem::replace(&mut self.inherited, cx.values.clone());
+                let included = self.file(&path, Some(&location));
+                self.inherited = outer;
+                let included = included?;
                 into.children.extend(included.children);
                 return Ok(());
             }
