@@ -106,6 +106,34 @@ mod tests {
     }
 
     #[test]
+    fn radiance_hdr_images_read_as_linear() {
+        // Mitsuba scenes' environment maps are often Radiance .hdr files.
+        let path = tmp("sky.hdr");
+        let pixels = [
+            image::Rgb([2.5f32, 0.5, 0.125]),
+            image::Rgb([0.0, 1.0, 8.0]),
+        ];
+        let file = std::io::BufWriter::new(std::fs::File::create(&path).unwrap());
+        image::codecs::hdr::HdrEncoder::new(file)
+            .encode(&pixels, 2, 1)
+            .unwrap();
+        let img = read_rgb(&path).unwrap();
+        assert_eq!(
+            (img.width, img.height, img.encoding),
+            (2, 1, Encoding::Linear)
+        );
+        // RGBE keeps 8 bits of mantissa per channel.
+        for (got, want) in img.pixels.iter().zip(pixels) {
+            for c in 0..3 {
+                assert!(
+                    (got[c] - want.0[c]).abs() <= 0.01 * want.0[c].max(0.1),
+                    "{got:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
     fn bad_files_are_errors_naming_the_file() {
         let path = tmp("broken.png");
         std::fs::write(&path, b"\x89PNG\r\n\x1a\nnot really").unwrap();
