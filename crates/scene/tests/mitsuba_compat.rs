@@ -567,6 +567,20 @@ fn included_fragments_see_the_including_files_parameters() {
     let s = load(&f);
     assert_eq!(s.integrator.kind, IntegratorKind::Bdpt);
     assert_eq!((s.integrator.max_depth, s.integrator.rr_depth), (4, 9));
+    // And a fragment's defaults reach the including file (Mitsuba's
+    // docs scenes declare $res in their included sensor).
+    write(
+        &d,
+        "include/sensor.xml",
+        r#"<scene version="3.0.0"><default name="res" value="24"/>
+<sensor type="perspective"><film type="hdrfilm"><integer name="width" value="$res"/><integer name="height" value="$res"/></film></sensor></scene>"#,
+    );
+    let g = write(
+        &d,
+        "t.xml",
+        r#"<scene version="3.0.0"><include filename="include/sensor.xml"/><shape type="sphere"><float name="radius" value="$res"/></shape></scene>"#,
+    );
+    assert_eq!(load(&g).camera.width, 24);
     // A parameter given on the command line reaches the fragment too.
     let mut params = Parameters::new();
     params.insert("depth".into(), "6".into());

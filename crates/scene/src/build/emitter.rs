@@ -97,7 +97,12 @@ pub fn build_emitter(b: &mut Builder, node: &Node) -> Result<Light, SceneError> 
         }
         "projector" => {
             // Mitsuba's default irradiance: 1 in its spectral units.
+            // A bitmap is upsampled as it is (white is equal-energy), a
+            // colour or number × the normalised D65, as Mitsuba does.
             let irradiance = match p.get("irradiance") {
+                Some(n) if n.tag == "texture" || n.tag == "ref" => {
+                    b.texture(&p, "irradiance", Usage::Unbounded, 1.0)?
+                }
                 Some(_) => b.texture(&p, "irradiance", Usage::Emission, 1.0)?,
                 None => Texture::Constant(
                     normalised_illuminant("d65").map_err(|e| node.error(e))?,

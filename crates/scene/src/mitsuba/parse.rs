@@ -62,8 +62,11 @@ pub fn parse_file(path: &Path, params: &Parameters) -> Result<Node, SceneError> 
 
 /// State shared by a file and the files it includes.
 struct Parser {
-    /// Parameter values in force for the file being read.
-    inherited: HashMap<String, String>,
+    /// Parameter values: those given, then `<default>`s in the order
+    /// files are read, the first value of a name winning. One map for the
+    /// scene and its includes, as Mitsuba's parser shares one list: an
+    /// included file sees the including file's values and the other way.
+    values: HashMap<String, String>,
     /// Files being read, innermost last, to refuse include cycles.
     stack: Vec<PathBuf>,
     /// `<path>` folders in document order.
@@ -97,7 +100,7 @@ impl Parser {
 pub fn parse_scene(path: &Path, params: &Parameters) -> Result<Parsed, SceneError> {
     let scene_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let mut parser = Parser {
-        inherited: params.clone(),
+        values: params.clone(),
         stack: Vec::new(),
         paths: Vec::new(),
         scene_dir,
@@ -229,10 +232,7 @@ impl Parser {
                 "the root element must be <scene>",
             ));
         }
-        // The values in force: the parameters given, or in an included
-        // file the including file's values (Mitsuba passes them down);
-        // this file's defaults (anywhere at its top level) fill the gaps.
-        let mut values = self.inherited.clone();
+        // This file's defaults (anywhere at its top level) fill the gaps.
         for n in root
             .children()
             .filter(|n| n.is_element() && n.tag_name().name() == "default")
@@ -242,7 +242,9 @@ impl Parser {
             match (name, value) {
                 (Some(k), Some(v)) => {
                     self.known.insert(k.to_string());
-                    values.entry(k.to_string()).or_insert_with(|| v.to_string());
+                    self.values
+                        .entry(k.to_string())
+                        .or_insert_with(|| v.to_string());
                 }
                 _ => {
                     return Err(SceneError::new(
@@ -266,7 +268,6 @@ impl Parser {
             dir: own.clone(),
         };
         let context = FileContext {
-            values: &values,
             loc: &loc,
             dir,
             own: &own,
@@ -296,7 +297,7 @@ pub fn parse_str(
     params: &Parameters,
 ) -> Result<Node, SceneError> {
     let mut parser = Parser {
-        inherited: params.clone(),
+        values: params.clone(),
         stack: Vec::new(),
         paths: Vec::new(),
         scene_dir: dir.to_path_buf(),
@@ -310,7 +311,6 @@ pub fn parse_str(
 
 /// What the elements of one file share while they are converted.
 struct FileContext<'a> {
-    values: &'a HashMap<String, String>,
     loc: &'a dyn Fn(roxmltree::Node) -> Location,
     dir: &'a Path,
     own: &'a Arc<SearchPath>,
@@ -321,7 +321,6 @@ impl Parser {
     fn substitute(
         &mut self,
         value: &str,
-        values: &HashMap<String, String>,
         location: &Location,
         tag: &str,
     ) -> Result<String, SceneError> {
@@ -338,7 +337,7 @@ impl Parser {
                 .unwrap_or(after.len());
             let name = &after[..end];
             self.known.insert(name.to_string());
-            let v = values.get(name).ok_or_else(|| {
+            let v = self.values.get(name).ok_or_else(|| {
                 SceneError::new(
                     location,
                     tag,
@@ -383,7 +382,7 @@ impl Parser {
         for a in child.attributes() {
             attributes.push((
                 a.name().to_string(),
-                self.substitute(a.value(), cx.values, &location, tag)?,
+                self.substitute(a.value(), &location, tag)?,
             ));
         }
         let attr = |name: &str| {
@@ -403,10 +402,7 @@ impl Parser {
                 let mut search = vec![cx.dir.to_path_buf()];
                 search.extend(self.search(None).folders().iter().cloned());
                 let path = SearchPath::new(search).resolve(&file);
-                let outer = std::mem::replace(&mut self.inherited, cx.values.clone());
-                let included = self.file(&path, Some(&location));
-                self.inherited = outer;
-                let included = included?;
+                let included = self.file(&path, Some(&location))?;
                 into.children.extend(included.children);
                 return Ok(());
             }
