@@ -19,7 +19,7 @@ use super::Builder;
 use crate::mitsuba::{parse_floats, Node, Props, SceneError, Usage};
 
 /// The BSDF types this file builds.
-pub const NESTED_TYPES: [&str; 10] = [
+pub const NESTED_TYPES: [&str; 11] = [
     "null",
     "mask",
     "blendbsdf",
@@ -30,6 +30,7 @@ pub const NESTED_TYPES: [&str; 10] = [
     "retarder",
     "circular",
     "measured_polarized",
+    "principled",
 ];
 
 /// Builds `<bsdf type=kind>` for a kind in [`NESTED_TYPES`].
@@ -146,6 +147,7 @@ pub fn build(b: &mut Builder, kind: &str, p: &Props, node: &Node) -> Result<Bsdf
                 scale,
             })
         }
+        "principled" => super::bsdf_principled::build(b, p, node)?,
         "measured_polarized" => {
             b.warn(
                 node,
@@ -218,7 +220,7 @@ fn refuse_fluorescence(inner: &Bsdf, node: &Node) -> Result<(), SceneError> {
 /// Parameter `name` as one number per point: a `<float>`, a spectrum (its
 /// mean over 360–830 nm, the value itself for a constant), a nested
 /// `<texture>`, or a `<ref>` to a top-level one.
-fn float_texture(
+pub(super) fn float_texture(
     b: &mut Builder,
     p: &Props,
     name: &str,

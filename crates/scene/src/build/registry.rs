@@ -86,7 +86,7 @@ pub const PLUGINS: &[Plugin] = &[
     p("bsdf", "normalmap", Full, "normalmap (bitmap), flip_invalid_normals, nested BSDF", "frame from dp/du as Mitsuba 3.9"),
     p("bsdf", "bumpmap", Full, "a height texture, scale, nested BSDF", ""),
     p("bsdf", "pplastic", Warned, "diffuse_reflectance, specular_reflectance, int_ior, ext_ior, alpha", "its unpolarised form, exactly"),
-    p("bsdf", "principled", Unsupported, "", ""),
+    p("bsdf", "principled", Full, "base_color, roughness, anisotropic, metallic, spec_trans, eta or specular, spec_tint, sheen, sheen_tint, flatness, clearcoat, clearcoat_gloss (numbers or textures), *_sampling_rate", "tints by luminance on the path's wavelengths, as Mitsuba's spectral variants"),
     p("bsdf", "principledthin", Unsupported, "", ""),
     p("bsdf", "polarizer", Warned, "transmittance", "passes ½ of unpolarised light"),
     p("bsdf", "retarder", Warned, "transmittance", "passes unpolarised light unchanged"),
