@@ -43,7 +43,9 @@ pub use normal_map::NormalMap;
 pub use null::Null;
 pub use plastic::{diffuse_fresnel_reflectance, Plastic};
 pub use polarized_plastic::PolarizedPlastic;
-pub use principled::{specular_to_eta, Principled, SamplingRates};
+pub use principled::{
+    specular_to_eta, Principled, PrincipledThin, SamplingRates, ThinSamplingRates,
+};
 pub use rough_dielectric::RoughDielectric;
 pub use rough_plastic::RoughPlastic;
 pub use shading::ShadingPoint;
@@ -104,6 +106,8 @@ pub enum Bsdf {
     PolarizedPlastic(PolarizedPlastic),
     /// Mitsuba's `principled` (Disney) BSDF.
     Principled(Box<Principled>),
+    /// Mitsuba's `principledthin`: the principled model on a thin sheet.
+    PrincipledThin(Box<PrincipledThin>),
 }
 
 /// Mirror `w` about the normal (0, 0, 1).
@@ -149,6 +153,7 @@ impl Bsdf {
             Bsdf::BumpMap(b) => b.eval(wl, at, wi, wo, mode),
             Bsdf::PolarizedPlastic(b) => b.eval(wl, uv, wi, wo),
             Bsdf::Principled(b) => b.eval(wl, uv, wi, wo, mode),
+            Bsdf::PrincipledThin(b) => b.eval(wl, uv, wi, wo),
         }
     }
 
@@ -190,6 +195,7 @@ impl Bsdf {
             Bsdf::BumpMap(b) => b.pdf(wl, at, wi, wo),
             Bsdf::PolarizedPlastic(b) => b.pdf(wi, wo),
             Bsdf::Principled(b) => b.pdf(at.uv, wi, wo),
+            Bsdf::PrincipledThin(b) => b.pdf(at.uv, wi, wo),
         }
     }
 
@@ -234,6 +240,7 @@ impl Bsdf {
             Bsdf::BumpMap(b) => b.sample(wl, at, wi, u_lobe, u, mode),
             Bsdf::PolarizedPlastic(b) => b.sample(wl, uv, wi, u_lobe, u),
             Bsdf::Principled(b) => b.sample(wl, uv, wi, u_lobe, u, mode),
+            Bsdf::PrincipledThin(b) => b.sample(wl, uv, wi, u_lobe, u),
         }
     }
 
@@ -284,7 +291,7 @@ impl Bsdf {
             Bsdf::Blend(b) => b.first.is_delta() && b.second.is_delta(),
             Bsdf::NormalMap(b) => b.inner.is_delta(),
             Bsdf::BumpMap(b) => b.inner.is_delta(),
-            Bsdf::PolarizedPlastic(_) | Bsdf::Principled(_) => false,
+            Bsdf::PolarizedPlastic(_) | Bsdf::Principled(_) | Bsdf::PrincipledThin(_) => false,
         }
     }
 }

@@ -2,7 +2,8 @@
 //! `mask`, `blendbsdf`, `normalmap`, `bumpmap` — and the polarisation
 //! plugins, which scotopia reads as Mitsuba's unpolarised variants render
 //! them: `pplastic`, `polarizer`, `retarder`, `circular`,
-//! `measured_polarized`.
+//! `measured_polarized`; `principled` and `principledthin` are dispatched
+//! from here to `bsdf_principled`.
 
 use std::sync::Arc;
 
@@ -19,7 +20,7 @@ use super::Builder;
 use crate::mitsuba::{parse_floats, Node, Props, SceneError, Usage};
 
 /// The BSDF types this file builds.
-pub const NESTED_TYPES: [&str; 11] = [
+pub const NESTED_TYPES: [&str; 12] = [
     "null",
     "mask",
     "blendbsdf",
@@ -31,6 +32,7 @@ pub const NESTED_TYPES: [&str; 11] = [
     "circular",
     "measured_polarized",
     "principled",
+    "principledthin",
 ];
 
 /// Builds `<bsdf type=kind>` for a kind in [`NESTED_TYPES`].
@@ -148,6 +150,7 @@ pub fn build(b: &mut Builder, kind: &str, p: &Props, node: &Node) -> Result<Bsdf
             })
         }
         "principled" => super::bsdf_principled::build(b, p, node)?,
+        "principledthin" => super::bsdf_principled::build_thin(b, p)?,
         "measured_polarized" => {
             b.warn(
                 node,

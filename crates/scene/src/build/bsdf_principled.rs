@@ -1,7 +1,10 @@
-//! `<bsdf type="principled">`: Mitsuba 3's Disney-style BSDF, read as
-//! `src/bsdfs/principled.cpp` reads it.
+//! `<bsdf type="principled">` and `<bsdf type="principledthin">`: Mitsuba
+//! 3's Disney-style BSDFs, read as `src/bsdfs/principled.cpp` and
+//! `principledthin.cpp` read them.
 
-use scotopia_render::bsdf::{specular_to_eta, Bsdf, Principled, SamplingRates};
+use scotopia_render::bsdf::{
+    specular_to_eta, Bsdf, Principled, PrincipledThin, SamplingRates, ThinSamplingRates,
+};
 use scotopia_render::texture::FloatTexture;
 
 use super::bsdf_nested::float_texture;
@@ -66,6 +69,27 @@ pub fn build(b: &mut Builder, p: &Props, node: &Node) -> Result<Bsdf, SceneError
             diffuse: p.float("diffuse_reflectance_sampling_rate", 1.0)?,
             specular: p.float("main_specular_sampling_rate", 1.0)?,
             clearcoat: p.float("clearcoat_sampling_rate", 1.0)?,
+        },
+    })))
+}
+
+pub fn build_thin(b: &mut Builder, p: &Props) -> Result<Bsdf, SceneError> {
+    Ok(Bsdf::PrincipledThin(Box::new(PrincipledThin {
+        base_color: b.texture(p, "base_color", Usage::Reflectance, 0.5)?,
+        roughness: float_texture(b, p, "roughness", 0.5)?,
+        anisotropic: flagged(b, p, "anisotropic")?,
+        spec_trans: flagged(b, p, "spec_trans")?,
+        spec_tint: flagged(b, p, "spec_tint")?,
+        sheen: flagged(b, p, "sheen")?,
+        sheen_tint: flagged(b, p, "sheen_tint")?,
+        flatness: flagged(b, p, "flatness")?,
+        diff_trans: flagged(b, p, "diff_trans")?,
+        eta: float_texture(b, p, "eta", 1.5)?,
+        rates: ThinSamplingRates {
+            specular_reflectance: p.float("specular_reflectance_sampling_rate", 1.0)?,
+            specular_transmittance: p.float("specular_transmittance_sampling_rate", 1.0)?,
+            diffuse_reflectance: p.float("diffuse_reflectance_sampling_rate", 1.0)?,
+            diffuse_transmittance: p.float("diffuse_transmittance_sampling_rate", 1.0)?,
         },
     })))
 }

@@ -87,7 +87,7 @@ pub const PLUGINS: &[Plugin] = &[
     p("bsdf", "bumpmap", Full, "a height texture, scale, nested BSDF", ""),
     p("bsdf", "pplastic", Warned, "diffuse_reflectance, specular_reflectance, int_ior, ext_ior, alpha", "its unpolarised form, exactly"),
     p("bsdf", "principled", Full, "base_color, roughness, anisotropic, metallic, spec_trans, eta or specular, spec_tint, sheen, sheen_tint, flatness, clearcoat, clearcoat_gloss (numbers or textures), *_sampling_rate", "tints by luminance on the path's wavelengths, as Mitsuba's spectral variants"),
-    p("bsdf", "principledthin", Unsupported, "", ""),
+    p("bsdf", "principledthin", Full, "base_color, roughness, anisotropic, spec_trans, eta, spec_tint, sheen, sheen_tint, flatness, diff_trans (numbers or textures), *_sampling_rate", "tints by luminance on the path's wavelengths, as Mitsuba's spectral variants"),
     p("bsdf", "polarizer", Warned, "transmittance", "passes ½ of unpolarised light"),
     p("bsdf", "retarder", Warned, "transmittance", "passes unpolarised light unchanged"),
     p("bsdf", "circular", Warned, "transmittance", "passes ½ of unpolarised light"),

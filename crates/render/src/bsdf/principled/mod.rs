@@ -15,6 +15,9 @@
 //! density (and weight) is an approximation. Scotopia follows it.
 
 mod helpers;
+mod thin;
+
+pub use thin::{PrincipledThin, ThinSamplingRates};
 
 use std::f32::consts::FRAC_1_PI;
 
@@ -436,7 +439,7 @@ impl Principled {
             return None;
         }
         let pdf = self.pdf(uv, wi, wo);
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         let value = self.eval(wl, uv, wi, wo, mode);
