@@ -7,6 +7,7 @@ mod common;
 
 use common::{chi2_directions, Rng};
 use scotopia_color::{SampledWavelengths, Spectrum, Tabulated};
+use scotopia_render::bsdf::mitsuba_wavelength_pdf;
 use scotopia_render::bsdf::{specular_to_eta, Bsdf, Principled, Transport};
 use scotopia_render::math::Vec3;
 use scotopia_render::texture::{FloatTexture, Texture};
@@ -20,7 +21,8 @@ fn dir(theta_deg: f32, phi_deg: f32) -> Vec3 {
 
 /// The wavelengths the Mitsuba measurements were taken on.
 fn wl() -> SampledWavelengths<4> {
-    SampledWavelengths::new([450.0, 520.0, 580.0, 650.0], [1.0 / 470.0; 4])
+    let lambda = [450.0, 520.0, 580.0, 650.0];
+    SampledWavelengths::new(lambda, lambda.map(mitsuba_wavelength_pdf))
 }
 
 /// Mitsuba's `{'type': 'spectrum', 'value': [(360, 0.9), (500, 0.3),

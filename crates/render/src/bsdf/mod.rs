@@ -44,7 +44,8 @@ pub use null::Null;
 pub use plastic::{diffuse_fresnel_reflectance, Plastic};
 pub use polarized_plastic::PolarizedPlastic;
 pub use principled::{
-    specular_to_eta, Principled, PrincipledThin, SamplingRates, ThinSamplingRates,
+    mitsuba_wavelength_pdf, specular_to_eta, Principled, PrincipledThin, SamplingRates,
+    ThinSamplingRates,
 };
 pub use rough_dielectric::RoughDielectric;
 pub use rough_plastic::RoughPlastic;

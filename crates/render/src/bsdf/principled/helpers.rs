@@ -48,19 +48,45 @@ pub fn schlick_r0(eta: f32) -> f32 {
     r * r
 }
 
+/// The density with which Mitsuba 3's spectral variants draw wavelengths
+/// (`pdf_rgb_spectrum`, after Radziszewski et al. 2009, "An Improved
+/// Technique for Full Spectral Rendering"), per nm over 360–830 nm.
+#[inline]
+pub fn mitsuba_wavelength_pdf(lambda: f32) -> f32 {
+    if !(360.0..=830.0).contains(&lambda) {
+        return 0.0;
+    }
+    let c = (0.0072 * (lambda - 538.0)).cosh();
+    0.003_939_804 / (c * c)
+}
+
 /// The luminance Mitsuba's spectral variants give a spectrum sampled on
-/// the path's wavelengths: the mean over the cluster of ȳ(λ)·value
-/// (`mitsuba::luminance(value, wavelengths)`), so it depends on which
-/// wavelengths the path carries, not on the whole spectrum.
+/// a path's wavelengths: the mean over the cluster of ȳ(λ)·value
+/// (`mitsuba::luminance(value, wavelengths)`), which depends on the
+/// wavelengths the path carries. Mitsuba draws them from
+/// [`mitsuba_wavelength_pdf`]; scotopia's clusters have other densities,
+/// so each wavelength is weighted by Mitsuba's density over the path's
+/// and the mean self-normalised: Mitsuba's own mean where the densities
+/// are Mitsuba's, and the same luminance in expectation otherwise.
 #[inline]
 pub fn cluster_luminance<const K: usize>(
     wl: &SampledWavelengths<K>,
     value: &SampledSpectrum<K>,
 ) -> f32 {
-    let sum: f32 = (0..K)
-        .map(|k| scotopia_color::cie::xyz_bar(wl.lambda(k))[1] * value[k])
-        .sum();
-    sum / K as f32
+    let (mut sum, mut weights) = (0.0f32, 0.0f32);
+    for k in 0..K {
+        let (lambda, pdf) = (wl.lambda(k), wl.pdf(k));
+        if pdf > 0.0 {
+            let w = mitsuba_wavelength_pdf(lambda) / pdf;
+            sum += w * scotopia_color::cie::xyz_bar(lambda)[1] * value[k];
+            weights += w;
+        }
+    }
+    if weights > 0.0 {
+        sum / weights
+    } else {
+        0.0
+    }
 }
 
 /// `base / lum` where the luminance is positive, else 1: the hue of the
@@ -190,6 +216,27 @@ mod tests {
             sum *= 2.0 * std::f64::consts::PI;
             assert!((sum - 1.0).abs() < 2e-3, "gloss {gloss}: {sum}");
         }
+    }
+
+    #[test]
+    fn luminance_is_mitsubas_mean_on_its_wavelength_density() {
+        // Mitsuba's density integrates to 1 over 360–830 nm.
+        let total: f32 = (0..4700)
+            .map(|i| mitsuba_wavelength_pdf(360.05 + i as f32 * 0.1) * 0.1)
+            .sum();
+        assert!((total - 1.0).abs() < 1e-3, "{total}");
+        let lambda = [450.0, 520.0, 580.0, 650.0];
+        let v = SampledSpectrum([0.2, 0.5, 0.7, 0.1]);
+        let y = lambda.map(|l| scotopia_color::cie::xyz_bar(l)[1]);
+        let plain = (0..4).map(|k| y[k] * v[k]).sum::<f32>() / 4.0;
+        let wl = SampledWavelengths::new(lambda, lambda.map(mitsuba_wavelength_pdf));
+        assert!((cluster_luminance(&wl, &v) - plain).abs() < 1e-6);
+        // Drawn uniformly: weighted by Mitsuba's density.
+        let wl = SampledWavelengths::new(lambda, [1.0 / 470.0; 4]);
+        let w = lambda.map(mitsuba_wavelength_pdf);
+        let want = (0..4).map(|k| w[k] * y[k] * v[k]).sum::<f32>() / w.iter().sum::<f32>();
+        assert!((cluster_luminance(&wl, &v) - want).abs() < 1e-6);
+        assert!((want - plain).abs() > 1e-3, "the test must tell them apart");
     }
 
     #[test]

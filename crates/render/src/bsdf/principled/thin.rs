@@ -6,7 +6,8 @@
 //! the diffuse lobe with sheen, and a Lambertian diffuse transmission.
 //! Lobe probabilities do not depend on the direction, so the density is
 //! exact. Tints use the luminance on the path's wavelengths, as Mitsuba's
-//! spectral variants do.
+//! spectral variants do, reweighted to Mitsuba's wavelength density (see
+//! `principled`).
 
 use std::f32::consts::FRAC_1_PI;
 
