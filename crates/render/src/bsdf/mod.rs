@@ -25,6 +25,7 @@ mod null;
 mod perturbed;
 mod plastic;
 mod polarized_plastic;
+mod principled;
 mod rough_dielectric;
 mod rough_plastic;
 mod shading;
@@ -42,6 +43,10 @@ pub use normal_map::NormalMap;
 pub use null::Null;
 pub use plastic::{diffuse_fresnel_reflectance, Plastic};
 pub use polarized_plastic::PolarizedPlastic;
+pub use principled::{
+    mitsuba_wavelength_pdf, specular_to_eta, Principled, PrincipledThin, SamplingRates,
+    ThinSamplingRates,
+};
 pub use rough_dielectric::RoughDielectric;
 pub use rough_plastic::RoughPlastic;
 pub use shading::ShadingPoint;
@@ -100,6 +105,10 @@ pub enum Bsdf {
     BumpMap(Box<BumpMap>),
     /// Mitsuba's `pplastic` read without polarisation.
     PolarizedPlastic(PolarizedPlastic),
+    /// Mitsuba's `principled` (Disney) BSDF.
+    Principled(Box<Principled>),
+    /// Mitsuba's `principledthin`: the principled model on a thin sheet.
+    PrincipledThin(Box<PrincipledThin>),
 }
 
 /// Mirror `w` about the normal (0, 0, 1).
@@ -144,6 +153,8 @@ impl Bsdf {
             Bsdf::NormalMap(b) => b.eval(wl, at, wi, wo, mode),
             Bsdf::BumpMap(b) => b.eval(wl, at, wi, wo, mode),
             Bsdf::PolarizedPlastic(b) => b.eval(wl, uv, wi, wo),
+            Bsdf::Principled(b) => b.eval(wl, uv, wi, wo, mode),
+            Bsdf::PrincipledThin(b) => b.eval(wl, uv, wi, wo),
         }
     }
 
@@ -184,6 +195,8 @@ impl Bsdf {
             Bsdf::NormalMap(b) => b.pdf(wl, at, wi, wo),
             Bsdf::BumpMap(b) => b.pdf(wl, at, wi, wo),
             Bsdf::PolarizedPlastic(b) => b.pdf(wi, wo),
+            Bsdf::Principled(b) => b.pdf(at.uv, wi, wo),
+            Bsdf::PrincipledThin(b) => b.pdf(at.uv, wi, wo),
         }
     }
 
@@ -227,6 +240,8 @@ impl Bsdf {
             Bsdf::NormalMap(b) => b.sample(wl, at, wi, u_lobe, u, mode),
             Bsdf::BumpMap(b) => b.sample(wl, at, wi, u_lobe, u, mode),
             Bsdf::PolarizedPlastic(b) => b.sample(wl, uv, wi, u_lobe, u),
+            Bsdf::Principled(b) => b.sample(wl, uv, wi, u_lobe, u, mode),
+            Bsdf::PrincipledThin(b) => b.sample(wl, uv, wi, u_lobe, u),
         }
     }
 
@@ -277,7 +292,7 @@ impl Bsdf {
             Bsdf::Blend(b) => b.first.is_delta() && b.second.is_delta(),
             Bsdf::NormalMap(b) => b.inner.is_delta(),
             Bsdf::BumpMap(b) => b.inner.is_delta(),
-            Bsdf::PolarizedPlastic(_) => false,
+            Bsdf::PolarizedPlastic(_) | Bsdf::Principled(_) | Bsdf::PrincipledThin(_) => false,
         }
     }
 }

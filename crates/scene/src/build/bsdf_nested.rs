@@ -2,7 +2,8 @@
 //! `mask`, `blendbsdf`, `normalmap`, `bumpmap` — and the polarisation
 //! plugins, which scotopia reads as Mitsuba's unpolarised variants render
 //! them: `pplastic`, `polarizer`, `retarder`, `circular`,
-//! `measured_polarized`.
+//! `measured_polarized`; `principled` and `principledthin` are dispatched
+//! from here to `bsdf_principled`.
 
 use std::sync::Arc;
 
@@ -19,7 +20,7 @@ use super::Builder;
 use crate::mitsuba::{parse_floats, Node, Props, SceneError, Usage};
 
 /// The BSDF types this file builds.
-pub const NESTED_TYPES: [&str; 10] = [
+pub const NESTED_TYPES: [&str; 12] = [
     "null",
     "mask",
     "blendbsdf",
@@ -30,6 +31,8 @@ pub const NESTED_TYPES: [&str; 10] = [
     "retarder",
     "circular",
     "measured_polarized",
+    "principled",
+    "principledthin",
 ];
 
 /// Builds `<bsdf type=kind>` for a kind in [`NESTED_TYPES`].
@@ -146,6 +149,8 @@ pub fn build(b: &mut Builder, kind: &str, p: &Props, node: &Node) -> Result<Bsdf
                 scale,
             })
         }
+        "principled" => super::bsdf_principled::build(b, p, node)?,
+        "principledthin" => super::bsdf_principled::build_thin(b, p)?,
         "measured_polarized" => {
             b.warn(
                 node,
@@ -218,7 +223,7 @@ fn refuse_fluorescence(inner: &Bsdf, node: &Node) -> Result<(), SceneError> {
 /// Parameter `name` as one number per point: a `<float>`, a spectrum (its
 /// mean over 360–830 nm, the value itself for a constant), a nested
 /// `<texture>`, or a `<ref>` to a top-level one.
-fn float_texture(
+pub(super) fn float_texture(
     b: &mut Builder,
     p: &Props,
     name: &str,

@@ -4,6 +4,7 @@
 
 mod bsdf;
 mod bsdf_nested;
+mod bsdf_principled;
 mod emitter;
 mod integrator;
 mod ior;
