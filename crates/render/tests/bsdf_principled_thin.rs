@@ -4,35 +4,10 @@
 
 mod common;
 
+use common::principled::{assert_matches_mitsuba, base, c, dir, wl, UV};
 use common::{chi2_directions, Rng};
-use scotopia_color::{SampledWavelengths, Spectrum, Tabulated};
-use scotopia_render::bsdf::mitsuba_wavelength_pdf;
 use scotopia_render::bsdf::{Bsdf, PrincipledThin, Transport};
-use scotopia_render::math::Vec3;
 use scotopia_render::texture::{FloatTexture, Texture};
-
-const UV: [f32; 2] = [0.3, 0.6];
-
-fn dir(theta_deg: f32, phi_deg: f32) -> Vec3 {
-    let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
-    Vec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
-}
-
-fn wl() -> SampledWavelengths<4> {
-    let lambda = [450.0, 520.0, 580.0, 650.0];
-    SampledWavelengths::new(lambda, lambda.map(mitsuba_wavelength_pdf))
-}
-
-/// Mitsuba's `{'type': 'spectrum', 'value': [(360, 0.9), (500, 0.3),
-/// (600, 0.6), (830, 0.2)]}`.
-fn base() -> Texture {
-    let t = Tabulated::new(vec![360.0, 500.0, 600.0, 830.0], vec![0.9, 0.3, 0.6, 0.2]).unwrap();
-    Texture::Constant(Spectrum::tabulated(t))
-}
-
-fn c(v: f32) -> Option<FloatTexture> {
-    Some(FloatTexture::Constant(v))
-}
 
 fn thin_glass() -> PrincipledThin {
     PrincipledThin {
@@ -454,36 +429,14 @@ fn cases() -> Vec<(&'static str, PrincipledThin, [[f32; 9]; 12])> {
     ]
 }
 
-fn rel(got: f32, want: f32) -> f32 {
-    (got - want).abs() / want.abs().max(1e-4)
-}
-
 #[test]
 fn eval_and_pdf_match_mitsuba() {
-    let w = wl();
-    let mut worst = 0.0f32;
-    for (name, p, rows) in cases() {
-        let bsdf = Bsdf::PrincipledThin(Box::new(p));
-        for row in rows {
-            let (wi, wo) = (dir(row[0], row[1]), dir(row[2], row[3]));
-            let f = bsdf.eval(&w, UV, wi, wo, Transport::Radiance);
-            let pdf = bsdf.pdf_at(&w, UV, wi, wo);
-            for k in 0..4 {
-                let e = rel(f[k], row[4 + k]);
-                worst = worst.max(e);
-                assert!(
-                    e < 1e-3,
-                    "{name} {row:?}: eval[{k}] {} vs {}",
-                    f[k],
-                    row[4 + k]
-                );
-            }
-            let e = rel(pdf, row[8]);
-            worst = worst.max(e);
-            assert!(e < 1e-3, "{name} {row:?}: pdf {pdf} vs {}", row[8]);
-        }
-    }
-    eprintln!("largest relative difference to Mitsuba 3.9.1: {worst:e}");
+    assert_matches_mitsuba(
+        cases()
+            .into_iter()
+            .map(|(name, p, rows)| (name, Bsdf::PrincipledThin(Box::new(p)), rows))
+            .collect(),
+    );
 }
 
 #[test]

@@ -4,6 +4,8 @@
 
 #![allow(dead_code)]
 
+pub mod principled;
+
 use scotopia_render::math::Vec3;
 
 /// SplitMix64, seeded.
