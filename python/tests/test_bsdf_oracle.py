@@ -111,8 +111,13 @@ def plastic(alpha=None, int_ior=1.5, nonlinear=False, diffuse=0.5, specular=1.0)
     return bsdf("roughplastic", roughness(alpha), *props)
 
 
+def nested(inner):
+    """A BSDF's XML as a child of another (no version on it)."""
+    return inner.replace(' version="3.0.0"', "")
+
+
 def twosided(inner):
-    return bsdf("twosided", inner.replace(' version="3.0.0"', ""))
+    return bsdf("twosided", nested(inner))
 
 
 class Case:
@@ -197,6 +202,26 @@ SMOOTH_LOBES = [
     case("roughplastic-0.6", plastic(0.6)),
     case("roughplastic-1.0", plastic(1.0)),
     case("twosided-diffuse", twosided(DIFFUSE), sides="both"),
+    case(
+        "blendbsdf",
+        bsdf(
+            "blendbsdf",
+            number("weight", 0.3),
+            nested(plastic(0.3, diffuse=0.0)),
+            nested(conductor(None, *GOLDISH)),
+        ),
+    ),
+    case(
+        "principled",
+        bsdf(
+            "principled",
+            spectrum("base_color", ALBEDO),
+            number("roughness", 0.4),
+            number("metallic", 0.3),
+            number("clearcoat", 0.5),
+            number("sheen", 0.2),
+        ),
+    ),
     case("twosided-roughconductor", twosided(conductor(0.3, *GOLDISH)), sides="both"),
     case("twosided-roughplastic-glossy", twosided(plastic(0.2, diffuse=0.0)), sides="both"),
     # Beckmann and anisotropic roughness: not yet in scotopia.
