@@ -198,6 +198,12 @@ pub fn load_scene_with(
         _ => {
             let truncated = b.errors.len() > SceneErrors::LIMIT;
             b.errors.truncate(SceneErrors::LIMIT);
+            // In the order of the file (ids are checked before the rest).
+            b.errors.sort_by(|x, y| {
+                let key =
+                    |e: &SceneError| (e.location.file.clone(), e.location.line, e.location.column);
+                key(x).cmp(&key(y))
+            });
             Err(SceneErrors {
                 errors: b.errors,
                 warnings: b.warnings,

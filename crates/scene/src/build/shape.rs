@@ -75,6 +75,18 @@ pub fn build_shape(b: &mut Builder, node: &Node) -> Result<Shape, SceneError> {
                 .string("filename")?
                 .ok_or_else(|| node.error("missing <string name=\"filename\">"))?;
             let path = resolve(&node.dir, file);
+            if !path.is_file() {
+                let looked: Vec<String> = node
+                    .dir
+                    .folders()
+                    .iter()
+                    .map(|f| f.display().to_string())
+                    .collect();
+                return Err(node.error(format!(
+                    "mesh file '{file}' not found (looked in {})",
+                    looked.join(", ")
+                )));
+            }
             let mut data = match kind {
                 "obj" => read_obj(&path),
                 "ply" => read_ply(&path),
