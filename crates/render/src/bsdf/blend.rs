@@ -22,12 +22,7 @@ pub struct Blend {
 impl Blend {
     #[inline]
     fn weight(&self, uv: [f32; 2]) -> f32 {
-        let w = self.weight.eval(uv);
-        if w.is_nan() {
-            0.0
-        } else {
-            w.clamp(0.0, 1.0)
-        }
+        self.weight.eval_fraction(uv)
     }
 
     pub fn eval<const K: usize>(

@@ -22,12 +22,7 @@ pub struct Mask {
 impl Mask {
     #[inline]
     fn opacity(&self, uv: [f32; 2]) -> f32 {
-        let o = self.opacity.eval(uv);
-        if o.is_nan() {
-            0.0
-        } else {
-            o.clamp(0.0, 1.0)
-        }
+        self.opacity.eval_fraction(uv)
     }
 
     pub fn eval<const K: usize>(

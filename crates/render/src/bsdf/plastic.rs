@@ -9,7 +9,7 @@ use std::f32::consts::FRAC_1_PI;
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
-use super::{fresnel_dielectric, reflect, BsdfSample};
+use super::{fresnel_dielectric, reflect, reflect_about, BsdfSample, MicrofacetDistribution};
 use crate::math::Vec3;
 use crate::sampling::warp::square_to_cosine_hemisphere;
 use crate::texture::Texture;
@@ -158,4 +158,35 @@ impl Plastic {
             collapse: false,
         })
     }
+}
+
+/// A rough coating's sampling: with probability `p_spec` a mirror direction
+/// about a visible normal of `d`, else a cosine-weighted one from the
+/// substrate.
+pub(super) fn sample_glossy_or_diffuse(
+    d: &MicrofacetDistribution,
+    p_spec: f32,
+    wi: Vec3,
+    u_lobe: f32,
+    u: [f32; 2],
+) -> Vec3 {
+    if u_lobe < p_spec {
+        reflect_about(wi, d.sample_visible(wi, u))
+    } else {
+        square_to_cosine_hemisphere(u)
+    }
+}
+
+/// The density of `sample_glossy_or_diffuse` (both lobes reach every
+/// direction above the surface).
+pub(super) fn glossy_or_diffuse_pdf(
+    d: &MicrofacetDistribution,
+    p_spec: f32,
+    wi: Vec3,
+    wo: Vec3,
+) -> f32 {
+    let h = (wi + wo).normalize();
+    // Visible-normal density times the reflection Jacobian 1/(4 wo·h).
+    let glossy = d.pdf_visible(wi, h) / (4.0 * wo.dot(h));
+    p_spec * glossy + (1.0 - p_spec) * wo.z * FRAC_1_PI
 }

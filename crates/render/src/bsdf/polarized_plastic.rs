@@ -10,9 +10,9 @@ use std::f32::consts::FRAC_1_PI;
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
-use super::{fresnel_dielectric, reflect_about, BsdfSample, MicrofacetDistribution};
+use super::plastic::{glossy_or_diffuse_pdf, sample_glossy_or_diffuse};
+use super::{fresnel_dielectric, BsdfSample, MicrofacetDistribution};
 use crate::math::Vec3;
-use crate::sampling::warp::square_to_cosine_hemisphere;
 use crate::texture::Texture;
 
 #[derive(Debug, Clone, PartialEq)]
@@ -45,10 +45,6 @@ impl PolarizedPlastic {
         }
     }
 
-    fn microfacets(&self) -> MicrofacetDistribution {
-        self.distribution
-    }
-
     pub fn eval<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
@@ -59,10 +55,10 @@ impl PolarizedPlastic {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return SampledSpectrum::splat(0.0);
         }
-        let ggx = self.microfacets();
+        let d = &self.distribution;
         let h = (wi + wo).normalize();
         let glossy =
-            fresnel_dielectric(wi.dot(h), self.eta).0 * ggx.d(h) * ggx.g(wi, wo, h) / (4.0 * wi.z);
+            fresnel_dielectric(wi.dot(h), self.eta).0 * d.d(h) * d.g(wi, wo, h) / (4.0 * wi.z);
         let through = (1.0 - fresnel_dielectric(wi.z, self.eta).0)
             * (1.0 - fresnel_dielectric(wo.z, self.eta).0);
         self.specular_reflectance.eval(wl, uv) * glossy
@@ -73,10 +69,7 @@ impl PolarizedPlastic {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return 0.0;
         }
-        let h = (wi + wo).normalize();
-        // Visible-normal density times the reflection Jacobian 1/(4 wo·h).
-        let glossy = self.microfacets().pdf_visible(wi, h) / (4.0 * wo.dot(h));
-        self.specular_weight * glossy + (1.0 - self.specular_weight) * wo.z * FRAC_1_PI
+        glossy_or_diffuse_pdf(&self.distribution, self.specular_weight, wi, wo)
     }
 
     pub fn sample<const K: usize>(
@@ -90,11 +83,7 @@ impl PolarizedPlastic {
         if wi.z <= 0.0 {
             return None;
         }
-        let wo = if u_lobe < self.specular_weight {
-            reflect_about(wi, self.microfacets().sample_visible(wi, u))
-        } else {
-            square_to_cosine_hemisphere(u)
-        };
+        let wo = sample_glossy_or_diffuse(&self.distribution, self.specular_weight, wi, u_lobe, u);
         let pdf = self.pdf(wi, wo);
         if pdf.is_nan() || pdf <= 0.0 {
             return None;

@@ -21,12 +21,12 @@ use std::f32::consts::FRAC_1_PI;
 use rayon::prelude::*;
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
-use super::plastic::{specular_probability, specular_weight, substrate};
-use super::{
-    fresnel_dielectric, reflect_about, BsdfSample, MicrofacetDistribution, MicrofacetKind,
+use super::plastic::{
+    glossy_or_diffuse_pdf, sample_glossy_or_diffuse, specular_probability, specular_weight,
+    substrate,
 };
+use super::{fresnel_dielectric, BsdfSample, MicrofacetDistribution, MicrofacetKind};
 use crate::math::Vec3;
-use crate::sampling::warp::square_to_cosine_hemisphere;
 use crate::texture::Texture;
 
 /// Table nodes over μ ∈ [0, 1] (Mitsuba's `MI_ROUGH_TRANSMITTANCE_RES`).
@@ -151,11 +151,7 @@ impl RoughPlastic {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return 0.0;
         }
-        let p_spec = self.specular_probability(wi.z);
-        let h = (wi + wo).normalize();
-        // Visible-normal density times the reflection Jacobian 1/(4 wo·h).
-        let glossy = self.distribution.pdf_visible(wi, h) / (4.0 * wo.dot(h));
-        p_spec * glossy + (1.0 - p_spec) * wo.z * FRAC_1_PI
+        glossy_or_diffuse_pdf(&self.distribution, self.specular_probability(wi.z), wi, wo)
     }
 
     pub fn sample<const K: usize>(
@@ -169,11 +165,8 @@ impl RoughPlastic {
         if wi.z <= 0.0 {
             return None;
         }
-        let wo = if u_lobe < self.specular_probability(wi.z) {
-            reflect_about(wi, self.distribution.sample_visible(wi, u))
-        } else {
-            square_to_cosine_hemisphere(u)
-        };
+        let p_spec = self.specular_probability(wi.z);
+        let wo = sample_glossy_or_diffuse(&self.distribution, p_spec, wi, u_lobe, u);
         // Both lobes can produce any direction: weight by the mixture.
         let pdf = self.pdf(wi, wo);
         if pdf.is_nan() || pdf <= 0.0 {

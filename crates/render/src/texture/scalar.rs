@@ -133,6 +133,18 @@ pub struct FloatCheckerboard {
 }
 
 impl FloatTexture {
+    /// The value at `uv` as a fraction in [0, 1] (a blend weight, an
+    /// opacity): clamped, and 0 where the texture holds NaN.
+    #[inline]
+    pub fn eval_fraction(&self, uv: [f32; 2]) -> f32 {
+        let v = self.eval(uv);
+        if v.is_nan() {
+            0.0
+        } else {
+            v.clamp(0.0, 1.0)
+        }
+    }
+
     /// The value at texture coordinates `uv`.
     #[inline]
     pub fn eval(&self, uv: [f32; 2]) -> f32 {
