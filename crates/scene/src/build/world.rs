@@ -12,19 +12,10 @@ use scotopia_render::scene::{IntegratorSettings, Scene};
 use scotopia_render::texture::Texture;
 
 use super::integrator::{build_integrator, DEFAULT};
+use super::registry::{self, Support};
 use super::sensor::{build_sensor, Sensor};
 use super::{emitter, shape, Builder};
 use crate::mitsuba::{Node, Props, SceneError, Usage};
-
-/// Mitsuba shapes scotopia cannot intersect yet: left out with a warning,
-/// so the rest of the scene renders.
-const SKIPPED_SHAPES: [&str; 5] = [
-    "bsplinecurve",
-    "linearcurve",
-    "sdfgrid",
-    "ellipsoids",
-    "ellipsoidsmesh",
-];
 
 pub struct World {
     pub sensor: Option<Sensor>,
@@ -112,7 +103,9 @@ impl World {
             }
             _ => {}
         }
-        if SKIPPED_SHAPES.contains(&kind) {
+        // Shapes scotopia cannot intersect yet (the registry's "skipped"):
+        // left out with a warning, so the rest of the scene renders.
+        if registry::plugin("shape", kind).is_some_and(|p| p.support == Support::Skipped) {
             b.warn(
                 n,
                 format!("shape type '{kind}' is not supported yet: skipped (the image lacks it)"),
