@@ -17,7 +17,7 @@ use super::bsdf::{roughness, Anisotropy};
 use super::ior::read_ior;
 use super::texture::{read_bitmap, uv_transform};
 use super::Builder;
-use crate::mitsuba::{parse_floats, Node, Props, SceneError, Usage};
+use crate::mitsuba::{parse_rgb, Node, Props, SceneError, Usage};
 
 /// The BSDF types this file builds.
 pub const NESTED_TYPES: [&str; 12] = [
@@ -294,11 +294,7 @@ fn rgb_texture(
             .ok_or_else(|| n.error("not a colour"))
     };
     match n.tag.as_str() {
-        "rgb" => match parse_floats(n, n.require("value")?)?.as_slice() {
-            [r, g, bl] => constant([*r, *g, *bl]),
-            [v] => constant([*v; 3]),
-            _ => Err(n.error("expected 3 numbers (R, G, B)")),
-        },
+        "rgb" => constant(parse_rgb(n)?),
         "ref" => {
             let id = n.require("id")?;
             let target = b.named(n, "texture", id)?;

@@ -14,4 +14,4 @@ pub use parse::{parse_file, parse_scene, parse_str, Node, Parameters, Parsed};
 pub use props::{Props, Usage};
 pub use search::{resolve, SearchPath};
 pub use spectrum::{normalised_illuminant, read_spectrum, read_spectrum_as};
-pub use values::{parse_floats, read_transform};
+pub use values::{parse_floats, parse_rgb, read_transform};

@@ -11,7 +11,7 @@ use scotopia_render::math::{Transform, Vec3};
 use super::error::SceneError;
 use super::parse::Node;
 use super::spectrum::read_spectrum_as;
-use super::values::{parse_floats, read_transform};
+use super::values::{parse_floats, parse_rgb, read_transform};
 
 /// What a colour is used as: it decides how `<rgb>` is upsampled and
 /// whether negative values are allowed.
@@ -188,12 +188,7 @@ impl<'a> Props<'a> {
         let s = match n.tag.as_str() {
             "float" => Spectrum::Constant(self.number(n)?),
             "rgb" => {
-                let f = parse_floats(n, n.require("value")?)?;
-                let mut rgb = match f.as_slice() {
-                    [r, g, b] => [*r, *g, *b],
-                    [v] => [*v; 3],
-                    _ => return Err(n.error("expected 3 numbers (R, G, B)")),
-                };
+                let mut rgb = parse_rgb(n)?;
                 // Mitsuba's spectral upsampling clamps an unbounded colour
                 // (an index fitted in RGB) to non-negative values.
                 if usage == Usage::Unbounded && rgb.iter().any(|&v| v < 0.0) {

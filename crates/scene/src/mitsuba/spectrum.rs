@@ -12,7 +12,7 @@ use super::error::SceneError;
 use super::parse::Node;
 use super::props::{Props, Usage};
 use super::search::resolve;
-use super::values::parse_floats;
+use super::values::{parse_floats, parse_rgb};
 
 /// `<spectrum>`: `value="0.5"`, `value="400:0.1, 500:0.3"`, `filename`,
 /// `type="blackbody"` (with `temperature`), or `type` = any CIE illuminant
@@ -179,12 +179,7 @@ fn spectrum_plugin(n: &Node, kind: &str, usage: Usage) -> Result<Option<Spectrum
             let c = props
                 .get("color")
                 .ok_or_else(|| n.error("an srgb spectrum needs <rgb name=\"color\">"))?;
-            let f = parse_floats(c, c.require("value")?)?;
-            let rgb = match f.as_slice() {
-                [r, g, b] => [*r, *g, *b],
-                [v] => [*v; 3],
-                _ => return Err(c.error("expected 3 numbers (R, G, B)")),
-            };
+            let rgb = parse_rgb(c)?;
             let kind = match usage {
                 Usage::Emission => SpectrumKind::Illuminant,
                 _ if props.boolean("unbounded", false)? => SpectrumKind::Unbounded,

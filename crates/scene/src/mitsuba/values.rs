@@ -23,6 +23,15 @@ pub fn parse_floats(node: &Node, text: &str) -> Result<Vec<f32>, SceneError> {
         .collect()
 }
 
+/// An `<rgb value="r, g, b">` (or one number for grey).
+pub fn parse_rgb(node: &Node) -> Result<[f32; 3], SceneError> {
+    match parse_floats(node, node.require("value")?)?.as_slice() {
+        [r, g, b] => Ok([*r, *g, *b]),
+        [v] => Ok([*v; 3]),
+        _ => Err(node.error("expected 3 numbers (R, G, B)")),
+    }
+}
+
 /// A 3-vector from `value="x y z"` (or `value="s"` → (s, s, s) when
 /// `splat`), else from the `x`, `y`, `z` attributes with default `fill`.
 fn vector(node: &Node, fill: f32, splat: bool) -> Result<Vec3, SceneError> {
