@@ -4,6 +4,7 @@
 
 mod common;
 
+use common::bsdf_checks::{albedo, assert_weights_are_eval_over_pdf, sampling_p_value};
 use common::{chi2_directions, Rng};
 use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
 use scotopia_render::bsdf::{
@@ -188,17 +189,7 @@ fn sampling_matches_pdf_chi_square() {
     let w = wl();
     assert_eq!(sampling_cases().len(), CASES);
     for (i, (name, bsdf, wi)) in sampling_cases().into_iter().enumerate() {
-        let mut rng = Rng(100 + i as u64);
-        let p = chi2_directions(
-            200_000,
-            &mut rng,
-            |r| {
-                let (u1, u2) = (r.next(), r.pair());
-                bsdf.sample(&w, UV, wi, u1, u2, Transport::Radiance)
-                    .map(|s| s.wo)
-            },
-            |wo| bsdf.pdf(&w, wi, wo) as f64,
-        );
+        let p = sampling_p_value(&bsdf, &w, UV, wi, 100 + i as u64);
         assert!(p > ALPHA, "{name}, wi {wi:?}: p = {p:e}");
     }
 }
@@ -233,24 +224,8 @@ fn weights_are_eval_over_pdf() {
     let w = wl();
     let mut rng = Rng(3);
     for (name, bsdf, wi) in sampling_cases() {
-        for _ in 0..200 {
-            let Some(s) = bsdf.sample(&w, UV, wi, rng.next(), rng.pair(), Transport::Radiance)
-            else {
-                continue;
-            };
-            let expected =
-                bsdf.eval(&w, UV, wi, s.wo, Transport::Radiance) / bsdf.pdf(&w, wi, s.wo);
-            for k in 0..4 {
-                assert!(
-                    (s.weight[k] - expected[k]).abs() <= 1e-3 * expected[k].max(1.0),
-                    "{name}: {s:?} vs {expected:?}"
-                );
-            }
-            assert!(
-                (s.pdf - bsdf.pdf(&w, wi, s.wo)).abs() <= 1e-3 * s.pdf,
-                "{name}"
-            );
-        }
+        let mode = Transport::Radiance;
+        assert_weights_are_eval_over_pdf(name, &bsdf, &w, UV, wi, mode, 200, &mut rng, 1e-3, false);
     }
 }
 
@@ -287,19 +262,9 @@ fn albedo_is_at_most_one() {
     // Directional albedo by Monte Carlo: mean weight, within 4 standard errors of ≤ 1.
     let w = wl();
     for (name, bsdf, wi) in sampling_cases() {
-        let mut rng = Rng(5);
-        let n = 50_000;
-        let (mut sum, mut sum2) = (0.0f64, 0.0f64);
-        for _ in 0..n {
-            // Importance: radiance leaving glass gains 1/η² legitimately.
-            let v = bsdf
-                .sample(&w, UV, wi, rng.next(), rng.pair(), Transport::Importance)
-                .map_or(0.0, |s| s.weight[0] as f64);
-            sum += v;
-            sum2 += v * v;
-        }
-        let mean = sum / n as f64;
-        let se = ((sum2 / n as f64 - mean * mean).max(0.0) / n as f64).sqrt();
+        // Importance: radiance leaving glass gains 1/η² legitimately.
+        let mode = Transport::Importance;
+        let (mean, se) = albedo(&bsdf, &w, UV, wi, mode, 50_000, &mut Rng(5));
         assert!(
             mean - 4.0 * se <= 1.0,
             "{name} {wi:?}: albedo {mean} ± {se}"
@@ -574,18 +539,8 @@ fn rough_plastic_conserves_energy_at_grazing_angles() {
         ));
         for theta in [0.0, 60.0, 85.0] {
             let wi = dir(theta, 0.0);
-            let mut rng = Rng(12);
-            let n = 100_000;
-            let (mut sum, mut sum2) = (0.0f64, 0.0f64);
-            for _ in 0..n {
-                let v = b
-                    .sample(&w, UV, wi, rng.next(), rng.pair(), Transport::Radiance)
-                    .map_or(0.0, |s| s.weight[0] as f64);
-                sum += v;
-                sum2 += v * v;
-            }
-            let mean = sum / n as f64;
-            let se = ((sum2 / n as f64 - mean * mean).max(0.0) / n as f64).sqrt();
+            let mode = Transport::Radiance;
+            let (mean, se) = albedo(&b, &w, UV, wi, mode, 100_000, &mut Rng(12));
             assert!(mean - 4.0 * se <= 1.0, "θ {theta}: albedo {mean} ± {se}");
         }
     }

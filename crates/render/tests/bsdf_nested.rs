@@ -7,7 +7,8 @@ mod common;
 
 use std::sync::Arc;
 
-use common::{chi2_directions, Rng};
+use common::bsdf_checks::{albedo, assert_weights_are_eval_over_pdf, sampling_p_value};
+use common::Rng;
 use scotopia_color::{SampledWavelengths, Spectrum};
 use scotopia_render::bsdf::{
     Blend, Bsdf, BumpMap, Conductor, Diffuse, Mask, MicrofacetDistribution, MicrofacetKind,
@@ -152,20 +153,7 @@ fn sampling_matches_pdf_chi_square() {
     let w = wl();
     assert_eq!(cases().len(), 30);
     for (i, (name, bsdf, wi)) in cases().into_iter().enumerate() {
-        let mut rng = Rng(500 + i as u64);
-        let p = chi2_directions(
-            200_000,
-            &mut rng,
-            |r| {
-                let (u1, u2) = (r.next(), r.pair());
-                // A pass-through (delta) counts as no direction: its
-                // probability is the mass the density leaves out.
-                bsdf.sample(&w, UV, wi, u1, u2, Transport::Radiance)
-                    .filter(|s| !s.delta)
-                    .map(|s| s.wo)
-            },
-            |wo| bsdf.pdf_at(&w, UV, wi, wo) as f64,
-        );
+        let p = sampling_p_value(&bsdf, &w, UV, wi, 500 + i as u64);
         assert!(p > ALPHA, "{name}, wi {wi:?}: p = {p:e}");
     }
 }
@@ -176,27 +164,9 @@ fn weights_are_eval_over_pdf() {
     let mut rng = Rng(9);
     for mode in [Transport::Radiance, Transport::Importance] {
         for (name, bsdf, wi) in cases() {
-            for _ in 0..300 {
-                let Some(s) = bsdf.sample(&w, UV, wi, rng.next(), rng.pair(), mode) else {
-                    continue;
-                };
-                if s.delta {
-                    continue;
-                }
-                let pdf = bsdf.pdf_at(&w, UV, wi, s.wo);
-                let expected = bsdf.eval(&w, UV, wi, s.wo, mode) / pdf;
-                for k in 0..4 {
-                    assert!(
-                        (s.weight[k] - expected[k]).abs() <= 1e-3 * expected[k].max(1.0),
-                        "{name} {mode:?}: {s:?} vs {expected:?}"
-                    );
-                }
-                assert!(
-                    (s.pdf - pdf).abs() <= 1e-3 * pdf,
-                    "{name}: {} vs {pdf}",
-                    s.pdf
-                );
-            }
+            assert_weights_are_eval_over_pdf(
+                name, &bsdf, &w, UV, wi, mode, 300, &mut rng, 1e-3, true,
+            );
         }
     }
 }
@@ -404,17 +374,7 @@ fn pplastic_conserves_energy_and_is_reciprocal() {
         let b = pplastic(alpha);
         for theta in [0.0, 45.0, 80.0] {
             let wi = dir(theta, 0.0);
-            let n = 50_000;
-            let (mut sum, mut sum2) = (0.0f64, 0.0f64);
-            for _ in 0..n {
-                let v = b
-                    .sample(&w, UV, wi, rng.next(), rng.pair(), Transport::Radiance)
-                    .map_or(0.0, |s| s.weight[0] as f64);
-                sum += v;
-                sum2 += v * v;
-            }
-            let mean = sum / n as f64;
-            let se = ((sum2 / n as f64 - mean * mean).max(0.0) / n as f64).sqrt();
+            let (mean, se) = albedo(&b, &w, UV, wi, Transport::Radiance, 50_000, &mut rng);
             assert!(
                 mean - 4.0 * se <= 1.0,
                 "α {alpha}, θ {theta}: {mean} ± {se}"

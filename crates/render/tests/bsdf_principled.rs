@@ -5,8 +5,9 @@
 
 mod common;
 
+use common::bsdf_checks::{self, assert_weights_are_eval_over_pdf, sampling_p_value};
 use common::principled::{assert_matches_mitsuba, base, c, dir, wl, UV};
-use common::{chi2_directions, Rng};
+use common::Rng;
 use scotopia_render::bsdf::{specular_to_eta, Bsdf, Principled, Transport};
 use scotopia_render::math::Vec3;
 use scotopia_render::texture::{FloatTexture, Texture};
@@ -547,17 +548,7 @@ fn sampling_matches_pdf_chi_square() {
     let alpha = 0.01 / cases.len() as f64;
     for (i, (name, p, wi)) in cases.into_iter().enumerate() {
         let bsdf = Bsdf::Principled(Box::new(p));
-        let mut rng = Rng(700 + i as u64);
-        let pv = chi2_directions(
-            200_000,
-            &mut rng,
-            |r| {
-                let (u1, u2) = (r.next(), r.pair());
-                bsdf.sample(&w, UV, wi, u1, u2, Transport::Radiance)
-                    .map(|s| s.wo)
-            },
-            |wo| bsdf.pdf_at(&w, UV, wi, wo) as f64,
-        );
+        let pv = sampling_p_value(&bsdf, &w, UV, wi, 700 + i as u64);
         assert!(pv > alpha, "{name}, wi {wi:?}: p = {pv:e}");
     }
 }
@@ -570,41 +561,26 @@ fn weights_are_eval_over_pdf() {
         for (name, p, _) in cases() {
             let bsdf = Bsdf::Principled(Box::new(p));
             for wi in [dir(30.0, 10.0), dir(80.0, 100.0), -dir(40.0, 300.0)] {
-                for _ in 0..300 {
-                    let Some(s) = bsdf.sample(&w, UV, wi, rng.next(), rng.pair(), mode) else {
-                        continue;
-                    };
-                    let pdf = bsdf.pdf_at(&w, UV, wi, s.wo);
-                    let expected = bsdf.eval(&w, UV, wi, s.wo, mode) / pdf;
-                    for k in 0..4 {
-                        assert!(
-                            (s.weight[k] - expected[k]).abs() <= 1e-4 * expected[k].max(1.0),
-                            "{name} {mode:?}: {s:?} vs {expected:?}"
-                        );
-                    }
-                    assert!(!s.delta && s.pdf == pdf, "{name}");
-                }
+                assert_weights_are_eval_over_pdf(
+                    name, &bsdf, &w, UV, wi, mode, 300, &mut rng, 1e-4, false,
+                );
             }
         }
     }
 }
 
-/// The albedo ∫ f·cos dω = E[weight] from `n` samples: (mean, standard
-/// error), in importance mode (no 1/η² on refraction).
-fn albedo(bsdf: &Bsdf, wi: Vec3, n: usize) -> (f64, f64) {
-    let w = wl();
-    let mut rng = Rng(3);
-    let (mut sum, mut sum2) = (0.0f64, 0.0f64);
-    for _ in 0..n {
-        let s = bsdf.sample(&w, UV, wi, rng.next(), rng.pair(), Transport::Importance);
-        if let Some(s) = s {
-            let x = s.weight[0] as f64;
-            sum += x;
-            sum2 += x * x;
-        }
-    }
-    let mean = sum / n as f64;
-    (mean, ((sum2 / n as f64 - mean * mean) / n as f64).sqrt())
+/// The albedo from 100 000 samples in importance mode (no 1/η² on
+/// refraction): (mean, standard error).
+fn albedo(bsdf: &Bsdf, wi: Vec3) -> (f64, f64) {
+    bsdf_checks::albedo(
+        bsdf,
+        &wl(),
+        UV,
+        wi,
+        Transport::Importance,
+        100_000,
+        &mut Rng(3),
+    )
 }
 
 fn white(p: Principled) -> Principled {
@@ -639,7 +615,7 @@ fn a_white_metal_or_glass_does_not_create_energy() {
             dir(80.0, 70.0),
             -dir(30.0, 0.0),
         ] {
-            let (mean, se) = albedo(&bsdf, wi, 100_000);
+            let (mean, se) = albedo(&bsdf, wi);
             assert!(
                 mean <= 1.0 + 4.0 * se,
                 "{name} wi {wi:?}: albedo {mean} ± {se}"
@@ -672,7 +648,7 @@ fn a_white_dielectric_has_mitsubas_albedo() {
             ..Principled::default()
         });
         let bsdf = Bsdf::Principled(Box::new(p));
-        let (mean, se) = albedo(&bsdf, dir(t as f32, ph as f32), 100_000);
+        let (mean, se) = albedo(&bsdf, dir(t as f32, ph as f32));
         let tol = 4.0 * (se * se + want_se * want_se).sqrt();
         assert!(
             (mean - want).abs() <= tol,

@@ -4,8 +4,9 @@
 
 mod common;
 
+use common::bsdf_checks::{albedo, assert_weights_are_eval_over_pdf, sampling_p_value};
 use common::principled::{assert_matches_mitsuba, base, c, dir, wl, UV};
-use common::{chi2_directions, Rng};
+use common::Rng;
 use scotopia_render::bsdf::{Bsdf, PrincipledThin, Transport};
 use scotopia_render::texture::{FloatTexture, Texture};
 
@@ -458,17 +459,7 @@ fn sampling_matches_pdf_chi_square() {
     let alpha = 0.01 / cases.len() as f64;
     for (i, (name, p, wi)) in cases.into_iter().enumerate() {
         let bsdf = Bsdf::PrincipledThin(Box::new(p));
-        let mut rng = Rng(900 + i as u64);
-        let pv = chi2_directions(
-            200_000,
-            &mut rng,
-            |r| {
-                let (u1, u2) = (r.next(), r.pair());
-                bsdf.sample(&w, UV, wi, u1, u2, Transport::Radiance)
-                    .map(|s| s.wo)
-            },
-            |wo| bsdf.pdf_at(&w, UV, wi, wo) as f64,
-        );
+        let pv = sampling_p_value(&bsdf, &w, UV, wi, 900 + i as u64);
         assert!(pv > alpha, "{name}, wi {wi:?}: p = {pv:e}");
     }
 }
@@ -480,21 +471,10 @@ fn weights_are_eval_over_pdf() {
     for (name, p, _) in cases() {
         let bsdf = Bsdf::PrincipledThin(Box::new(p));
         for wi in [dir(30.0, 10.0), dir(80.0, 100.0), -dir(40.0, 300.0)] {
-            for _ in 0..300 {
-                let mode = Transport::Radiance;
-                let Some(s) = bsdf.sample(&w, UV, wi, rng.next(), rng.pair(), mode) else {
-                    continue;
-                };
-                let pdf = bsdf.pdf_at(&w, UV, wi, s.wo);
-                let expected = bsdf.eval(&w, UV, wi, s.wo, mode) / pdf;
-                for k in 0..4 {
-                    assert!(
-                        (s.weight[k] - expected[k]).abs() <= 1e-4 * expected[k].max(1.0),
-                        "{name}: {s:?} vs {expected:?}"
-                    );
-                }
-                assert!(!s.delta && s.pdf == pdf, "{name}");
-            }
+            let mode = Transport::Radiance;
+            assert_weights_are_eval_over_pdf(
+                name, &bsdf, &w, UV, wi, mode, 300, &mut rng, 1e-4, false,
+            );
         }
     }
 }
@@ -528,19 +508,7 @@ fn a_white_sheet_does_not_create_energy() {
             dir(80.0, 70.0),
             -dir(30.0, 0.0),
         ] {
-            let mut rng = Rng(4);
-            let n = 100_000;
-            let (mut sum, mut sum2) = (0.0f64, 0.0f64);
-            for _ in 0..n {
-                let s = bsdf.sample(&w, UV, wi, rng.next(), rng.pair(), Transport::Radiance);
-                if let Some(s) = s {
-                    let x = s.weight[0] as f64;
-                    sum += x;
-                    sum2 += x * x;
-                }
-            }
-            let mean = sum / n as f64;
-            let se = ((sum2 / n as f64 - mean * mean) / n as f64).sqrt();
+            let (mean, se) = albedo(&bsdf, &w, UV, wi, Transport::Radiance, 100_000, &mut Rng(4));
             eprintln!("{name} wi {wi:?}: albedo {mean} ± {se}");
             assert!(
                 mean <= 1.0 + 4.0 * se,

@@ -4,6 +4,7 @@
 
 #![allow(dead_code)]
 
+pub mod bsdf_checks;
 pub mod principled;
 
 use scotopia_render::math::Vec3;
