@@ -1,7 +1,8 @@
 //! An environment map (Mitsuba's `envmap`): an equirectangular RGB image
 //! at infinity, each texel upsampled to an illuminant spectrum (Jakob &
 //! Hanika 2019 times the colour space's white), interpolated bilinearly
-//! and importance-sampled by power.
+//! as Mitsuba 3 does (unit spectrum and scale blended apart, see
+//! `Bitmap::bilinear_scale_split`) and importance-sampled by power.
 //!
 //! Mapping, as Mitsuba 3 (checked against 3.9.1): in the light's frame a
 //! direction d = (sin θ sin φ, cos θ, −sin θ cos φ) has u = φ / 2π and
@@ -124,7 +125,7 @@ impl EnvMapLight {
         let y0 = (py.floor() as usize).min(h - 2);
         let a = [px - fx, (py - y0 as f32).clamp(0.0, 1.0)];
         self.texels
-            .bilinear(wl, [x0, (x0 + 1) % w], [y0, y0 + 1], a)
+            .bilinear_scale_split(wl, [x0, (x0 + 1) % w], [y0, y0 + 1], a)
             * self.scale
     }
 
