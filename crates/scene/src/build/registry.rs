@@ -117,7 +117,7 @@ pub const PLUGINS: &[Plugin] = &[
     p("emitter", "spot", Full, "intensity, cutoff_angle, beam_width, texture, to_world", "a texture scales the light's power by its mean for choosing lights"),
     p("emitter", "directional", Full, "irradiance, direction, to_world", ""),
     p("emitter", "constant", Full, "radiance (Mitsuba's default: unit D65)", ""),
-    p("emitter", "envmap", Full, "filename, scale, to_world", ""),
+    p("emitter", "envmap", Full, "filename, scale, to_world", "interpolated as Mitsuba 3: the texels' unit spectra and their scales blended apart"),
     p("emitter", "projector", Full, "irradiance (texture or spectrum), scale, fov, fov_axis, focal_length, to_world", "light paths start uniformly over the image, not by texel power"),
     p("emitter", "directionalarea", Unsupported, "", ""),
     p("emitter", "sunsky", Unsupported, "", ""),
