@@ -3,6 +3,7 @@
 Usage:
   python bench/mitsuba_conformance.py DATA_DIR [--spp 64] [--res 64]
       [--only GLOB] [--json OUT] [--cap 60] [--keep-xml DIR] [-D NAME=VALUE ...]
+      [--mitsuba-cache DIR [--warm-cache]]
   python bench/mitsuba_conformance.py --table --json OUT _   (reprint a run)
 
 DATA_DIR is a checkout of Mitsuba's data repository (mitsuba-data). Every
@@ -74,10 +75,12 @@ standard errors grow). A scene where fewer than 4 spp fit is skipped.
 
 import argparse
 import fnmatch
+import hashlib
 import json
 import math
 import os
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -300,6 +303,7 @@ def worker(args):
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     res = {}
+    cache = None  # Mitsuba's render cache entry (--mitsuba-cache)
 
     def save():
         (out / "result.json").write_text(json.dumps(res))
@@ -346,6 +350,18 @@ def worker(args):
             save()
             return
 
+        # Mitsuba's renders depend only on the rewritten scene and the
+        # settings: --mitsuba-cache keeps them between runs.
+        if args.mitsuba_cache:
+            key = hashlib.sha256("\n".join(
+                [copy.read_text(), mi.__version__, str(args.spp), str(args.cap),
+                 json.dumps(params, sort_keys=True)]).encode()).hexdigest()[:24]
+            cache = Path(args.mitsuba_cache) / key
+            if (cache / "result.json").exists():
+                for f in cache.iterdir():
+                    shutil.copy(f, out / f.name)
+                return
+
         def run(spp, seed):
             img = mi.render(loaded, spp=spp, seed=seed)
             return np.asarray(img, dtype=np.float64)[..., :3] * MITSUBA_SCALE
@@ -375,6 +391,10 @@ def worker(args):
         np.save(out / f"half{k}.npy", h)
     res["rendered"] = True
     save()
+    if cache is not None:
+        cache.mkdir(parents=True, exist_ok=True)
+        for f in ("result.json", "half0.npy", "half1.npy"):
+            shutil.copy(out / f, cache / f)
 
 
 def spawn(renderer, task, scene, opts, out, timeout, spp=None):
@@ -384,6 +404,8 @@ def spawn(renderer, task, scene, opts, out, timeout, spp=None):
            "--spp", str(spp or opts.spp), "--cap", str(opts.cap), str(scene.parent)]
     for d in opts.define:
         cmd += ["-D", d]
+    if opts.mitsuba_cache:
+        cmd += ["--mitsuba-cache", str(opts.mitsuba_cache.resolve())]
     try:
         proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
     except subprocess.TimeoutExpired:
@@ -477,6 +499,8 @@ def run_scene(scene, data, opts, work):
     if not m.get("rendered"):
         row["skipped"] = mitsuba_skip(m, opts)
         return row
+    if opts.warm_cache:
+        return row
     # scotopia at Mitsuba's spp (or fewer, if that is over the cap for it).
     ro = spawn("scotopia", "render", scene, opts, tmp / "scotopia-render", limit, m["spp"])
     if not ro.get("rendered"):
@@ -567,6 +591,11 @@ def main():
     ap.add_argument("--keep-xml", type=Path, help="keep the rewritten scenes and renders here")
     ap.add_argument("-D", dest="define", action="append", default=[], metavar="NAME=VALUE",
                     help="a scene parameter for both renderers (repeatable)")
+    ap.add_argument("--mitsuba-cache", type=Path,
+                    help="keep Mitsuba's renders here and reuse them when the rewritten scene "
+                         "and the settings are the same (outside DATA_DIR and the repo)")
+    ap.add_argument("--warm-cache", action="store_true",
+                    help="with --mitsuba-cache: only fill the cache (scotopia loads, does not render)")
     ap.add_argument("--table", action="store_true",
                     help="only print the tables of an earlier run's --json file (DATA_DIR unused)")
     # The child processes' options.
