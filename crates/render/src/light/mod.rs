@@ -134,7 +134,7 @@ impl Light {
             Light::Spot(l) => &l.intensity,
             Light::Projector(l) => l.spectrum(),
             Light::Directional(l) => &l.irradiance,
-            Light::Area(l) => &l.radiance,
+            Light::Area(l) => l.mean_radiance(),
             Light::Constant(l) => &l.radiance,
             Light::EnvMap(l) => l.total_spectrum(),
         }
