@@ -57,9 +57,7 @@ fn by_light_samples(light: &Light, shapes: &[Shape], p: Vec3, n: usize) -> (f64,
     estimate(n, || {
         light
             .sample_li(&scene, &wl(), p, rng.next(), rng.pair())
-            .map_or(0.0, |s| {
-                (s.radiance[0] * s.wi.z.max(0.0) / s.pdf) as f64
-            })
+            .map_or(0.0, |s| (s.radiance[0] * s.wi.z.max(0.0) / s.pdf) as f64)
     })
 }
 

@@ -72,7 +72,10 @@ mod tests {
     /// Points of the R2 sequence in [0, 1)², and a third coordinate.
     fn r2(k: usize) -> (f32, [f32; 2]) {
         let f = |g: f64| ((0.5 + g * k as f64).fract()) as f32;
-        (f(0.819_172_513_396_164_4), [f(0.671_043_606_703_789_2), f(0.549_700_477_901_970_4)])
+        (
+            f(0.819_172_513_396_164_4),
+            [f(0.671_043_606_703_789_2), f(0.549_700_477_901_970_4)],
+        )
     }
 
     /// The texture coordinates a ray finds at `s` when it comes back to it
@@ -81,7 +84,11 @@ mod tests {
         let ray = Ray::new(s.p + s.n * 0.25, -s.n);
         let shear = RayShear::new(&ray);
         let (prim, (t, uv)) = (0..shape.primitive_count())
-            .filter_map(|i| shape.intersect(i, &ray, &shear, f32::INFINITY).map(|h| (i, h)))
+            .filter_map(|i| {
+                shape
+                    .intersect(i, &ray, &shear, f32::INFINITY)
+                    .map(|h| (i, h))
+            })
             .min_by(|a, b| a.1 .0.total_cmp(&b.1 .0))
             .expect("the ray comes back to the sampled point");
         let hit = Hit {
@@ -91,7 +98,12 @@ mod tests {
             uv,
         };
         let surface = shape.surface(&hit, &ray);
-        assert!((surface.p - s.p).length() < 1e-4, "{:?} vs {:?}", surface.p, s.p);
+        assert!(
+            (surface.p - s.p).length() < 1e-4,
+            "{:?} vs {:?}",
+            surface.p,
+            s.p
+        );
         surface.uv
     }
 
@@ -124,7 +136,11 @@ mod tests {
                 if periodic == Some(c) {
                     d -= d.round();
                 }
-                assert!(d.abs() < 1e-3, "{name}: sampled uv {:?}, hit uv {got:?}", s.uv);
+                assert!(
+                    d.abs() < 1e-3,
+                    "{name}: sampled uv {:?}, hit uv {got:?}",
+                    s.uv
+                );
             }
             checked += 1;
         }
@@ -179,7 +195,9 @@ mod tests {
         }
         for (kind, periodic) in [(PlanarKind::Rectangle, None), (PlanarKind::Disk, Some(1))] {
             let planar = Shape::Planar(Box::new(Planar::new(kind, placement())));
-            check("planar", &planar, periodic, |s| s.uv[0] < 0.01 && periodic.is_some());
+            check("planar", &planar, periodic, |s| {
+                s.uv[0] < 0.01 && periodic.is_some()
+            });
         }
         let tube = Cylinder::new(
             Vec3::new(0.0, 0.0, -1.0),
@@ -189,6 +207,11 @@ mod tests {
             false,
         )
         .unwrap();
-        check("cylinder", &Shape::Cylinder(Box::new(tube)), Some(0), |_| false);
+        check(
+            "cylinder",
+            &Shape::Cylinder(Box::new(tube)),
+            Some(0),
+            |_| false,
+        );
     }
 }

@@ -15,7 +15,7 @@ use super::integrator::{build_integrator, DEFAULT};
 use super::registry::{self, Support};
 use super::sensor::{build_sensor, Sensor};
 use super::{emitter, shape, Builder};
-use crate::mitsuba::{Node, Props, SceneError, Usage};
+use crate::mitsuba::{Node, Props, SceneError};
 
 pub struct World {
     pub sensor: Option<Sensor>,
