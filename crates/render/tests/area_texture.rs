@@ -114,12 +114,12 @@ fn shapes() -> Vec<(&'static str, Shape, Texture)> {
         ("mesh", Shape::Mesh(quad), checkerboard()),
         (
             "rectangle",
-            Shape::Planar(Box::new(Planar::new(PlanarKind::Rectangle, above.clone()))),
+            Shape::Planar(Box::new(Planar::new(PlanarKind::Rectangle, above))),
             checkerboard(),
         ),
         (
             "disk",
-            Shape::Planar(Box::new(Planar::new(PlanarKind::Disk, above.clone()))),
+            Shape::Planar(Box::new(Planar::new(PlanarKind::Disk, above))),
             checkerboard(),
         ),
         (
