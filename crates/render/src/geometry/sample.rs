@@ -107,8 +107,8 @@ mod tests {
         surface.uv
     }
 
-    /// Samples `shape` by area (and by `extra`, e.g. a sphere's cone) and
-    /// checks each point's uv against the hit's; `periodic`: the
+    /// Samples `shape` by area and checks each point's uv against the
+    /// hit's; `periodic`: the
     /// coordinate that wraps around (an angle), `skip` leaves out points
     /// where the angle is undefined (poles, centres).
     fn check(
@@ -191,7 +191,11 @@ mod tests {
             }
             let got = uv_hit(&Shape::Sphere(sphere), &s);
             let d = [got[0] - s.uv[0], got[1] - s.uv[1]];
-            assert!((d[0] - d[0].round()).abs() < 1e-3 && d[1].abs() < 1e-3);
+            assert!(
+                (d[0] - d[0].round()).abs() < 1e-3 && d[1].abs() < 1e-3,
+                "sphere cone: sampled uv {:?}, hit uv {got:?}",
+                s.uv
+            );
         }
         for (kind, periodic) in [(PlanarKind::Rectangle, None), (PlanarKind::Disk, Some(1))] {
             let planar = Shape::Planar(Box::new(Planar::new(kind, placement())));

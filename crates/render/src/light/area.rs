@@ -25,7 +25,8 @@ const MEAN_POINTS: usize = 4096;
 pub struct AreaLight {
     /// Index of the emitting shape in the scene's shape list.
     pub shape: u32,
-    /// Spectral radiance over the surface, W·sr⁻¹·m⁻²·nm⁻¹.
+    /// Spectral radiance over the surface, W·sr⁻¹·m⁻²·nm⁻¹ (set by `new`,
+    /// which takes its mean).
     pub radiance: Texture,
     /// The radiance averaged over the surface by area.
     mean: Spectrum,
