@@ -270,7 +270,7 @@ fn bundled_scenes_load_without_warnings() {
         .lights
         .iter()
         .filter_map(|l| match l {
-            Light::Area(a) => Some(spectrum_to_xyzv(&a.radiance).y),
+            Light::Area(a) => Some(spectrum_to_xyzv(a.mean_radiance()).y),
             _ => None,
         })
         .collect();

@@ -179,14 +179,9 @@ impl Cylinder {
         } else {
             (1.0, 0.0)
         };
-        let p = self
-            .world_from_object
-            .point(Vec3::new(x, y, local.z.clamp(0.0, 1.0)));
-        let phi = y.atan2(x).rem_euclid(2.0 * std::f32::consts::PI);
-        let u = phi / (2.0 * std::f32::consts::PI);
-        // rem_euclid can round up to 2π.
-        let u = if u >= 1.0 { 0.0 } else { u };
-        (p, self.normal_at(x, y), [u, local.z.clamp(0.0, 1.0)])
+        let z = local.z.clamp(0.0, 1.0);
+        let p = self.world_from_object.point(Vec3::new(x, y, z));
+        (p, self.normal_at(x, y), tube_uv(x, y, z))
     }
 
     /// A point uniform over the tube's area (density 1/area), as Mitsuba
@@ -196,6 +191,16 @@ impl Cylinder {
         SurfacePoint {
             p: self.world_from_object.point(Vec3::new(c, s, u[0])),
             n: self.normal_at(c, s),
+            uv: tube_uv(c, s, u[0]),
         }
     }
+}
+
+/// Mitsuba's (φ/2π, z) at object point (x, y, z) of the unit tube.
+#[inline]
+fn tube_uv(x: f32, y: f32, z: f32) -> [f32; 2] {
+    let phi = y.atan2(x).rem_euclid(2.0 * std::f32::consts::PI);
+    let u = phi / (2.0 * std::f32::consts::PI);
+    // rem_euclid can round up to 2π.
+    [if u >= 1.0 { 0.0 } else { u }, z]
 }

@@ -81,6 +81,18 @@ impl TriangleMesh {
         self.indices.len()
     }
 
+    /// Texture coordinates at barycentrics (b1, b2) of `face`: the vertex
+    /// UVs interpolated, or (b1, b2) themselves when the mesh has none (as
+    /// Mitsuba). Hits and area samples both read them here.
+    #[inline]
+    pub fn uv_at(&self, face: usize, b1: f32, b2: f32) -> [f32; 2] {
+        let b0 = 1.0 - b1 - b2;
+        self.uvs.as_ref().map_or([b1, b2], |t| {
+            let [ia, ib, ic] = self.indices[face].map(|i| i as usize);
+            std::array::from_fn(|k| t[ia][k] * b0 + t[ib][k] * b1 + t[ic][k] * b2)
+        })
+    }
+
     /// Replaces the vertex normals by smooth ones computed from the
     /// world-space faces, as Mitsuba 3 computes them when a mesh has none:
     /// each face adds its unit normal to its three corners, weighted by the

@@ -143,9 +143,7 @@ impl Shape {
                     Some(ns) => (n_geometric, ns),
                     None => (n_geometric, n_geometric),
                 };
-                let uv = m.uvs.as_ref().map_or([b1, b2], |t| {
-                    std::array::from_fn(|k| t[ia][k] * b0 + t[ib][k] * b1 + t[ic][k] * b2)
-                });
+                let uv = m.uv_at(f, b1, b2);
                 let (dpdu, dpdv) = match &m.uvs {
                     Some(t) => mesh::uv_derivatives([a, b, c], [t[ia], t[ib], t[ic]]),
                     // The texture coordinates are the barycentrics (b1, b2).
@@ -189,22 +187,13 @@ impl Shape {
                 let p = pl.world_from_object.point(Vec3::new(x, y, 0.0));
                 let n = pl.normal();
                 let two_pi = 2.0 * std::f32::consts::PI;
+                let uv = pl.uv_at(x, y);
                 // Object-space derivatives, then placed by the transform.
-                let (uv, dpdu, dpdv) = match pl.kind {
-                    PlanarKind::Rectangle => (
-                        [0.5 * (x + 1.0), 0.5 * (y + 1.0)],
-                        Vec3::new(2.0, 0.0, 0.0),
-                        Vec3::new(0.0, 2.0, 0.0),
-                    ),
+                let (dpdu, dpdv) = match pl.kind {
+                    PlanarKind::Rectangle => (Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0)),
                     PlanarKind::Disk => {
-                        let r = (x * x + y * y).sqrt();
-                        let phi = y.atan2(x).rem_euclid(two_pi);
-                        let (sin_p, cos_p) = phi.sin_cos();
-                        (
-                            [r, phi / two_pi],
-                            Vec3::new(cos_p, sin_p, 0.0),
-                            Vec3::new(-y, x, 0.0) * two_pi,
-                        )
+                        let (sin_p, cos_p) = (two_pi * uv[1]).sin_cos();
+                        (Vec3::new(cos_p, sin_p, 0.0), Vec3::new(-y, x, 0.0) * two_pi)
                     }
                 };
                 Surface {

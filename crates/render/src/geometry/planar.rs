@@ -92,6 +92,20 @@ impl Planar {
         self.normal
     }
 
+    /// Mitsuba's texture coordinates at object point (x, y): for the
+    /// rectangle ((x + 1)/2, (y + 1)/2), for the disk (r, φ/2π).
+    #[inline]
+    pub fn uv_at(&self, x: f32, y: f32) -> [f32; 2] {
+        match self.kind {
+            PlanarKind::Rectangle => [0.5 * (x + 1.0), 0.5 * (y + 1.0)],
+            PlanarKind::Disk => {
+                let two_pi = 2.0 * std::f32::consts::PI;
+                let phi = y.atan2(x).rem_euclid(two_pi);
+                [(x * x + y * y).sqrt(), phi / two_pi]
+            }
+        }
+    }
+
     /// World-space area (the object shape's area times the transform's
     /// area scale on the z = 0 plane).
     pub fn area(&self) -> f32 {

@@ -151,6 +151,7 @@ impl Sphere {
             SurfacePoint {
                 p: self.center + n * self.radius,
                 n: self.normal(n),
+                uv: self.uv(n),
             },
             uniform_cone_pdf(one_minus_max as f32),
         ))

@@ -138,7 +138,7 @@ impl Renderer<'_> {
             // Emission of an area light we landed on.
             if let Some(li) = scene.shape_light[hit.shape as usize] {
                 if let Light::Area(area) = &scene.lights[li as usize] {
-                    let le = area.radiance(&now, surface.n_geometric, wo_world);
+                    let le = area.radiance(&now, surface.uv, surface.n_geometric, wo_world);
                     if !le.is_zero() {
                         let w = if delta {
                             1.0

@@ -21,6 +21,8 @@ pub struct Emission<const K: usize> {
     pub p: Vec3,
     /// The emitting surface's normal (area lights), else `None`.
     pub n: Option<Vec3>,
+    /// Texture coordinates of the emitting point (area lights; else 0).
+    pub uv: [f32; 2],
     /// Unit direction the light leaves in.
     pub d: Vec3,
     /// Radiance (area, infinite), intensity (point, spot) or irradiance
@@ -71,6 +73,7 @@ impl Light {
                 Some(Emission {
                     p: l.position,
                     n: None,
+                    uv: [0.0; 2],
                     d,
                     le: l.intensity.sample(wl),
                     pdf_pos: 1.0,
@@ -87,6 +90,7 @@ impl Light {
                 (l.falloff(local.z) > 0.0).then(|| Emission {
                     p: l.position,
                     n: None,
+                    uv: [0.0; 2],
                     d,
                     le: l.intensity_towards(wl, d),
                     pdf_pos: 1.0,
@@ -98,6 +102,7 @@ impl Light {
                 (pdf_dir > 0.0).then(|| Emission {
                     p: l.position,
                     n: None,
+                    uv: [0.0; 2],
                     d,
                     le: l.intensity_towards(wl, d),
                     pdf_pos: 1.0,
@@ -107,6 +112,7 @@ impl Light {
             Light::Directional(l) => Some(Emission {
                 p: disk(l.direction, u_pos),
                 n: None,
+                uv: [0.0; 2],
                 d: l.direction,
                 le: l.irradiance.sample(wl),
                 pdf_pos: disk_pdf,
@@ -121,8 +127,9 @@ impl Light {
                 (pdf_dir > 0.0 && l.area() > 0.0).then(|| Emission {
                     p: s.p,
                     n: Some(s.n),
+                    uv: s.uv,
                     d,
-                    le: l.radiance.sample(wl),
+                    le: l.radiance.eval(wl, s.uv),
                     pdf_pos: 1.0 / l.area(),
                     pdf_dir,
                 })
@@ -133,6 +140,7 @@ impl Light {
                 Some(Emission {
                     p: disk(d, u_pos),
                     n: None,
+                    uv: [0.0; 2],
                     d,
                     le: ls.radiance,
                     pdf_pos: disk_pdf,

@@ -126,15 +126,19 @@ impl Light {
     }
 
     /// The spectral shape of the light's emission (its radiance, intensity,
-    /// irradiance, or for a map the radiance integrated over directions):
-    /// what wavelengths are drawn from for it.
+    /// irradiance; for a textured area light or projector the mean over its
+    /// surface or image; for a map the radiance integrated over
+    /// directions): what wavelengths are drawn from for it. Any shape will
+    /// do for an unbiased image (the estimate divides by the density it
+    /// drew with, and the defensive share covers every wavelength); a
+    /// close one lowers the noise.
     pub fn spectrum(&self) -> &Spectrum {
         match self {
             Light::Point(l) => &l.intensity,
             Light::Spot(l) => &l.intensity,
             Light::Projector(l) => l.spectrum(),
             Light::Directional(l) => &l.irradiance,
-            Light::Area(l) => &l.radiance,
+            Light::Area(l) => l.mean_radiance(),
             Light::Constant(l) => &l.radiance,
             Light::EnvMap(l) => l.total_spectrum(),
         }

@@ -9,7 +9,7 @@
 //! 1/(A cos³θ) with A the image's area on that plane (as the camera's rays,
 //! `camera::importance`).
 
-use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum, Tabulated};
+use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
 
 use super::simple::towards;
 use super::{spectral_power, LightSample, Power};
@@ -33,7 +33,12 @@ pub struct ProjectorLight {
 impl ProjectorLight {
     pub fn new(camera: Camera, irradiance: Texture, scale: f32) -> Self {
         let position = camera.world_from_camera.point(Vec3::ZERO);
-        let mean = mean_spectrum(&irradiance);
+        // E averaged over a 32 × 32 grid of the image.
+        let n = 32;
+        let grid: Vec<[f32; 2]> = (0..n * n)
+            .map(|k| [(k % n) as f32 + 0.5, (k / n) as f32 + 0.5].map(|x| x / n as f32))
+            .collect();
+        let mean = irradiance.mean_spectrum(&grid);
         Self {
             camera,
             position,
@@ -103,31 +108,4 @@ impl ProjectorLight {
     pub fn spectrum(&self) -> &Spectrum {
         &self.mean
     }
-}
-
-/// The texture's spectrum averaged over a 32 × 32 grid of uv, tabulated
-/// every 5 nm.
-fn mean_spectrum(t: &Texture) -> Spectrum {
-    if let Texture::Constant(s) = t {
-        return s.clone();
-    }
-    let n = 32;
-    let lambda: Vec<f32> = (360..=830).step_by(5).map(|l| l as f32).collect();
-    let values = lambda
-        .iter()
-        .map(|&l| {
-            let wl = SampledWavelengths::<1>::new([l], [1.0]);
-            let mut sum = 0.0;
-            for i in 0..n {
-                for j in 0..n {
-                    let uv = [(i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32];
-                    sum += t.eval(&wl, uv).average();
-                }
-            }
-            sum / (n * n) as f32
-        })
-        .collect();
-    Tabulated::new(lambda, values)
-        .map(Spectrum::from)
-        .unwrap_or(Spectrum::Constant(0.0))
 }

@@ -15,7 +15,7 @@ pub use checkerboard::Checkerboard;
 pub use scalar::{luminance, FloatCheckerboard, FloatTexture, RgbBitmap};
 pub use uv::UvTransform;
 
-use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
+use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum, Tabulated};
 
 /// The closed set of textures.
 #[derive(Debug, Clone, PartialEq)]
@@ -72,6 +72,53 @@ impl Texture {
             }
             Texture::Bitmap(b) => b.mean(),
             Texture::Checkerboard(c) => 0.5 * (c.color0.mean() + c.color1.mean()),
+        }
+    }
+
+    /// The spectrum averaged over the texture coordinates `uvs` (equal
+    /// weights: the caller chooses where, e.g. uniformly over a surface's
+    /// area), tabulated every 5 nm; a constant texture's own spectrum.
+    /// Emitters draw wavelengths from it and report their power by it.
+    pub fn mean_spectrum(&self, uvs: &[[f32; 2]]) -> Spectrum {
+        if let Texture::Constant(s) = self {
+            return s.clone();
+        }
+        // Every 5 nm, and at the samples of the spectra the texture holds,
+        // so a line emitter's line stays in its mean.
+        let mut lambda: Vec<f32> = (360..=830).step_by(5).map(|l| l as f32).collect();
+        self.breakpoints(&mut lambda);
+        lambda.retain(|l| (360.0..=830.0).contains(l));
+        lambda.sort_by(f32::total_cmp);
+        lambda.dedup();
+        let mut sums = vec![0.0f64; lambda.len()];
+        // Eight wavelengths per lookup, so a texel's upsampling is shared.
+        for (chunk, out) in lambda.chunks(8).zip(sums.chunks_mut(8)) {
+            let mut l = [chunk[chunk.len() - 1]; 8];
+            l[..chunk.len()].copy_from_slice(chunk);
+            let wl = SampledWavelengths::<8>::new(l, [1.0; 8]);
+            for &uv in uvs {
+                let v = self.eval(&wl, uv);
+                for (k, o) in out.iter_mut().enumerate() {
+                    *o += v.0[k] as f64;
+                }
+            }
+        }
+        let n = uvs.len().max(1) as f64;
+        let values = sums.iter().map(|s| (s / n) as f32).collect();
+        Tabulated::new(lambda, values)
+            .map(Spectrum::from)
+            .unwrap_or(Spectrum::Constant(0.0))
+    }
+
+    /// Appends the tabulated wavelengths of the spectra the texture holds.
+    fn breakpoints(&self, out: &mut Vec<f32>) {
+        match self {
+            Texture::Constant(s) => out.extend(s.breakpoints()),
+            Texture::Bitmap(_) => {}
+            Texture::Checkerboard(c) => {
+                c.color0.breakpoints(out);
+                c.color1.breakpoints(out);
+            }
         }
     }
 

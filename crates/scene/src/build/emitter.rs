@@ -99,15 +99,7 @@ pub fn build_emitter(b: &mut Builder, node: &Node) -> Result<Light, SceneError> 
             // Mitsuba's default irradiance: 1 in its spectral units.
             // A bitmap is upsampled as it is (white is equal-energy), a
             // colour or number × the normalised D65, as Mitsuba does.
-            let irradiance = match p.get("irradiance") {
-                Some(n) if n.tag == "texture" || n.tag == "ref" => {
-                    b.texture(&p, "irradiance", Usage::Unbounded, 1.0)?
-                }
-                Some(_) => b.texture(&p, "irradiance", Usage::Emission, 1.0)?,
-                None => Texture::Constant(
-                    normalised_illuminant("d65").map_err(|e| node.error(e))?,
-                ),
-            };
+            let irradiance = emissive_texture(b, &p, node, "irradiance")?;
             let (w, h) = match &irradiance {
                 Texture::Bitmap(bm) => (bm.width() as u32, bm.height() as u32),
                 _ => (1, 1),
@@ -136,4 +128,24 @@ pub fn build_emitter(b: &mut Builder, node: &Node) -> Result<Light, SceneError> 
     };
     b.report_unused(&p);
     Ok(light)
+}
+
+/// An emitter's texture parameter `name` (`radiance`, `irradiance`), as
+/// Mitsuba's `get_emissive_texture` reads it: a `<texture>` or a `<ref>` to
+/// one is used as it is (a bitmap upsampled unbounded: white is
+/// equal-energy), a colour or number is × the normalised D65, and an
+/// absent one is 1 (the normalised D65).
+pub(super) fn emissive_texture(
+    b: &mut Builder,
+    p: &Props,
+    node: &Node,
+    name: &str,
+) -> Result<Texture, SceneError> {
+    Ok(match p.get(name) {
+        Some(n) if n.tag == "texture" || n.tag == "ref" => {
+            b.texture(p, name, Usage::Unbounded, 1.0)?
+        }
+        Some(_) => b.texture(p, name, Usage::Emission, 1.0)?,
+        None => Texture::Constant(normalised_illuminant("d65").map_err(|e| node.error(e))?),
+    })
 }

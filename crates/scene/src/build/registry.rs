@@ -112,7 +112,7 @@ pub const PLUGINS: &[Plugin] = &[
     p("shape", "ellipsoids", Skipped, "", "not intersected yet"),
     p("shape", "ellipsoidsmesh", Skipped, "", "not intersected yet"),
     // Emitters
-    p("emitter", "area", Full, "radiance", "nested in a shape or referenced from one; radiance is a spectrum, not a texture"),
+    p("emitter", "area", Full, "radiance (texture or spectrum)", "nested in a shape or referenced from one; sampled by area (Mitsuba importance-samples a texture: same expectation); wavelengths drawn from the radiance averaged over the area"),
     p("emitter", "point", Full, "intensity, position, to_world", ""),
     p("emitter", "spot", Full, "intensity, cutoff_angle, beam_width, texture, to_world", "a texture scales the light's power by its mean for choosing lights"),
     p("emitter", "directional", Full, "irradiance, direction, to_world", ""),

@@ -15,7 +15,7 @@ use super::integrator::{build_integrator, DEFAULT};
 use super::registry::{self, Support};
 use super::sensor::{build_sensor, Sensor};
 use super::{emitter, shape, Builder};
-use crate::mitsuba::{Node, Props, SceneError, Usage};
+use crate::mitsuba::{Node, Props, SceneError};
 
 pub struct World {
     pub sensor: Option<Sensor>,
@@ -159,9 +159,7 @@ impl World {
                 return Err(e.error("only an 'area' emitter can be attached to a shape"));
             }
             let p = Props::new(e);
-            let radiance = p
-                .spectrum("radiance", Usage::Emission)?
-                .ok_or_else(|| e.error("missing 'radiance'"))?;
+            let radiance = emitter::emissive_texture(b, &p, e, "radiance")?;
             b.report_unused(&p);
             self.lights
                 .push(Light::Area(AreaLight::new(index, &shape, radiance)));
