@@ -13,7 +13,7 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths};
 use super::plastic::{glossy_or_diffuse_pdf, sample_glossy_or_diffuse};
 use super::{fresnel_dielectric, BsdfSample, MicrofacetDistribution};
 use crate::math::Vec3;
-use crate::texture::Texture;
+use crate::texture::{TexPoint, Texture};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct PolarizedPlastic {
@@ -48,7 +48,7 @@ impl PolarizedPlastic {
     pub fn eval<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: TexPoint,
         wi: Vec3,
         wo: Vec3,
     ) -> SampledSpectrum<K> {
@@ -75,7 +75,7 @@ impl PolarizedPlastic {
     pub fn sample<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: TexPoint,
         wi: Vec3,
         u_lobe: f32,
         u: [f32; 2],
