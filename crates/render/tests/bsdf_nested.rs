@@ -84,7 +84,7 @@ fn pplastic(alpha: f32) -> Bsdf {
         Texture::constant(0.5),
         Texture::constant(1.0),
         1.5,
-        MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, alpha),
+        MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, alpha).into(),
     ))
 }
 

@@ -164,7 +164,8 @@ impl Bsdf {
     /// [`Bsdf::pdf_at`] at texture coordinates (0, 0) of a flat surface:
     /// the density of every BSDF whose sampling does not depend on the
     /// point (all but `mask`, `blendbsdf`, `normalmap`, `bumpmap` with
-    /// textures); the tracers use `pdf_at`.
+    /// textures, textured roughness, `principled`); the tracers use
+    /// `pdf_at`.
     pub fn pdf<const K: usize>(&self, wl: &SampledWavelengths<K>, wi: Vec3, wo: Vec3) -> f32 {
         self.pdf_at(wl, [0.0, 0.0], wi, wo)
     }
@@ -197,7 +198,7 @@ impl Bsdf {
             Bsdf::Blend(b) => b.pdf(wl, at, wi, wo),
             Bsdf::NormalMap(b) => b.pdf(wl, at, wi, wo),
             Bsdf::BumpMap(b) => b.pdf(wl, at, wi, wo),
-            Bsdf::PolarizedPlastic(b) => b.pdf(wi, wo),
+            Bsdf::PolarizedPlastic(b) => b.pdf(at.tex(), wi, wo),
             Bsdf::Principled(b) => b.pdf(at.tex(), wi, wo),
             Bsdf::PrincipledThin(b) => b.pdf(at.tex(), wi, wo),
         }

@@ -13,7 +13,7 @@ use scotopia_render::bsdf::{
 };
 use scotopia_render::texture::{FloatCheckerboard, FloatTexture, RgbBitmap, Texture};
 
-use super::bsdf::{roughness, Anisotropy};
+use super::bsdf::textured_roughness;
 use super::ior::read_ior;
 use super::texture::{raw_constant, read_bitmap, uv_transform};
 use super::{mesh_attribute, Builder};
@@ -111,7 +111,7 @@ pub fn build(b: &mut Builder, kind: &str, p: &Props, node: &Node) -> Result<Bsdf
             let ext = read_ior(p, "ext_ior", "air")?.eval(550.0);
             let diffuse = b.texture(p, "diffuse_reflectance", Usage::Reflectance, 0.5)?;
             let specular = b.texture(p, "specular_reflectance", Usage::Reflectance, 1.0)?;
-            let distribution = roughness(b, p, node, Anisotropy::Allowed)?;
+            let distribution = textured_roughness(b, p, node)?;
             b.warn(
                 node,
                 "pplastic: scotopia does not track polarisation; rendered as Mitsuba's \

@@ -87,7 +87,7 @@ pub const PLUGINS: &[Plugin] = &[
     p("bsdf", "blendbsdf", Full, "weight (number or texture), two nested BSDFs", ""),
     p("bsdf", "normalmap", Full, "normalmap (bitmap or rawconstant), flip_invalid_normals, nested BSDF", "frame from dp/du as Mitsuba 3.9"),
     p("bsdf", "bumpmap", Full, "a height texture, scale, nested BSDF", ""),
-    p("bsdf", "pplastic", Warned, "diffuse_reflectance, specular_reflectance, int_ior, ext_ior, alpha", "its unpolarised form, exactly"),
+    p("bsdf", "pplastic", Warned, "diffuse_reflectance, specular_reflectance, int_ior, ext_ior, alpha (number or texture)", "its unpolarised form, exactly"),
     p("bsdf", "principled", Full, "base_color, roughness, anisotropic, metallic, spec_trans, eta or specular, spec_tint, sheen, sheen_tint, flatness, clearcoat, clearcoat_gloss (numbers or textures), *_sampling_rate", "tints by luminance on the path's wavelengths, as Mitsuba's spectral variants, weighted to its wavelength density"),
     p("bsdf", "principledthin", Full, "base_color, roughness, anisotropic, spec_trans, eta, spec_tint, sheen, sheen_tint, flatness, diff_trans (numbers or textures), *_sampling_rate", "tints by luminance on the path's wavelengths, as Mitsuba's spectral variants, weighted to its wavelength density"),
     p("bsdf", "polarizer", Warned, "transmittance", "passes ½ of unpolarised light"),
