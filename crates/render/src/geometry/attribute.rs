@@ -22,12 +22,6 @@ impl Attribute {
         self.name.starts_with("face_")
     }
 
-    /// Record `i`.
-    #[inline]
-    pub fn record(&self, i: usize) -> &[f32] {
-        &self.values[i * self.dim..(i + 1) * self.dim]
-    }
-
     /// Checks the name's prefix and that there is one record per vertex
     /// (`vertices`) or per face (`faces`).
     pub fn check(&self, vertices: usize, faces: usize) -> Result<(), GeometryError> {
