@@ -189,7 +189,7 @@ impl Bsdf {
                     value[[i, c * CLUSTER + j]] = f64::from(v[j]);
                 }
             }
-            pdf[i] = f64::from(self.inner.pdf(&cl[0], wi[i], wo[i]));
+            pdf[i] = f64::from(self.inner.pdf_at(&cl[0], uv[i], wi[i], wo[i]));
         }
         Ok((value.into_pyarray(py), pdf.into_pyarray(py)))
     }

@@ -9,17 +9,21 @@ use common::{chi2_directions, Rng};
 use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
 use scotopia_render::bsdf::{
     diffuse_fresnel_reflectance, fresnel_dielectric, Bsdf, Conductor, Dielectric, Diffuse, Ior,
-    MicrofacetDistribution, MicrofacetKind, Plastic, RoughDielectric, RoughPlastic, ThinDielectric,
-    Transport,
+    MicrofacetDistribution, MicrofacetKind, Plastic, RoughDielectric, RoughPlastic, Roughness,
+    ThinDielectric, Transport,
 };
 use scotopia_render::math::Vec3;
-use scotopia_render::texture::Texture;
+use scotopia_render::texture::{FloatTexture, RgbBitmap, TexPoint, Texture};
 
 /// Texture coordinates of every query (the BSDFs here are untextured).
-const UV: [f32; 2] = [0.5, 0.5];
+const UV: TexPoint = TexPoint {
+    uv: [0.5, 0.5],
+    prim: 0,
+    bary: [0.0, 0.0],
+};
 
 /// Chi-square cases: each BSDF at three incidence angles.
-const CASES: usize = 16 * 3;
+const CASES: usize = 18 * 3;
 /// Significance per test, Bonferroni-corrected over the chi-square cases.
 const ALPHA: f64 = 0.01 / CASES as f64;
 
@@ -62,7 +66,7 @@ fn conductor_with(distribution: Option<MicrofacetDistribution>) -> Bsdf {
         eta: Spectrum::Constant(0.27),
         k: Spectrum::Constant(3.4),
         specular_reflectance: Texture::constant(1.0),
-        distribution,
+        distribution: distribution.map(Into::into),
     })
 }
 
@@ -80,7 +84,7 @@ fn rough_glass(alpha: f32) -> Bsdf {
 fn glass_with(distribution: MicrofacetDistribution) -> Bsdf {
     Bsdf::RoughDielectric(RoughDielectric {
         ior: glass(Spectrum::Constant(1.5)),
-        distribution,
+        distribution: distribution.into(),
         specular_reflectance: Texture::constant(1.0),
         specular_transmittance: Texture::constant(1.0),
     })
@@ -180,8 +184,109 @@ fn sampling_cases() -> Vec<(&'static str, Bsdf, Vec3)> {
             Bsdf::RoughPlastic(plastic_with(iso(Beckmann, 0.3), false)),
             dir(theta, 120.0),
         ));
+        // Roughness looked up in textures where the BSDF is evaluated.
+        cases.push((
+            "ggx conductor α textured 0.6 × 0.12",
+            conductor_textured(textured(Ggx)),
+            dir(theta, 30.0),
+        ));
+        cases.push((
+            "beckmann glass α textured 0.6 × 0.12 from outside",
+            glass_textured(textured(Beckmann)),
+            dir(theta, 100.0),
+        ));
     }
     cases
+}
+
+/// α_u from a bilinear row of three texels, 0.1, 0.6 and 0.3 (0.6 at
+/// `UV`, 0.2 at (0, 0), where `Bsdf::pdf` looks), α_v a constant 0.12:
+/// anisotropic, so swapped textures would show.
+fn textured(kind: MicrofacetKind) -> Roughness {
+    let row = RgbBitmap::new(3, 1, vec![[0.1; 3], [0.6; 3], [0.3; 3]]).unwrap();
+    let r = Roughness::new(
+        kind,
+        FloatTexture::Bitmap(row.into()),
+        FloatTexture::Constant(0.12),
+    );
+    let at_uv = r.at(UV);
+    assert!((at_uv.alpha_u - 0.6).abs() < 1e-5 && at_uv.alpha_v == 0.12);
+    assert!((r.at([0.0, 0.0].into()).alpha_u - 0.2).abs() < 1e-5);
+    r
+}
+
+fn conductor_textured(roughness: Roughness) -> Bsdf {
+    Bsdf::Conductor(Conductor {
+        eta: Spectrum::Constant(0.27),
+        k: Spectrum::Constant(3.4),
+        specular_reflectance: Texture::constant(1.0),
+        distribution: Some(roughness),
+    })
+}
+
+fn glass_textured(roughness: Roughness) -> Bsdf {
+    Bsdf::RoughDielectric(RoughDielectric {
+        ior: glass(Spectrum::Constant(1.5)),
+        distribution: roughness,
+        specular_reflectance: Texture::constant(1.0),
+        specular_transmittance: Texture::constant(1.0),
+    })
+}
+
+#[test]
+fn a_textured_roughness_is_the_constant_one_at_its_value() {
+    // A 1×1 texture of α (the textured path) against the number α (the
+    // constant path): the same values, densities and samples.
+    let w = wl();
+    let one = |a: f32| FloatTexture::Bitmap(RgbBitmap::new(1, 1, vec![[a; 3]]).unwrap().into());
+    for kind in [Beckmann, Ggx] {
+        let (tex, constant) = (
+            Roughness::new(kind, one(0.3), one(0.15)),
+            Roughness::from(aniso(kind, 0.3, 0.15)),
+        );
+        assert!(tex.constant().is_none());
+        for (a, b) in [
+            (
+                conductor_textured(tex.clone()),
+                conductor_textured(constant.clone()),
+            ),
+            (
+                glass_textured(tex.clone()),
+                glass_textured(constant.clone()),
+            ),
+        ] {
+            let mut rng = Rng(5);
+            for _ in 0..500 {
+                let (wi, u1, u2) = (
+                    dir(70.0 * rng.next(), 360.0 * rng.next()),
+                    rng.next(),
+                    rng.pair(),
+                );
+                let (sa, sb) = (
+                    a.sample(&w, UV, wi, u1, u2, Transport::Radiance),
+                    b.sample(&w, UV, wi, u1, u2, Transport::Radiance),
+                );
+                let (Some(sa), Some(sb)) = (sa, sb) else {
+                    assert_eq!(sa.is_some(), sb.is_some());
+                    continue;
+                };
+                let close = |x: f32, y: f32| (x - y).abs() <= 1e-4 * x.abs().max(1.0);
+                assert!(
+                    (sa.wo - sb.wo).length() < 1e-4 && close(sa.pdf, sb.pdf),
+                    "{sa:?} {sb:?}"
+                );
+                let (ea, eb) = (
+                    a.eval(&w, UV, wi, sa.wo, Transport::Radiance),
+                    b.eval(&w, UV, wi, sa.wo, Transport::Radiance),
+                );
+                assert!(close(ea[0], eb[0]) && close(sa.weight[0], sb.weight[0]));
+                assert!(close(
+                    a.pdf_at(&w, UV, wi, sa.wo),
+                    b.pdf_at(&w, UV, wi, sa.wo)
+                ));
+            }
+        }
+    }
 }
 
 #[test]
@@ -616,12 +721,12 @@ fn white_rough_conductor_reflects_at_most_everything() {
     // midpoint rule within 4 standard errors (plus 10⁻³ for the rule's own
     // error on these lobes).
     let w = wl();
-    let white = |d| {
+    let white = |d: MicrofacetDistribution| {
         Bsdf::Conductor(Conductor {
             eta: Spectrum::Constant(0.0),
             k: Spectrum::Constant(1.0),
             specular_reflectance: Texture::constant(1.0),
-            distribution: Some(d),
+            distribution: Some(d.into()),
         })
     };
     for d in [

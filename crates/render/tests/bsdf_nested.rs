@@ -44,7 +44,7 @@ fn conductor(alpha: f32) -> Bsdf {
         k: Spectrum::Constant(3.0),
         specular_reflectance: Texture::constant(1.0),
         distribution: (alpha > 0.0)
-            .then(|| MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, alpha)),
+            .then(|| MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, alpha).into()),
     })
 }
 
@@ -85,7 +85,7 @@ fn pplastic(alpha: f32) -> Bsdf {
         Texture::constant(0.5),
         Texture::constant(1.0),
         1.5,
-        MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, alpha),
+        MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, alpha).into(),
     ))
 }
 
@@ -388,10 +388,8 @@ fn a_height_ramp_tilts_a_mirror_by_its_slope() {
     );
     // The slope is per unit of u: with ∂p/∂u twice as long, half the tilt.
     let at = ShadingPoint {
-        uv: [0.5, 0.5],
         dpdu: Vec3::new(2.0, 0.0, 0.0),
-        dpdv: Vec3::new(0.0, 1.0, 0.0),
-        ng: Vec3::new(0.0, 0.0, 1.0),
+        ..ShadingPoint::from([0.5, 0.5])
     };
     let s = bsdf
         .sample(&w, at, wi, 0.5, [0.5, 0.5], Transport::Radiance)

@@ -26,7 +26,7 @@ fn traced_deviation(glass: &Dielectric, apex: f32, incidence: f32, lambda: f32) 
         let s = glass
             .sample(
                 &wl,
-                [0.0, 0.0],
+                [0.0, 0.0].into(),
                 frame.to_local(-d),
                 0.9999,
                 Transport::Radiance,

@@ -55,6 +55,8 @@ fn example(kind: &str, name: &str) -> String {
         ("integrator", "moment" | "aov" | "stokes") => format!(r#"<integrator type="{name}"><integrator type="path"/></integrator>"#),
         ("integrator", _) => format!(r#"<integrator type="{name}"/>"#),
         ("texture", "bitmap") => sphere(r#"<bsdf type="diffuse"><texture type="bitmap" name="reflectance"><string name="filename" value="flat.png"/></texture></bsdf>"#),
+        ("texture", "mesh_attribute") => r#"<shape type="ply"><string name="filename" value="attr.ply"/><bsdf type="diffuse"><texture type="mesh_attribute" name="reflectance"><string name="name" value="vertex_w"/></texture></bsdf></shape>"#.into(),
+        ("texture", "rawconstant") => sphere(r#"<bsdf type="diffuse"><texture type="rawconstant" name="reflectance"><float name="value" value="0.5"/></texture></bsdf>"#),
         ("texture", _) => sphere(&format!(r#"<bsdf type="diffuse"><texture type="{name}" name="reflectance"/></bsdf>"#)),
         ("spectrum", _) => {
             let inner = match name {
@@ -97,6 +99,11 @@ fn every_plugin_loads_as_the_registry_says() {
     std::fs::write(
         dir.join("tri.ply"),
         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("attr.ply"),
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nproperty float w_0\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0 0\n1 0 0 0.5\n0 1 0 1\n3 0 1 2\n",
     )
     .unwrap();
     // A 1×1 PNG of (128, 128, 255): a flat normal map, a grey texture.

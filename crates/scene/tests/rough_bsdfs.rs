@@ -24,8 +24,12 @@ fn load(name: &str, bsdfs: &str) -> Result<Scene, String> {
 
 fn distribution(b: &Bsdf) -> MicrofacetDistribution {
     match b {
-        Bsdf::Conductor(c) => c.distribution.expect("rough"),
-        Bsdf::RoughDielectric(d) => d.distribution,
+        Bsdf::Conductor(c) => c
+            .distribution
+            .as_ref()
+            .and_then(|r| r.constant())
+            .expect("rough"),
+        Bsdf::RoughDielectric(d) => d.distribution.constant().expect("constant"),
         Bsdf::RoughPlastic(p) => p.distribution,
         other => panic!("not rough: {other:?}"),
     }
@@ -94,8 +98,8 @@ fn unreadable_roughness_is_an_error_naming_the_place() {
             "anisotropic roughness",
         ),
         (
-            r#"<bsdf type="roughconductor"><texture type="checkerboard" name="alpha"/></bsdf>"#,
-            "a textured roughness ('alpha') is not supported yet",
+            r#"<bsdf type="roughplastic"><texture type="checkerboard" name="alpha"/></bsdf>"#,
+            "a textured roughness ('alpha') is not supported by 'roughplastic'",
         ),
         (
             r#"<bsdf type="roughconductor"><float name="alpha" value="-0.1"/></bsdf>"#,

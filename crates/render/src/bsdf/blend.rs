@@ -9,7 +9,7 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::{Bsdf, BsdfSample, ShadingPoint, Transport};
 use crate::math::Vec3;
-use crate::texture::FloatTexture;
+use crate::texture::{FloatTexture, TexPoint};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Blend {
@@ -21,7 +21,7 @@ pub struct Blend {
 
 impl Blend {
     #[inline]
-    fn weight(&self, uv: [f32; 2]) -> f32 {
+    fn weight(&self, uv: TexPoint) -> f32 {
         self.weight.eval_fraction(uv)
     }
 
@@ -33,7 +33,7 @@ impl Blend {
         wo: Vec3,
         mode: Transport,
     ) -> SampledSpectrum<K> {
-        let w = self.weight(at.uv);
+        let w = self.weight(at.tex());
         self.first.eval(wl, at, wi, wo, mode) * (1.0 - w)
             + self.second.eval(wl, at, wi, wo, mode) * w
     }
@@ -45,7 +45,7 @@ impl Blend {
         wi: Vec3,
         wo: Vec3,
     ) -> f32 {
-        let w = self.weight(at.uv);
+        let w = self.weight(at.tex());
         self.first.pdf_at(wl, at, wi, wo) * (1.0 - w) + self.second.pdf_at(wl, at, wi, wo) * w
     }
 
@@ -58,7 +58,7 @@ impl Blend {
         u: [f32; 2],
         mode: Transport,
     ) -> Option<BsdfSample<K>> {
-        let w = self.weight(at.uv);
+        let w = self.weight(at.tex());
         // Mitsuba's rule: u ≤ w picks the second BSDF.
         let (chosen, other, p_chosen, u_lobe) = if u_lobe <= w && w > 0.0 {
             (&self.second, &self.first, w, u_lobe / w)

@@ -4,9 +4,9 @@
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
 
-use super::{fresnel_conductor, reflect, reflect_about, BsdfSample, MicrofacetDistribution};
+use super::{fresnel_conductor, reflect, reflect_about, BsdfSample, Roughness};
 use crate::math::Vec3;
-use crate::texture::Texture;
+use crate::texture::{TexPoint, Texture};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Conductor {
@@ -17,14 +17,14 @@ pub struct Conductor {
     /// A scale on the reflectance (Mitsuba's `specular_reflectance`).
     pub specular_reflectance: Texture,
     /// The microfacet roughness; `None` is a perfect mirror.
-    pub distribution: Option<MicrofacetDistribution>,
+    pub distribution: Option<Roughness>,
 }
 
 impl Conductor {
     fn fresnel<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: TexPoint,
         cos_i: f32,
     ) -> SampledSpectrum<K> {
         let (eta, k) = (self.eta.sample(wl), self.k.sample(wl));
@@ -40,29 +40,31 @@ impl Conductor {
     pub fn eval<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: TexPoint,
         wi: Vec3,
         wo: Vec3,
     ) -> SampledSpectrum<K> {
-        let Some(dist) = &self.distribution else {
+        let Some(roughness) = &self.distribution else {
             return SampledSpectrum::splat(0.0);
         };
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return SampledSpectrum::splat(0.0);
         }
+        let dist = roughness.at(uv);
         let m = (wi + wo).normalize();
         // f·cos θ_o = F D G / (4 cos θ_i).
         let v = dist.d(m) * dist.g(wi, wo, m) / (4.0 * wi.z);
         self.fresnel(wl, uv, wi.dot(m)) * v
     }
 
-    pub fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
-        let Some(dist) = &self.distribution else {
+    pub fn pdf(&self, uv: TexPoint, wi: Vec3, wo: Vec3) -> f32 {
+        let Some(roughness) = &self.distribution else {
             return 0.0;
         };
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return 0.0;
         }
+        let dist = roughness.at(uv);
         let m = (wi + wo).normalize();
         if wo.dot(m) <= 0.0 {
             return 0.0;
@@ -74,14 +76,14 @@ impl Conductor {
     pub fn sample<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: TexPoint,
         wi: Vec3,
         u: [f32; 2],
     ) -> Option<BsdfSample<K>> {
         if wi.z <= 0.0 {
             return None;
         }
-        let Some(dist) = &self.distribution else {
+        let Some(roughness) = &self.distribution else {
             return Some(BsdfSample {
                 wo: reflect(wi),
                 weight: self.fresnel(wl, uv, wi.z),
@@ -90,6 +92,7 @@ impl Conductor {
                 collapse: false,
             });
         };
+        let dist = roughness.at(uv);
         let m = dist.sample_visible(wi, u);
         let wo = reflect_about(wi, m);
         if wo.z <= 0.0 {

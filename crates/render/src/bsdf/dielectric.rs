@@ -7,7 +7,7 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
 
 use super::{fresnel_dielectric, reflect, BsdfSample, Transport};
 use crate::math::Vec3;
-use crate::texture::Texture;
+use crate::texture::{TexPoint, Texture};
 
 /// η(λ) = interior / exterior index per wavelength, and whether it varies.
 #[derive(Debug, Clone, PartialEq)]
@@ -53,7 +53,7 @@ impl Dielectric {
     pub fn sample<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: TexPoint,
         wi: Vec3,
         u: f32,
         mode: Transport,
@@ -114,7 +114,7 @@ impl ThinDielectric {
     pub fn sample<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: TexPoint,
         wi: Vec3,
         u: f32,
     ) -> Option<BsdfSample<K>> {

@@ -7,7 +7,7 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths};
 use super::BsdfSample;
 use crate::math::Vec3;
 use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
-use crate::texture::Texture;
+use crate::texture::{TexPoint, Texture};
 
 /// f = ρ/π on the side the normal points to.
 #[derive(Debug, Clone, PartialEq)]
@@ -19,7 +19,7 @@ impl Diffuse {
     pub fn eval<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: TexPoint,
         wi: Vec3,
         wo: Vec3,
     ) -> SampledSpectrum<K> {
@@ -39,7 +39,7 @@ impl Diffuse {
     pub fn sample<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: TexPoint,
         wi: Vec3,
         u: [f32; 2],
     ) -> Option<BsdfSample<K>> {

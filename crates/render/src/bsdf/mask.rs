@@ -10,7 +10,7 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths};
 use super::null::pass_through;
 use super::{Bsdf, BsdfSample, ShadingPoint, Transport};
 use crate::math::Vec3;
-use crate::texture::FloatTexture;
+use crate::texture::{FloatTexture, TexPoint};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mask {
@@ -21,7 +21,7 @@ pub struct Mask {
 
 impl Mask {
     #[inline]
-    fn opacity(&self, uv: [f32; 2]) -> f32 {
+    fn opacity(&self, uv: TexPoint) -> f32 {
         self.opacity.eval_fraction(uv)
     }
 
@@ -33,7 +33,7 @@ impl Mask {
         wo: Vec3,
         mode: Transport,
     ) -> SampledSpectrum<K> {
-        self.inner.eval(wl, at, wi, wo, mode) * self.opacity(at.uv)
+        self.inner.eval(wl, at, wi, wo, mode) * self.opacity(at.tex())
     }
 
     pub fn pdf<const K: usize>(
@@ -43,7 +43,7 @@ impl Mask {
         wi: Vec3,
         wo: Vec3,
     ) -> f32 {
-        self.inner.pdf_at(wl, at, wi, wo) * self.opacity(at.uv)
+        self.inner.pdf_at(wl, at, wi, wo) * self.opacity(at.tex())
     }
 
     pub fn sample<const K: usize>(
@@ -55,7 +55,7 @@ impl Mask {
         u: [f32; 2],
         mode: Transport,
     ) -> Option<BsdfSample<K>> {
-        let opacity = self.opacity(at.uv);
+        let opacity = self.opacity(at.tex());
         if u_lobe < opacity {
             // The surface: the lobe number is reused, rescaled to [0, 1).
             let mut s = self.inner.sample(wl, at, wi, u_lobe / opacity, u, mode)?;

@@ -38,7 +38,9 @@ pub use diffuse::Diffuse;
 pub use fluorescent::{Donaldson, Fluorescent, Reradiation, Separable};
 pub use fresnel::{fresnel_conductor, fresnel_dielectric};
 pub use mask::Mask;
-pub use microfacet::{MicrofacetDistribution, MicrofacetKind, MIN_ALPHA};
+pub use microfacet::{
+    MicrofacetDistribution, MicrofacetKind, Roughness, TexturedRoughness, MIN_ALPHA,
+};
 pub use normal_map::NormalMap;
 pub use null::Null;
 pub use plastic::{diffuse_fresnel_reflectance, Plastic};
@@ -54,6 +56,7 @@ pub use shading::ShadingPoint;
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use crate::math::Vec3;
+use crate::texture::TexPoint;
 
 /// What the path carries: radiance (from the camera) or importance (from a
 /// light). Refraction scales radiance by 1/η² but not importance.
@@ -134,7 +137,7 @@ impl Bsdf {
         mode: Transport,
     ) -> SampledSpectrum<K> {
         let at: ShadingPoint = at.into();
-        let uv = at.uv;
+        let uv = at.tex();
         match self {
             Bsdf::Diffuse(b) => b.eval(wl, uv, wi, wo),
             Bsdf::Conductor(b) => b.eval(wl, uv, wi, wo),
@@ -161,7 +164,8 @@ impl Bsdf {
     /// [`Bsdf::pdf_at`] at texture coordinates (0, 0) of a flat surface:
     /// the density of every BSDF whose sampling does not depend on the
     /// point (all but `mask`, `blendbsdf`, `normalmap`, `bumpmap` with
-    /// textures); the tracers use `pdf_at`.
+    /// textures, textured roughness, `principled`); the tracers use
+    /// `pdf_at`.
     pub fn pdf<const K: usize>(&self, wl: &SampledWavelengths<K>, wi: Vec3, wo: Vec3) -> f32 {
         self.pdf_at(wl, [0.0, 0.0], wi, wo)
     }
@@ -179,9 +183,9 @@ impl Bsdf {
         let at: ShadingPoint = at.into();
         match self {
             Bsdf::Diffuse(b) => b.pdf(wi, wo),
-            Bsdf::Conductor(b) => b.pdf(wi, wo),
+            Bsdf::Conductor(b) => b.pdf(at.tex(), wi, wo),
             Bsdf::Dielectric(_) | Bsdf::ThinDielectric(_) => 0.0,
-            Bsdf::RoughDielectric(b) => b.pdf(wl, wi, wo),
+            Bsdf::RoughDielectric(b) => b.pdf(wl, at.tex(), wi, wo),
             Bsdf::Plastic(b) => b.pdf(wi, wo),
             Bsdf::RoughPlastic(b) => b.pdf(wi, wo),
             Bsdf::Fluorescent(b) => b.pdf(wi, wo),
@@ -194,9 +198,9 @@ impl Bsdf {
             Bsdf::Blend(b) => b.pdf(wl, at, wi, wo),
             Bsdf::NormalMap(b) => b.pdf(wl, at, wi, wo),
             Bsdf::BumpMap(b) => b.pdf(wl, at, wi, wo),
-            Bsdf::PolarizedPlastic(b) => b.pdf(wi, wo),
-            Bsdf::Principled(b) => b.pdf(at.uv, wi, wo),
-            Bsdf::PrincipledThin(b) => b.pdf(at.uv, wi, wo),
+            Bsdf::PolarizedPlastic(b) => b.pdf(at.tex(), wi, wo),
+            Bsdf::Principled(b) => b.pdf(at.tex(), wi, wo),
+            Bsdf::PrincipledThin(b) => b.pdf(at.tex(), wi, wo),
         }
     }
 
@@ -211,7 +215,7 @@ impl Bsdf {
         mode: Transport,
     ) -> Option<BsdfSample<K>> {
         let at: ShadingPoint = at.into();
-        let uv = at.uv;
+        let uv = at.tex();
         match self {
             Bsdf::Diffuse(b) => b.sample(wl, uv, wi, u),
             Bsdf::Conductor(b) => b.sample(wl, uv, wi, u),
@@ -254,9 +258,10 @@ impl Bsdf {
     pub fn reradiate<const K: usize>(
         &self,
         wl: &mut SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: impl Into<TexPoint>,
         u: f32,
     ) -> Option<SampledSpectrum<K>> {
+        let uv: TexPoint = uv.into();
         match self {
             Bsdf::Fluorescent(b) => Some(b.reradiate(wl, uv, u)),
             Bsdf::TwoSided(inner) => inner.reradiate(wl, uv, u),

@@ -9,7 +9,7 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::BsdfSample;
 use crate::math::Vec3;
-use crate::texture::Texture;
+use crate::texture::{TexPoint, Texture};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Null {
@@ -33,7 +33,7 @@ impl Null {
     pub fn sample<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: TexPoint,
         wi: Vec3,
     ) -> BsdfSample<K> {
         BsdfSample {

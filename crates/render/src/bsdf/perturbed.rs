@@ -132,10 +132,10 @@ impl Perturbation {
     fn inner_point(&self, at: ShadingPoint) -> ShadingPoint {
         let f = &self.frame;
         ShadingPoint {
-            uv: at.uv,
             dpdu: f.to_local(at.dpdu),
             dpdv: f.to_local(at.dpdv),
             ng: f.to_local(at.ng),
+            ..at
         }
     }
 

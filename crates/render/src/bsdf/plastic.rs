@@ -12,7 +12,7 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths};
 use super::{fresnel_dielectric, reflect, reflect_about, BsdfSample, MicrofacetDistribution};
 use crate::math::Vec3;
 use crate::sampling::warp::square_to_cosine_hemisphere;
-use crate::texture::Texture;
+use crate::texture::{TexPoint, Texture};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Plastic {
@@ -100,7 +100,7 @@ impl Plastic {
     pub fn eval<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: TexPoint,
         wi: Vec3,
         wo: Vec3,
     ) -> SampledSpectrum<K> {
@@ -126,7 +126,7 @@ impl Plastic {
     pub fn sample<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: TexPoint,
         wi: Vec3,
         u_lobe: f32,
         u: [f32; 2],

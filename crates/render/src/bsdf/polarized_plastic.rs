@@ -11,9 +11,9 @@ use std::f32::consts::FRAC_1_PI;
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::plastic::{glossy_or_diffuse_pdf, sample_glossy_or_diffuse};
-use super::{fresnel_dielectric, BsdfSample, MicrofacetDistribution};
+use super::{fresnel_dielectric, BsdfSample, Roughness};
 use crate::math::Vec3;
-use crate::texture::Texture;
+use crate::texture::{TexPoint, Texture};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct PolarizedPlastic {
@@ -21,8 +21,9 @@ pub struct PolarizedPlastic {
     pub specular_reflectance: Texture,
     /// η_interior / η_exterior.
     pub eta: f32,
-    /// The coating's microfacets (Mitsuba's `distribution`, `alpha`).
-    pub distribution: MicrofacetDistribution,
+    /// The coating's microfacets (Mitsuba's `distribution`, `alpha`,
+    /// which may be textures).
+    pub distribution: Roughness,
     /// Probability of sampling the glossy lobe.
     specular_weight: f32,
 }
@@ -32,7 +33,7 @@ impl PolarizedPlastic {
         diffuse_reflectance: Texture,
         specular_reflectance: Texture,
         eta: f32,
-        distribution: MicrofacetDistribution,
+        distribution: Roughness,
     ) -> Self {
         let (d, s) = (diffuse_reflectance.mean(), specular_reflectance.mean());
         let specular_weight = if d + s > 0.0 { s / (d + s) } else { 0.5 };
@@ -48,14 +49,14 @@ impl PolarizedPlastic {
     pub fn eval<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: TexPoint,
         wi: Vec3,
         wo: Vec3,
     ) -> SampledSpectrum<K> {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return SampledSpectrum::splat(0.0);
         }
-        let d = &self.distribution;
+        let d = &self.distribution.at(uv);
         let h = (wi + wo).normalize();
         let glossy =
             fresnel_dielectric(wi.dot(h), self.eta).0 * d.d(h) * d.g(wi, wo, h) / (4.0 * wi.z);
@@ -65,17 +66,17 @@ impl PolarizedPlastic {
             + self.diffuse_reflectance.eval(wl, uv) * (through * FRAC_1_PI * wo.z)
     }
 
-    pub fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
+    pub fn pdf(&self, uv: TexPoint, wi: Vec3, wo: Vec3) -> f32 {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return 0.0;
         }
-        glossy_or_diffuse_pdf(&self.distribution, self.specular_weight, wi, wo)
+        glossy_or_diffuse_pdf(&self.distribution.at(uv), self.specular_weight, wi, wo)
     }
 
     pub fn sample<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: TexPoint,
         wi: Vec3,
         u_lobe: f32,
         u: [f32; 2],
@@ -83,8 +84,9 @@ impl PolarizedPlastic {
         if wi.z <= 0.0 {
             return None;
         }
-        let wo = sample_glossy_or_diffuse(&self.distribution, self.specular_weight, wi, u_lobe, u);
-        let pdf = self.pdf(wi, wo);
+        let d = self.distribution.at(uv);
+        let wo = sample_glossy_or_diffuse(&d, self.specular_weight, wi, u_lobe, u);
+        let pdf = self.pdf(uv, wi, wo);
         if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }

@@ -9,14 +9,16 @@
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::dielectric::Ior;
-use super::{fresnel_dielectric, reflect_about, BsdfSample, MicrofacetDistribution, Transport};
+use super::{
+    fresnel_dielectric, reflect_about, BsdfSample, MicrofacetDistribution, Roughness, Transport,
+};
 use crate::math::Vec3;
-use crate::texture::Texture;
+use crate::texture::{TexPoint, Texture};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct RoughDielectric {
     pub ior: Ior,
-    pub distribution: MicrofacetDistribution,
+    pub distribution: Roughness,
     pub specular_reflectance: Texture,
     pub specular_transmittance: Texture,
 }
@@ -90,7 +92,7 @@ impl RoughDielectric {
     fn tint<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: TexPoint,
         reflection: bool,
     ) -> SampledSpectrum<K> {
         if reflection {
@@ -103,13 +105,13 @@ impl RoughDielectric {
     pub fn eval<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: TexPoint,
         wi: Vec3,
         wo: Vec3,
         mode: Transport,
     ) -> SampledSpectrum<K> {
         let eta = self.ior.eta(wl);
-        let dist = &self.distribution;
+        let dist = &self.distribution.at(uv);
         // One lobe evaluation serves the cluster unless the index varies.
         let v = if self.ior.dispersive() {
             SampledSpectrum::from_fn(|k| lobe(dist, wi, wo, eta[k], mode).value)
@@ -120,15 +122,28 @@ impl RoughDielectric {
     }
 
     /// Density for the first wavelength (the one sampling uses).
-    pub fn pdf<const K: usize>(&self, wl: &SampledWavelengths<K>, wi: Vec3, wo: Vec3) -> f32 {
+    pub fn pdf<const K: usize>(
+        &self,
+        wl: &SampledWavelengths<K>,
+        uv: TexPoint,
+        wi: Vec3,
+        wo: Vec3,
+    ) -> f32 {
         let eta = self.ior.eta(wl);
-        lobe(&self.distribution, wi, wo, eta[0], Transport::Importance).pdf
+        lobe(
+            &self.distribution.at(uv),
+            wi,
+            wo,
+            eta[0],
+            Transport::Importance,
+        )
+        .pdf
     }
 
     pub fn sample<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: TexPoint,
         wi: Vec3,
         u_lobe: f32,
         u: [f32; 2],
@@ -138,7 +153,7 @@ impl RoughDielectric {
             return None;
         }
         let eta = self.ior.eta(wl);
-        let dist = &self.distribution;
+        let dist = &self.distribution.at(uv);
         let wi_up = if wi.z > 0.0 { wi } else { -wi };
         let m = dist.sample_visible(wi_up, u);
         let im = wi.dot(m);

@@ -27,7 +27,7 @@ use super::plastic::{
 };
 use super::{fresnel_dielectric, BsdfSample, MicrofacetDistribution, MicrofacetKind};
 use crate::math::Vec3;
-use crate::texture::Texture;
+use crate::texture::{TexPoint, Texture};
 
 /// Table nodes over μ ∈ [0, 1] (Mitsuba's `MI_ROUGH_TRANSMITTANCE_RES`).
 const TABLE: usize = 64;
@@ -129,7 +129,7 @@ impl RoughPlastic {
     pub fn eval<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: TexPoint,
         wi: Vec3,
         wo: Vec3,
     ) -> SampledSpectrum<K> {
@@ -157,7 +157,7 @@ impl RoughPlastic {
     pub fn sample<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: TexPoint,
         wi: Vec3,
         u_lobe: f32,
         u: [f32; 2],

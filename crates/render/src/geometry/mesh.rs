@@ -1,16 +1,18 @@
 //! Triangle meshes, stored in world space.
 
-use crate::geometry::GeometryError;
+use crate::geometry::{Attribute, GeometryError};
 use crate::math::{Transform, Vec3};
 
 /// A triangle mesh: world-space positions, optional per-vertex normals and
-/// UVs, and vertex-index triples.
+/// UVs, vertex-index triples, and named attributes (what `mesh_attribute`
+/// textures read).
 #[derive(Debug, Clone, PartialEq)]
 pub struct TriangleMesh {
     pub positions: Vec<Vec3>,
     pub normals: Option<Vec<Vec3>>,
     pub uvs: Option<Vec<[f32; 2]>>,
     pub indices: Vec<[u32; 3]>,
+    pub attributes: Vec<Attribute>,
 }
 
 impl TriangleMesh {
@@ -64,7 +66,23 @@ impl TriangleMesh {
             normals,
             uvs,
             indices,
+            attributes: Vec::new(),
         })
+    }
+
+    /// Adds named attributes, each checked to have one record per vertex
+    /// or per face.
+    pub fn with_attributes(mut self, attributes: Vec<Attribute>) -> Result<Self, GeometryError> {
+        for a in &attributes {
+            a.check(self.positions.len(), self.indices.len())?;
+        }
+        self.attributes = attributes;
+        Ok(self)
+    }
+
+    /// The attribute called `name`.
+    pub fn attribute(&self, name: &str) -> Option<&Attribute> {
+        self.attributes.iter().find(|a| a.name == name)
     }
 
     #[inline]

@@ -1,6 +1,7 @@
 //! Shapes: triangle meshes, spheres, cylinders, disks, rectangles; what a
 //! ray hit on them, and the surface there.
 
+mod attribute;
 mod cylinder;
 mod mesh;
 mod planar;
@@ -8,6 +9,7 @@ mod sample;
 mod sphere;
 mod triangle;
 
+pub use attribute::Attribute;
 pub use cylinder::{Cylinder, CylinderTest};
 pub use mesh::TriangleMesh;
 pub use planar::{Planar, PlanarKind, PlaneTest};
@@ -17,6 +19,7 @@ pub use triangle::{intersect_triangle, RayShear, TriangleHit};
 
 use crate::accel::Aabb;
 use crate::math::{Ray, Vec3};
+use crate::texture::TexPoint;
 
 /// Geometry that cannot be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -60,6 +63,21 @@ pub struct Surface {
     pub uv: [f32; 2],
     pub dpdu: Vec3,
     pub dpdv: Vec3,
+}
+
+impl Surface {
+    /// Where textures are looked up at `hit` on this surface: its (u, v),
+    /// and the triangle and barycentrics that mesh attributes are read at
+    /// (on other shapes `hit.uv` is not barycentric, and no attribute is
+    /// bound there).
+    #[inline]
+    pub fn tex(&self, hit: &Hit) -> TexPoint {
+        TexPoint {
+            uv: self.uv,
+            prim: hit.prim,
+            bary: hit.uv,
+        }
+    }
 }
 
 impl Shape {

@@ -156,14 +156,14 @@ impl Renderer<'_> {
             }
             let bsdf = &scene.materials[scene.shape_material[hit.shape as usize] as usize];
             let (frame, at) = ShadingPoint::at(
-                surface.uv,
+                surface.tex(&hit),
                 surface.n_shading,
                 surface.n_geometric,
                 surface.dpdu,
                 surface.dpdv,
             );
             let wi = frame.to_local(wo_world);
-            let uv = surface.uv;
+            let uv = at.tex();
             let [u_light, u_select, u_l0, u_l1] = sampler.get_4d();
             let [u_lobe, u_rr, u_b0, u_b1] = sampler.get_4d();
             // Fluorescence: members move to their excitation wavelengths

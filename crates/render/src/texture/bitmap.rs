@@ -49,11 +49,31 @@ impl Wrap {
     }
 }
 
-/// One texel: `scale · S(c₀t² + c₁t + c₂)`.
+/// One texel: `scale · S(c₀t² + c₁t + c₂)` (also a mesh attribute's
+/// colour per vertex or face).
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Texel {
+pub(super) struct Texel {
     coeffs: [f32; 3],
     scale: f32,
+}
+
+impl Texel {
+    /// The sigmoid of linear sRGB `rgb` upsampled for use as `kind` (the
+    /// illuminant itself is applied by the caller).
+    pub(super) fn new(
+        rgb: [f32; 3],
+        space: RgbSpace,
+        kind: SpectrumKind,
+    ) -> Result<Self, ColorError> {
+        jakob2019_texel(rgb, space, kind).map(|(coeffs, scale)| Texel { coeffs, scale })
+    }
+
+    /// The value at normalised wavelength `t` (see `normalised_lambda`).
+    #[inline]
+    pub(super) fn at(&self, t: f32) -> f32 {
+        let c = &self.coeffs;
+        self.scale * sigmoid((c[0] * t + c[1]) * t + c[2])
+    }
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -89,9 +109,7 @@ impl Bitmap {
         }
         let texels = rgb
             .par_iter()
-            .map(|&c| {
-                jakob2019_texel(c, space, kind).map(|(coeffs, scale)| Texel { coeffs, scale })
-            })
+            .map(|&c| Texel::new(c, space, kind))
             .collect::<Result<Vec<_>, _>>()?;
         let clamp = |v: f32| {
             let v = if v.is_finite() { v.max(0.0) } else { 0.0 };
@@ -140,9 +158,7 @@ impl Bitmap {
                 let white = self.illuminant.as_ref().map_or(1.0, |ill| ill.eval(l));
                 self.texels
                     .iter()
-                    .map(|&Texel { coeffs: c, scale }| {
-                        scale * white * sigmoid((c[0] * t + c[1]) * t + c[2])
-                    })
+                    .map(|texel| white * texel.at(t))
                     .fold(0.0, f32::max)
             })
             .collect()
@@ -158,8 +174,8 @@ impl Bitmap {
         t: &[f32; K],
         white: &[f32; K],
     ) -> SampledSpectrum<K> {
-        let Texel { coeffs: c, scale } = self.texels[y * self.width + x];
-        SampledSpectrum::from_fn(|i| scale * white[i] * sigmoid((c[0] * t[i] + c[1]) * t[i] + c[2]))
+        let texel = &self.texels[y * self.width + x];
+        SampledSpectrum::from_fn(|i| white[i] * texel.at(t[i]))
     }
 
     /// The illuminant (or 1) and normalised wavelength per sample of `wl`.

@@ -1,10 +1,14 @@
 //! Textures: spectral values that vary over a surface, looked up by the
-//! hit's (u, v) and evaluated on the path's wavelength cluster. A constant
-//! spectrum is the common case; `bitmap` and `checkerboard` follow
-//! Mitsuba 3's plugins of the same names.
+//! hit's (u, v) — or, for a mesh's own attributes, its triangle and
+//! barycentrics ([`TexPoint`]) — and evaluated on the path's wavelength
+//! cluster. A constant spectrum is the common case; `bitmap`,
+//! `checkerboard` and `mesh_attribute` follow Mitsuba 3's plugins of the
+//! same names.
 
 mod bitmap;
 mod checkerboard;
+mod mesh_attribute;
+mod point;
 mod scalar;
 mod uv;
 
@@ -12,6 +16,8 @@ use std::sync::Arc;
 
 pub use bitmap::{Bitmap, Filter, Wrap};
 pub use checkerboard::Checkerboard;
+pub use mesh_attribute::MeshAttribute;
+pub use point::TexPoint;
 pub use scalar::{luminance, FloatCheckerboard, FloatTexture, RgbBitmap};
 pub use uv::UvTransform;
 
@@ -26,6 +32,8 @@ pub enum Texture {
     Bitmap(Arc<Bitmap>),
     /// Two textures alternating on a unit checkerboard in (u, v).
     Checkerboard(Arc<Checkerboard>),
+    /// A mesh's named attribute (bound to that mesh).
+    MeshAttribute(Arc<MeshAttribute>),
 }
 
 impl From<Spectrum> for Texture {
@@ -40,23 +48,26 @@ impl Texture {
         Texture::Constant(Spectrum::Constant(v))
     }
 
-    /// The value at texture coordinates `uv` on the cluster `wl`.
+    /// The value at `at` (texture coordinates, or a [`TexPoint`]) on the
+    /// cluster `wl`.
     #[inline]
     pub fn eval<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        at: impl Into<TexPoint>,
     ) -> SampledSpectrum<K> {
+        let at: TexPoint = at.into();
         match self {
             Texture::Constant(s) => s.sample(wl),
-            Texture::Bitmap(b) => b.eval(wl, uv),
+            Texture::Bitmap(b) => b.eval(wl, at.uv),
             Texture::Checkerboard(c) => {
-                if c.first_at(uv) {
-                    c.color0.eval(wl, uv)
+                if c.first_at(at.uv) {
+                    c.color0.eval(wl, at)
                 } else {
-                    c.color1.eval(wl, uv)
+                    c.color1.eval(wl, at)
                 }
             }
+            Texture::MeshAttribute(m) => m.eval(wl, at),
         }
     }
 
@@ -72,6 +83,7 @@ impl Texture {
             }
             Texture::Bitmap(b) => b.mean(),
             Texture::Checkerboard(c) => 0.5 * (c.color0.mean() + c.color1.mean()),
+            Texture::MeshAttribute(m) => m.mean(),
         }
     }
 
@@ -134,10 +146,11 @@ impl Texture {
                 );
                 a.iter().zip(&b).map(|(x, y)| x.max(*y)).collect()
             }
+            Texture::MeshAttribute(m) => m.max_over_records(lambdas),
         }
     }
 
-    /// Whether the value depends on (u, v).
+    /// Whether the value varies over the surface.
     pub fn is_varying(&self) -> bool {
         !matches!(self, Texture::Constant(_))
     }

@@ -5,7 +5,7 @@
 
 use std::sync::Arc;
 
-use super::{Filter, UvTransform, Wrap};
+use super::{Filter, MeshAttribute, TexPoint, UvTransform, Wrap};
 
 /// Rec. 709 / sRGB luminance weights (ITU-R BT.709, the Y row of the
 /// linear-sRGB-to-XYZ matrix): the single value of an RGB texel, as
@@ -123,6 +123,8 @@ pub enum FloatTexture {
     /// `first` where the fractional parts of u and v lie in the same half
     /// of [0, 1), `second` elsewhere (Mitsuba's `checkerboard`).
     Checkerboard(Arc<FloatCheckerboard>),
+    /// A mesh's one-number attribute (bound to that mesh).
+    MeshAttribute(Arc<MeshAttribute>),
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -133,11 +135,11 @@ pub struct FloatCheckerboard {
 }
 
 impl FloatTexture {
-    /// The value at `uv` as a fraction in [0, 1] (a blend weight, an
+    /// The value at `at` as a fraction in [0, 1] (a blend weight, an
     /// opacity): clamped, and 0 where the texture holds NaN.
     #[inline]
-    pub fn eval_fraction(&self, uv: [f32; 2]) -> f32 {
-        let v = self.eval(uv);
+    pub fn eval_fraction(&self, at: impl Into<TexPoint>) -> f32 {
+        let v = self.eval(at);
         if v.is_nan() {
             0.0
         } else {
@@ -145,29 +147,34 @@ impl FloatTexture {
         }
     }
 
-    /// The value at texture coordinates `uv`.
+    /// The value at `at` (texture coordinates, or a [`TexPoint`]).
     #[inline]
-    pub fn eval(&self, uv: [f32; 2]) -> f32 {
+    pub fn eval(&self, at: impl Into<TexPoint>) -> f32 {
+        let at: TexPoint = at.into();
         match self {
             FloatTexture::Constant(v) => *v,
-            FloatTexture::Bitmap(b) => b.eval_1(uv),
+            FloatTexture::Bitmap(b) => b.eval_1(at.uv),
             FloatTexture::Checkerboard(c) => {
-                let [u, v] = c.to_uv.apply(uv);
+                let [u, v] = c.to_uv.apply(at.uv);
                 if (u - u.floor() > 0.5) == (v - v.floor() > 0.5) {
-                    c.first.eval(uv)
+                    c.first.eval(at)
                 } else {
-                    c.second.eval(uv)
+                    c.second.eval(at)
                 }
             }
+            FloatTexture::MeshAttribute(m) => m.eval_1(at),
         }
     }
 
     /// ∂/∂u and ∂/∂v of the value at `uv` (zero where it is piecewise
-    /// constant, as Mitsuba's checkerboard and nearest lookups are).
+    /// constant, as Mitsuba's checkerboard and nearest lookups are, and
+    /// for mesh attributes, which do not vary with (u, v)).
     pub fn grad(&self, uv: [f32; 2]) -> [f32; 2] {
         match self {
             FloatTexture::Bitmap(b) => b.grad_1(uv),
-            FloatTexture::Constant(_) | FloatTexture::Checkerboard(_) => [0.0, 0.0],
+            FloatTexture::Constant(_)
+            | FloatTexture::Checkerboard(_)
+            | FloatTexture::MeshAttribute(_) => [0.0, 0.0],
         }
     }
 }

@@ -13,10 +13,10 @@ use scotopia_render::bsdf::{
 };
 use scotopia_render::texture::{FloatCheckerboard, FloatTexture, RgbBitmap, Texture};
 
-use super::bsdf::{roughness, Anisotropy};
+use super::bsdf::textured_roughness;
 use super::ior::read_ior;
-use super::texture::{read_bitmap, uv_transform};
-use super::Builder;
+use super::texture::{raw_constant, read_bitmap, uv_transform};
+use super::{mesh_attribute, Builder};
 use crate::mitsuba::{parse_rgb, Node, Props, SceneError, Usage};
 
 /// The BSDF types this file builds.
@@ -111,7 +111,7 @@ pub fn build(b: &mut Builder, kind: &str, p: &Props, node: &Node) -> Result<Bsdf
             let ext = read_ior(p, "ext_ior", "air")?.eval(550.0);
             let diffuse = b.texture(p, "diffuse_reflectance", Usage::Reflectance, 0.5)?;
             let specular = b.texture(p, "specular_reflectance", Usage::Reflectance, 1.0)?;
-            let distribution = roughness(b, p, node, Anisotropy::Allowed)?;
+            let distribution = textured_roughness(b, p, node)?;
             b.warn(
                 node,
                 "pplastic: scotopia does not track polarisation; rendered as Mitsuba's \
@@ -255,9 +255,20 @@ fn float_texture_node(b: &mut Builder, node: &Node) -> Result<FloatTexture, Scen
             second: float_texture(b, &p, "color1", 0.2)?,
             to_uv: uv_transform(&p.transform("to_uv")?),
         })),
+        "mesh_attribute" => mesh_attribute::numbers(b, &p, node)?,
+        "rawconstant" => match p.get("value").map(|n| n.tag.as_str()) {
+            Some("float") | None => FloatTexture::Constant(raw_constant(&p, node)?[0]),
+            Some(_) => {
+                return Err(node.error(
+                    "a rawconstant of 3 values is not one number (Mitsuba's eval_1 refuses \
+                     it too): give a <float>",
+                ))
+            }
+        },
         other => {
             return Err(node.error(format!(
-                "texture type '{other}' is not supported here (bitmap, checkerboard)"
+                "texture type '{other}' is not supported here (bitmap, checkerboard, \
+                 mesh_attribute, rawconstant)"
             )))
         }
     };
@@ -311,9 +322,12 @@ fn rgb_texture_node(b: &mut Builder, node: &Node) -> Result<Arc<RgbBitmap>, Scen
     let p = Props::new(node);
     let bitmap = match node.require("type")? {
         "bitmap" => rgb_bitmap(&p, node)?,
+        // Mitsuba's `eval_3` of a constant: the value everywhere.
+        "rawconstant" => RgbBitmap::new(1, 1, vec![raw_constant(&p, node)?])
+            .ok_or_else(|| node.error("not a colour"))?,
         other => {
             return Err(node.error(format!(
-                "a normal map must be a bitmap texture, not '{other}'"
+                "a normal map must be a bitmap or rawconstant texture, not '{other}'"
             )))
         }
     };

@@ -8,6 +8,7 @@ mod bsdf_principled;
 mod emitter;
 mod integrator;
 mod ior;
+mod mesh_attribute;
 pub mod registry;
 mod sensor;
 mod shape;
@@ -40,6 +41,10 @@ pub struct Builder {
     resolving: Vec<String>,
     /// A film size that overrides the scene's.
     resolution: Option<Resolution>,
+    /// The shape whose material is being built (what `mesh_attribute`
+    /// textures read), and how many such textures were bound so far.
+    on_shape: Option<mesh_attribute::OnShape>,
+    mesh_attributes_bound: usize,
 }
 
 impl Builder {
@@ -51,6 +56,8 @@ impl Builder {
             textures: HashMap::new(),
             resolving: Vec::new(),
             resolution: None,
+            on_shape: None,
+            mesh_attributes_bound: 0,
         }
     }
 
@@ -105,8 +112,12 @@ impl Builder {
                     return Ok(t.clone());
                 }
                 let target = self.named(n, "texture", id)?;
+                let bound = self.mesh_attributes_bound;
                 let t = self.resolve(n, id, |b| texture::build_texture(b, &target, usage))?;
-                self.textures.insert(key, t.clone());
+                // One bound to a mesh is built again for the next.
+                if self.mesh_attributes_bound == bound {
+                    self.textures.insert(key, t.clone());
+                }
                 Ok(t)
             }
             _ => Ok(Texture::Constant(

@@ -66,26 +66,28 @@ const fn p(
 use Support::{Full, Partial, Skipped, Unsupported, Warned};
 
 const ROUGH: &str = "`alpha` or `alpha_u`/`alpha_v`, `distribution` (beckmann, ggx)";
+const ROUGH_TEXTURED: &str =
+    "`alpha` or `alpha_u`/`alpha_v` (numbers or textures), `distribution` (beckmann, ggx)";
 
 /// Mitsuba 3.9's plugins, and scotopia's own additions (marked in the note).
 pub const PLUGINS: &[Plugin] = &[
     // BSDFs
     p("bsdf", "diffuse", Full, "reflectance", ""),
     p("bsdf", "conductor", Full, "material, eta, k, specular_reflectance", "named metals are measured spectra, not Mitsuba's fits; negative RGB η, κ clamped to 0 with a warning"),
-    p("bsdf", "roughconductor", Full, ROUGH, "as conductor"),
+    p("bsdf", "roughconductor", Full, ROUGH_TEXTURED, "as conductor; textured α looked up where the BSDF is evaluated"),
     p("bsdf", "dielectric", Full, "int_ior, ext_ior, specular_reflectance, specular_transmittance", "named glasses disperse (Sellmeier)"),
     p("bsdf", "thindielectric", Full, "int_ior, ext_ior, specular_reflectance, specular_transmittance", ""),
-    p("bsdf", "roughdielectric", Full, ROUGH, "as dielectric"),
+    p("bsdf", "roughdielectric", Full, ROUGH_TEXTURED, "as dielectric; textured α looked up where the BSDF is evaluated"),
     p("bsdf", "plastic", Full, "diffuse_reflectance, specular_reflectance, int_ior, ext_ior, nonlinear", "coating index at 550 nm"),
-    p("bsdf", "roughplastic", Full, ROUGH, "as plastic"),
+    p("bsdf", "roughplastic", Full, ROUGH, "as plastic; α a number, as in Mitsuba"),
     p("bsdf", "twosided", Full, "one or two nested BSDFs", ""),
     p("bsdf", "fluorescent", Full, "reflectance, excitation, emission, quantum_yield, matrix", "scotopia's own: re-emission at other wavelengths"),
     p("bsdf", "null", Full, "", "blocks shadow rays and counts as a bounce, as in Mitsuba's path"),
     p("bsdf", "mask", Full, "opacity (number or texture), nested BSDF", ""),
     p("bsdf", "blendbsdf", Full, "weight (number or texture), two nested BSDFs", ""),
-    p("bsdf", "normalmap", Full, "normalmap (bitmap), flip_invalid_normals, nested BSDF", "frame from dp/du as Mitsuba 3.9"),
+    p("bsdf", "normalmap", Full, "normalmap (bitmap or rawconstant), flip_invalid_normals, nested BSDF", "frame from dp/du as Mitsuba 3.9"),
     p("bsdf", "bumpmap", Full, "a height texture, scale, nested BSDF", ""),
-    p("bsdf", "pplastic", Warned, "diffuse_reflectance, specular_reflectance, int_ior, ext_ior, alpha", "its unpolarised form, exactly"),
+    p("bsdf", "pplastic", Warned, "diffuse_reflectance, specular_reflectance, int_ior, ext_ior, alpha (number or texture)", "its unpolarised form, exactly"),
     p("bsdf", "principled", Full, "base_color, roughness, anisotropic, metallic, spec_trans, eta or specular, spec_tint, sheen, sheen_tint, flatness, clearcoat, clearcoat_gloss (numbers or textures), *_sampling_rate", "tints by luminance on the path's wavelengths, as Mitsuba's spectral variants, weighted to its wavelength density"),
     p("bsdf", "principledthin", Full, "base_color, roughness, anisotropic, spec_trans, eta, spec_tint, sheen, sheen_tint, flatness, diff_trans (numbers or textures), *_sampling_rate", "tints by luminance on the path's wavelengths, as Mitsuba's spectral variants, weighted to its wavelength density"),
     p("bsdf", "polarizer", Warned, "transmittance", "passes ½ of unpolarised light"),
@@ -100,8 +102,8 @@ pub const PLUGINS: &[Plugin] = &[
     p("shape", "disk", Full, "to_world, flip_normals", ""),
     p("shape", "cube", Full, "to_world, flip_normals", ""),
     p("shape", "obj", Full, "filename, to_world, face_normals, flip_normals, flip_tex_coords", "smooth normals computed as Mitsuba when the file has none"),
-    p("shape", "ply", Full, "filename, to_world, face_normals, flip_normals, flip_tex_coords", "vertex colours ignored"),
-    p("shape", "serialized", Full, "filename, shape_index, to_world, face_normals, flip_normals", "format versions 3 and 4"),
+    p("shape", "ply", Full, "filename, to_world, face_normals, flip_normals, flip_tex_coords", "other vertex and face properties become attributes (`mesh_attribute`) by Mitsuba's naming rules"),
+    p("shape", "serialized", Full, "filename, shape_index, to_world, face_normals, flip_normals", "format versions 3 and 4; vertex colours become `vertex_color` (Mitsuba 3.9 skips them)"),
     p("shape", "cylinder", Full, "p0, p1, radius, to_world, flip_normals", "open tube, as Mitsuba"),
     p("shape", "shapegroup", Partial, "nested shapes", "used through instances"),
     p("shape", "instance", Partial, "a shapegroup reference, to_world", "each instance copies the group's geometry (no shared BVH yet)"),
@@ -161,7 +163,8 @@ pub const PLUGINS: &[Plugin] = &[
     // Textures
     p("texture", "bitmap", Full, "filename, filter_type, wrap_mode, raw, to_uv", "texel spectra blended, not coefficients"),
     p("texture", "checkerboard", Full, "color0, color1, to_uv", ""),
-    p("texture", "mesh_attribute", Unsupported, "", ""),
+    p("texture", "mesh_attribute", Full, "name, scale", "bound to each shape's mesh; a missing attribute is an error"),
+    p("texture", "rawconstant", Full, "value", "a float anywhere; a vector for normal maps"),
     p("texture", "volume", Unsupported, "", ""),
     // Spectra
     p("spectrum", "d65", Full, "scale", "any CIE illuminant by name too (scotopia's)"),

@@ -106,6 +106,9 @@ pub fn build_shape(b: &mut Builder, node: &Node) -> Result<Shape, SceneError> {
                     uvs.iter_mut().for_each(|t| t[1] = 1.0 - t[1]);
                 }
             }
+            for note in std::mem::take(&mut data.notes) {
+                b.warn(node, format!("{file}: {note}"));
+            }
             let face_normals = p.boolean("face_normals", false)?;
             Shape::Mesh(
                 mesh(data, face_normals, flip, &to_world)
@@ -147,7 +150,8 @@ fn mesh(
         data.uvs,
         data.indices,
         to_world,
-    )?;
+    )?
+    .with_attributes(data.attributes)?;
     if smooth {
         m.compute_smooth_normals(data.points.as_deref());
     }

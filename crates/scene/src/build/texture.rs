@@ -1,13 +1,13 @@
-//! `<texture>` elements: `bitmap` and `checkerboard`, nested in an object
-//! under a parameter's name or defined at the top level with an `id` and
-//! referenced by `<ref name="…" id="…"/>`.
+//! `<texture>` elements: `bitmap`, `checkerboard`, `mesh_attribute` and
+//! `rawconstant`, nested in an object under a parameter's name or defined
+//! at the top level with an `id` and referenced by `<ref name="…" id="…"/>`.
 
 use scotopia_color::{RgbSpace, SpectrumKind};
 use scotopia_image::{read_rgb, RgbImage};
 use scotopia_render::math::Transform;
 use scotopia_render::texture::{Bitmap, Checkerboard, Filter, Texture, UvTransform, Wrap};
 
-use super::Builder;
+use super::{mesh_attribute, Builder};
 use crate::mitsuba::{resolve, Node, Props, SceneError, Usage};
 
 /// The RGB upsampling kind for a use.
@@ -85,12 +85,40 @@ pub fn build_texture(b: &mut Builder, node: &Node, usage: Usage) -> Result<Textu
             }
             .into(),
         ),
+        "mesh_attribute" => mesh_attribute::spectral(b, &p, node, spectrum_kind(usage))?,
+        "rawconstant" => match raw_constant(&p, node)? {
+            [v, _, _] if p.get("value").is_some_and(|n| n.tag == "float") => {
+                Texture::Constant(scotopia_color::Spectrum::Constant(v))
+            }
+            _ => {
+                return Err(node.error(
+                    "a rawconstant of 3 values is not a spectrum (Mitsuba's spectral \
+                     variants refuse it too): give one <float>, or an <rgb> spectrum",
+                ))
+            }
+        },
         other => {
             return Err(node.error(format!(
-                "texture type '{other}' is not supported (bitmap, checkerboard)"
+                "texture type '{other}' is not supported (bitmap, checkerboard, \
+                 mesh_attribute, rawconstant)"
             )))
         }
     };
     b.report_unused(&p);
     Ok(texture)
+}
+
+/// A `rawconstant`'s `value`: a `<float>` (repeated three times) or a
+/// `<vector>`/`<point>`, taken as it is written, without colour handling
+/// (Mitsuba's src/spectra/rawconstant.cpp).
+pub(super) fn raw_constant(p: &Props, node: &Node) -> Result<[f32; 3], SceneError> {
+    match p.get("value") {
+        Some(n) if n.tag == "float" => Ok([p.float("value", 0.0)?; 3]),
+        Some(n) if n.tag == "vector" || n.tag == "point" => {
+            let v = p.point("value", scotopia_render::math::Vec3::ZERO)?;
+            Ok([v.x, v.y, v.z])
+        }
+        Some(n) => Err(n.error("a rawconstant's 'value' is a <float> or a <vector>")),
+        None => Err(node.error("a rawconstant needs a 'value'")),
+    }
 }

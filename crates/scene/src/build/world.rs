@@ -12,6 +12,7 @@ use scotopia_render::scene::{IntegratorSettings, Scene};
 use scotopia_render::texture::Texture;
 
 use super::integrator::{build_integrator, DEFAULT};
+use super::mesh_attribute::OnShape;
 use super::registry::{self, Support};
 use super::sensor::{build_sensor, Sensor};
 use super::{emitter, shape, Builder};
@@ -132,22 +133,27 @@ impl World {
                 _ => {}
             }
         }
-        let material = match bsdf {
-            Some((c, Some(id))) => match self.material_ids.get(&id) {
-                Some(&m) => m,
+        // The material, built with the shape at hand for the mesh
+        // attributes it reads; one that reads them is this shape's alone.
+        let (shape, material) = match bsdf {
+            Some((c, id)) => match id.as_ref().and_then(|id| self.material_ids.get(id)) {
+                Some(&m) => (shape, m),
                 None => {
-                    let m = self.push_material(b.bsdf_child(c)?);
-                    self.material_ids.insert(id, m);
-                    m
+                    let (shape, built, bound) =
+                        b.on_shape(OnShape::new(shape, n), |b| b.bsdf_child(c));
+                    let m = self.push_material(built?);
+                    if let (Some(id), false) = (id, bound) {
+                        self.material_ids.insert(id, m);
+                    }
+                    (shape, m)
                 }
             },
-            Some((c, None)) => {
-                let built = b.bsdf_child(c)?;
-                self.push_material(built)
-            }
-            None => self.push_material(Bsdf::Diffuse(Diffuse {
-                reflectance: Texture::constant(0.5),
-            })),
+            None => (
+                shape,
+                self.push_material(Bsdf::Diffuse(Diffuse {
+                    reflectance: Texture::constant(0.5),
+                })),
+            ),
         };
         let index = self.shapes.len() as u32;
         let mut light = None;

@@ -4,14 +4,15 @@ use scotopia_color::io::parse_table;
 use scotopia_color::{Spectrum, Tabulated};
 
 /// The conductor names `named_conductor` knows (Mitsuba's chemical symbols).
-pub const CONDUCTOR_NAMES: [&str; 5] = ["Au", "Ag", "Cu", "Al", "Cr"];
+pub const CONDUCTOR_NAMES: [&str; 6] = ["Au", "Ag", "Cu", "Al", "Cr", "a-C"];
 
-const FILES: [(&str, &str); 5] = [
+const FILES: [(&str, &str); 6] = [
     ("Au", include_str!("../../../../data/conductors/au.csv")),
     ("Ag", include_str!("../../../../data/conductors/ag.csv")),
     ("Cu", include_str!("../../../../data/conductors/cu.csv")),
     ("Al", include_str!("../../../../data/conductors/al.csv")),
     ("Cr", include_str!("../../../../data/conductors/cr.csv")),
+    ("a-C", include_str!("../../../../data/conductors/a-c.csv")),
 ];
 
 /// (η(λ), κ(λ)) of a named metal, case-insensitive; `None` if unknown.

@@ -4,12 +4,14 @@
 
 mod obj;
 mod ply;
+mod ply_attributes;
 mod serialized;
 
 pub use obj::{parse_obj, read_obj};
 pub use ply::{parse_ply, read_ply};
 pub use serialized::{parse_serialized, read_serialized, SerializedShape};
 
+use scotopia_render::geometry::Attribute;
 use scotopia_render::math::Vec3;
 
 /// A triangle mesh as read from a file, in object space.
@@ -24,6 +26,12 @@ pub struct MeshData {
     /// computed normals stay smooth across texture seams; `None`: each
     /// vertex is its own point.
     pub points: Option<Vec<u32>>,
+    /// Named per-vertex and per-face attributes (PLY's other properties,
+    /// serialized vertex colours), per triangle for face attributes.
+    pub attributes: Vec<Attribute>,
+    /// What the reader left out or read unusually, for the loader's
+    /// warnings.
+    pub notes: Vec<String>,
 }
 
 /// A mesh file that cannot be read.

@@ -1,17 +1,38 @@
 //! PLY (Stanford polygon files), ASCII and binary of either byte order:
 //! vertex positions, normals (`nx ny nz`) and texture coordinates
-//! (`u v`, `s t` or `texture_u texture_v`), and faces as index lists
-//! (fanned into triangles). Other elements and properties are skipped.
-//! Errors name the header or data line, or the byte offset in binary data.
+//! (`u v`, `s t` or `texture_u texture_v`), faces as index lists (fanned
+//! into triangles), and the vertices' and faces' other properties as named
+//! attributes (`ply_attributes`). Other elements are skipped. Errors name
+//! the header or data line, or the byte offset in binary data.
 
 use std::path::Path;
 
+use scotopia_render::geometry::Attribute;
 use scotopia_render::math::Vec3;
 
+use super::ply_attributes::{self, Plan};
 use super::{MeshData, MeshError};
 
+/// Vertex properties read as geometry, not attributes.
+const VERTEX_RESERVED: [&str; 14] = [
+    "x",
+    "y",
+    "z",
+    "nx",
+    "ny",
+    "nz",
+    "u",
+    "v",
+    "s",
+    "t",
+    "texture_u",
+    "texture_v",
+    "texture_s",
+    "texture_t",
+];
+
 #[derive(Debug, Clone, Copy, PartialEq)]
-enum Scalar {
+pub(super) enum Scalar {
     I8,
     U8,
     I16,
@@ -234,8 +255,24 @@ pub fn parse_ply(bytes: &[u8], file: &str) -> Result<MeshData, MeshError> {
     let mut mesh = MeshData::default();
     let (mut normals, mut uvs) = (Vec::new(), Vec::new());
     let mut has = (false, false);
+    // Attributes: per element, the plan and the values read.
+    let mut attributes: Vec<(Plan, Vec<Vec<f32>>)> = Vec::new();
     for e in &elements {
+        let typed: Vec<(&str, Option<Scalar>)> = e
+            .properties
+            .iter()
+            .map(|p| match p {
+                Property::Scalar(n, t) => (n.as_str(), Some(*t)),
+                Property::List(n, _, _) => (n.as_str(), None),
+            })
+            .collect();
+        let mut plan_for = |reserved: &[&str]| {
+            let plan = ply_attributes::plan(&e.name, &typed, reserved, &mut mesh.notes);
+            let out = vec![Vec::new(); plan.attributes.len()];
+            (plan, out)
+        };
         if e.name == "vertex" {
+            let (plan, mut out) = plan_for(&VERTEX_RESERVED);
             let find = |names: &[&str]| {
                 e.properties.iter().position(
                     |p| matches!(p, Property::Scalar(n, _) if names.contains(&n.as_str())),
@@ -267,13 +304,18 @@ pub fn parse_ply(bytes: &[u8], file: &str) -> Result<MeshData, MeshError> {
                 if has.1 {
                     uvs.push([get(u), get(v)]);
                 }
+                plan.push(&values, &typed, &mut out);
             }
+            attributes.push((plan, out));
         } else if e.name == "face" {
             let list = e
                 .properties
                 .iter()
                 .position(|p| matches!(p, Property::List(n, _, _) if n == "vertex_indices" || n == "vertex_index"));
+            let (plan, mut out) = plan_for(&[]);
+            let mut values = vec![0.0f64; e.properties.len()];
             for _ in 0..e.count {
+                let first = mesh.indices.len();
                 for (k, p) in e.properties.iter().enumerate() {
                     match p {
                         Property::List(_, ct, it) if Some(k) == list => {
@@ -297,11 +339,16 @@ pub fn parse_ply(bytes: &[u8], file: &str) -> Result<MeshData, MeshError> {
                             }
                         }
                         other => {
-                            read_property(&mut reader, other)?;
+                            values[k] = read_property(&mut reader, other)?;
                         }
                     }
                 }
+                // A face's attributes, once per triangle of its fan.
+                for _ in first..mesh.indices.len() {
+                    plan.push(&values, &typed, &mut out);
+                }
             }
+            attributes.push((plan, out));
         } else {
             for _ in 0..e.count {
                 for p in &e.properties {
@@ -315,6 +362,15 @@ pub fn parse_ply(bytes: &[u8], file: &str) -> Result<MeshData, MeshError> {
     }
     mesh.normals = has.0.then_some(normals);
     mesh.uvs = has.1.then_some(uvs);
+    for (plan, values) in attributes {
+        for ((name, sources), values) in plan.attributes.into_iter().zip(values) {
+            mesh.attributes.push(Attribute {
+                name,
+                dim: sources.len(),
+                values,
+            });
+        }
+    }
     Ok(mesh)
 }
 

@@ -12,6 +12,7 @@
 use std::io::Read;
 use std::path::Path;
 
+use scotopia_render::geometry::Attribute;
 use scotopia_render::math::Vec3;
 
 use super::{MeshData, MeshError};
@@ -187,9 +188,13 @@ fn read_shape(stream: &[u8], version: u16) -> Result<SerializedShape, String> {
     } else {
         None
     };
-    if flags & HAS_COLORS != 0 {
-        floats("vertex colors", 3)?;
-    }
+    // Vertex colours as the attribute `vertex_color` (Mitsuba 3.9 skips
+    // them; scotopia keeps them for `mesh_attribute`).
+    let colors = if flags & HAS_COLORS != 0 {
+        Some(floats("vertex colors", 3)?)
+    } else {
+        None
+    };
     let bytes = triangles
         .checked_mul(12)
         .ok_or_else(|| format!("{triangles} triangles overflow (corrupt data)"))?;
@@ -221,6 +226,15 @@ fn read_shape(stream: &[u8], version: u16) -> Result<SerializedShape, String> {
             uvs,
             indices,
             points: None,
+            attributes: colors
+                .map(|values| Attribute {
+                    name: "vertex_color".into(),
+                    dim: 3,
+                    values,
+                })
+                .into_iter()
+                .collect(),
+            notes: Vec::new(),
         },
     })
 }

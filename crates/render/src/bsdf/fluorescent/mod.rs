@@ -27,7 +27,7 @@ pub use separable::Separable;
 use super::BsdfSample;
 use crate::math::Vec3;
 use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
-use crate::texture::Texture;
+use crate::texture::{TexPoint, Texture};
 use crate::wavelength::SpectralPdf;
 
 /// How absorbed light is re-emitted.
@@ -139,9 +139,10 @@ impl Fluorescent {
     pub fn reradiate<const K: usize>(
         &self,
         wl: &mut SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: impl Into<TexPoint>,
         u: f32,
     ) -> SampledSpectrum<K> {
+        let uv: TexPoint = uv.into();
         let live = SampledSpectrum::from_fn(|k| wl.pdf(k));
         let albedo = |l| self.fluorescent_albedo(l);
         self.choose(wl, &live, uv, u, albedo, |u, l| {
@@ -159,9 +160,10 @@ impl Fluorescent {
         &self,
         wl: &mut SampledWavelengths<K>,
         alive: &SampledSpectrum<K>,
-        uv: [f32; 2],
+        uv: impl Into<TexPoint>,
         u: f32,
     ) -> (SampledSpectrum<K>, [bool; K]) {
+        let uv: TexPoint = uv.into();
         let albedo = |l| self.reemitted(l);
         self.choose(wl, alive, uv, u, albedo, |u, l| self.sample_emission(u, l))
     }
@@ -174,7 +176,7 @@ impl Fluorescent {
         &self,
         wl: &mut SampledWavelengths<K>,
         live: &SampledSpectrum<K>,
-        uv: [f32; 2],
+        uv: TexPoint,
         u: f32,
         albedo: impl Fn(f32) -> f32,
         sample: impl Fn(f32, f32) -> Option<(f32, f32)>,

@@ -12,10 +12,13 @@ mod albedo;
 mod beckmann;
 mod erf;
 mod ggx;
+mod roughness;
 
 use std::f32::consts::PI;
 
 use crate::math::Vec3;
+
+pub use roughness::{Roughness, TexturedRoughness};
 
 /// The shape of the slope distribution.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

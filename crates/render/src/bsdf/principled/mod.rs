@@ -31,7 +31,7 @@ use super::{fresnel_dielectric, reflect_about, BsdfSample, Transport};
 use super::{MicrofacetDistribution, MicrofacetKind};
 use crate::math::Vec3;
 use crate::sampling::warp::square_to_cosine_hemisphere;
-use crate::texture::{FloatTexture, Texture};
+use crate::texture::{FloatTexture, TexPoint, Texture};
 use helpers::{
     alphas, clearcoat_g, cluster_luminance, compatible, schlick, schlick_r0, schlick_weight, tint,
     Gtr1,
@@ -122,12 +122,12 @@ struct LobeProbs {
     reflect: f32,
 }
 
-fn opt(t: &Option<FloatTexture>, uv: [f32; 2]) -> f32 {
+fn opt(t: &Option<FloatTexture>, uv: TexPoint) -> f32 {
     t.as_ref().map_or(0.0, |t| t.eval(uv))
 }
 
 impl Principled {
-    fn params(&self, uv: [f32; 2]) -> Params {
+    fn params(&self, uv: TexPoint) -> Params {
         Params {
             roughness: self.roughness.eval(uv),
             anisotropic: self.anisotropic.as_ref().map(|t| t.eval(uv)),
@@ -191,7 +191,7 @@ impl Principled {
     pub fn eval<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: TexPoint,
         wi: Vec3,
         wo: Vec3,
         mode: Transport,
@@ -266,7 +266,7 @@ impl Principled {
     fn diffuse<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: TexPoint,
         p: &Params,
         base: &SampledSpectrum<K>,
         brdf: f32,
@@ -341,7 +341,7 @@ impl Principled {
 
     /// Mitsuba's `pdf`: the lobe mixture with the selection probabilities
     /// evaluated at the half-vector of (wi, wo).
-    pub fn pdf(&self, uv: [f32; 2], wi: Vec3, wo: Vec3) -> f32 {
+    pub fn pdf(&self, uv: TexPoint, wi: Vec3, wo: Vec3) -> f32 {
         let (ci, co) = (wi.z, wo.z);
         if ci == 0.0 {
             return 0.0;
@@ -384,7 +384,7 @@ impl Principled {
     pub fn sample<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: TexPoint,
         wi: Vec3,
         u_lobe: f32,
         u: [f32; 2],

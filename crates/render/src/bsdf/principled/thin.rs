@@ -21,7 +21,7 @@ use crate::bsdf::{fresnel_dielectric, reflect_about, BsdfSample};
 use crate::bsdf::{MicrofacetDistribution, MicrofacetKind};
 use crate::math::Vec3;
 use crate::sampling::warp::square_to_cosine_hemisphere;
-use crate::texture::{FloatTexture, Texture};
+use crate::texture::{FloatTexture, TexPoint, Texture};
 
 /// How often each lobe is sampled, relative to its weight (Mitsuba's
 /// `*_sampling_rate`, all 1 by default).
@@ -98,7 +98,7 @@ struct Probs {
 }
 
 impl PrincipledThin {
-    fn params(&self, uv: [f32; 2]) -> Params {
+    fn params(&self, uv: TexPoint) -> Params {
         Params {
             roughness: self.roughness.eval(uv),
             anisotropic: self.anisotropic.as_ref().map(|t| t.eval(uv)),
@@ -163,7 +163,7 @@ impl PrincipledThin {
     pub fn eval<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: TexPoint,
         wi: Vec3,
         wo: Vec3,
     ) -> SampledSpectrum<K> {
@@ -247,7 +247,7 @@ impl PrincipledThin {
         value
     }
 
-    pub fn pdf(&self, uv: [f32; 2], wi: Vec3, wo: Vec3) -> f32 {
+    pub fn pdf(&self, uv: TexPoint, wi: Vec3, wo: Vec3) -> f32 {
         if wi.z == 0.0 {
             return 0.0;
         }
@@ -280,7 +280,7 @@ impl PrincipledThin {
     pub fn sample<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
-        uv: [f32; 2],
+        uv: TexPoint,
         wi_in: Vec3,
         u_lobe: f32,
         u: [f32; 2],

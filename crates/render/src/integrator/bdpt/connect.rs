@@ -17,6 +17,7 @@ use crate::integrator::Renderer;
 use crate::light::Light;
 use crate::math::{offset_ray_origin, Ray, Vec3};
 use crate::sampling::sobol::Sampler;
+use crate::texture::TexPoint;
 
 /// Relative margin a connection ray stops short of its far end.
 const CONNECT_EPSILON: f32 = 1e-4;
@@ -37,7 +38,7 @@ pub(super) struct Subpaths<'p, const K: usize> {
 fn elastic<const K: usize>(
     bsdf: &Bsdf,
     wl: &SampledWavelengths<K>,
-    uv: [f32; 2],
+    uv: TexPoint,
 ) -> SampledSpectrum<K> {
     bsdf.fluorescent()
         .map_or(SampledSpectrum::splat(1.0), |f| f.reflectance.eval(wl, uv))
@@ -226,7 +227,7 @@ impl Renderer<'_> {
                     frame.to_local(dir),
                     Transport::Importance,
                 ) * shading_correction(y.ng, y.ns, y.wi, dir);
-                let rho = elastic(bsdf, wl, y.uv);
+                let rho = elastic(bsdf, wl, y.tex);
                 f_dir * self.light_factor(y, s - 1, lanes, &rho, &mut min_s)
             };
             if f.is_zero() || !self.unoccluded(y.p, y.ng, conn.lens, Vec3::ZERO, rays) {
@@ -259,7 +260,7 @@ impl Renderer<'_> {
             }
             let (frame, at) = z.shading();
             let (wi, wo) = (frame.to_local(z.wi), frame.to_local(ls.wi));
-            let f = bsdf.eval(wl, at, wi, wo, Transport::Radiance) * elastic(bsdf, wl, z.uv);
+            let f = bsdf.eval(wl, at, wi, wo, Transport::Radiance) * elastic(bsdf, wl, z.tex);
             if f.is_zero() {
                 return None;
             }
@@ -319,8 +320,8 @@ impl Renderer<'_> {
             let (z_wi, z_wo) = (fz.to_local(z.wi), fz.to_local(-dir));
             let f_y = by.eval(wl, y_at, y_wi, y_wo, Transport::Importance)
                 * shading_correction(y.ng, y.ns, y.wi, dir);
-            let f_z = bz.eval(wl, z_at, z_wi, z_wo, Transport::Radiance) * elastic(bz, wl, z.uv);
-            let rho = elastic(by, wl, y.uv);
+            let f_z = bz.eval(wl, z_at, z_wi, z_wo, Transport::Radiance) * elastic(bz, wl, z.tex);
+            let rho = elastic(by, wl, y.tex);
             let f = f_y * f_z * self.light_factor(y, s - 1, lanes, &rho, &mut min_s);
             if f.is_zero() || !self.unoccluded(y.p, y.ng, z.p, z.ng, rays) {
                 return None;

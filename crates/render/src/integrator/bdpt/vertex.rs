@@ -8,6 +8,7 @@ use scotopia_color::SampledSpectrum;
 
 use crate::bsdf::ShadingPoint;
 use crate::math::{Frame, Vec3};
+use crate::texture::TexPoint;
 
 /// Longest subpath, vertices (fluorescence runs are indexed by `u8`).
 pub(super) const MAX_VERTICES: usize = 250;
@@ -31,7 +32,8 @@ pub(super) struct Vertex<const K: usize> {
     /// Geometric and shading normals; zero where there is no surface.
     pub ng: Vec3,
     pub ns: Vec3,
-    pub uv: [f32; 2],
+    /// Where textures are looked up (surfaces).
+    pub tex: TexPoint,
     /// ∂p/∂u and ∂p/∂v (surfaces), which orient the shading frame.
     pub dpdu: Vec3,
     pub dpdv: Vec3,
@@ -67,7 +69,7 @@ impl<const K: usize> Vertex<K> {
             p,
             ng: Vec3::ZERO,
             ns: Vec3::ZERO,
-            uv: [0.0; 2],
+            tex: TexPoint::default(),
             dpdu: Vec3::ZERO,
             dpdv: Vec3::ZERO,
             index: 0,
@@ -87,7 +89,7 @@ impl<const K: usize> Vertex<K> {
     /// The shading frame at a surface vertex and the point its BSDF sees.
     #[inline]
     pub fn shading(&self) -> (Frame, ShadingPoint) {
-        ShadingPoint::at(self.uv, self.ns, self.ng, self.dpdu, self.dpdv)
+        ShadingPoint::at(self.tex, self.ns, self.ng, self.dpdu, self.dpdv)
     }
 
     pub fn on_surface(&self) -> bool {

@@ -167,7 +167,7 @@ impl Renderer<'_> {
             let mut v = Vertex::new(Kind::Surface, surface.p, beta);
             v.ng = surface.n_geometric;
             v.ns = surface.n_shading;
-            v.uv = surface.uv;
+            v.tex = surface.tex(&hit);
             v.dpdu = surface.dpdu;
             v.dpdv = surface.dpdv;
             v.index = hit.shape;
@@ -189,10 +189,10 @@ impl Renderer<'_> {
             let [u_lobe, u_rr, u_b0, u_b1] = sampler.get_4d();
             if let Some(f) = bsdf.fluorescent() {
                 match mode {
-                    Transport::Radiance => beta *= f.reflectance.eval(wl, v.uv),
+                    Transport::Radiance => beta *= f.reflectance.eval(wl, v.tex),
                     Transport::Importance => {
                         let u = sampler.get_1d();
-                        let (factor, moved) = f.reradiate_forward(wl, &beta, v.uv, u);
+                        let (factor, moved) = f.reradiate_forward(wl, &beta, v.tex, u);
                         let last = &mut path[i];
                         for k in (0..K).filter(|&k| moved[k]) {
                             last.run_out[k] = i as u8;
