@@ -40,7 +40,11 @@ fn ball(world_from_object: &Transform) -> TriangleMesh {
         for j in 0..=cols {
             let (u, v) = (j as f32 / cols as f32, i as f32 / rows as f32);
             let (theta, phi) = (v * std::f32::consts::PI, u * std::f32::consts::TAU);
-            let n = Vec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos());
+            let n = Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            );
             let r = 1.0 + 0.1 * (3.0 * phi).sin() * theta.sin();
             positions.push(n * r);
             normals.push(n);
@@ -55,7 +59,14 @@ fn ball(world_from_object: &Transform) -> TriangleMesh {
             indices.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
         }
     }
-    TriangleMesh::new(positions, Some(normals), Some(uvs), indices, world_from_object).unwrap()
+    TriangleMesh::new(
+        positions,
+        Some(normals),
+        Some(uvs),
+        indices,
+        world_from_object,
+    )
+    .unwrap()
 }
 
 /// The group's shapes, in its own space, placed by `t`: a mesh, a
@@ -67,7 +78,10 @@ fn shapes(t: &Transform, with_sphere: bool) -> Vec<Shape> {
         .then_after(&Transform::scale(Vec3::new(2.0, 1.5, 1.0)).unwrap());
     let mut v = vec![
         Shape::Mesh(ball(t)),
-        Shape::Planar(Box::new(Planar::new(PlanarKind::Rectangle, t.then_after(&rect)))),
+        Shape::Planar(Box::new(Planar::new(
+            PlanarKind::Rectangle,
+            t.then_after(&rect),
+        ))),
     ];
     if with_sphere {
         // The sphere's frame turns with it (its uv follow the placement).
@@ -146,7 +160,10 @@ fn worlds() -> (Aggregate, Aggregate) {
 /// Index of the copied shape that instance `k`'s hit on its group's shape
 /// `local` corresponds to.
 fn copied_shape(k: u32, local: u32) -> u32 {
-    let sizes: Vec<u32> = placements().iter().map(|p| if p.1 { 3 } else { 2 }).collect();
+    let sizes: Vec<u32> = placements()
+        .iter()
+        .map(|p| if p.1 { 3 } else { 2 })
+        .collect();
     1 + sizes[..k as usize].iter().sum::<u32>() + local
 }
 
@@ -154,11 +171,13 @@ fn close(a: Vec3, b: Vec3, tol: f32) -> bool {
     (a - b).length() <= tol * (1.0 + a.length().max(b.length()))
 }
 
-
 /// Rays from around the scene towards points near the instances.
 fn rays(n: usize, seed: u64) -> Vec<Ray> {
     let mut rng = Rng(seed);
-    let targets: Vec<Vec3> = placements().iter().map(|(t, _)| t.point(Vec3::ZERO)).collect();
+    let targets: Vec<Vec3> = placements()
+        .iter()
+        .map(|(t, _)| t.point(Vec3::ZERO))
+        .collect();
     (0..n)
         .map(|i| {
             let o = rng.point(10.0);
@@ -178,7 +197,12 @@ fn instances_hit_and_shade_as_their_copies() {
             assert_eq!(a.is_some(), b.is_some(), "{ray:?}: {a:?} vs {b:?}");
             continue;
         };
-        assert!((a.t - b.t).abs() <= 1e-5 * a.t, "{ray:?}: t {} vs {}", a.t, b.t);
+        assert!(
+            (a.t - b.t).abs() <= 1e-5 * a.t,
+            "{ray:?}: t {} vs {}",
+            a.t,
+            b.t
+        );
         let Some(k) = a.instance else {
             assert_eq!((a.shape, a.prim, b.shape), (0, 0, 0));
             continue;
@@ -186,19 +210,29 @@ fn instances_hit_and_shade_as_their_copies() {
         on_instances += 1;
         let group = inst.instances()[k as usize].group();
         let local = a.shape - group.first_shape();
-        assert_eq!((copied_shape(k, local), a.prim), (b.shape, b.prim), "{ray:?}");
+        assert_eq!(
+            (copied_shape(k, local), a.prim),
+            (b.shape, b.prim),
+            "{ray:?}"
+        );
         on_spheres += matches!(group.shapes()[local as usize], Shape::Sphere(_)) as u32;
         let (s, c): (Surface, Surface) = (inst.surface(&a, &ray), copy.surface(&b, &ray));
         let what = format!("{ray:?} on instance {k}, shape {local}:\n{s:?}\n{c:?}");
         assert!(close(s.p, c.p, 1e-5), "p: {what}");
         assert!(close(s.n_geometric, c.n_geometric, 1e-4), "ng: {what}");
         assert!(close(s.n_shading, c.n_shading, 1e-4), "ns: {what}");
-        assert!((s.uv[0] - c.uv[0]).abs() < 1e-4 && (s.uv[1] - c.uv[1]).abs() < 1e-4, "uv: {what}");
+        assert!(
+            (s.uv[0] - c.uv[0]).abs() < 1e-4 && (s.uv[1] - c.uv[1]).abs() < 1e-4,
+            "uv: {what}"
+        );
         assert!(close(s.dpdu, c.dpdu, 1e-4), "dpdu: {what}");
         assert!(close(s.dpdv, c.dpdv, 1e-4), "dpdv: {what}");
     }
     // The comparison reached every kind of surface.
-    assert!(on_instances > 1000 && on_spheres > 50, "{on_instances} {on_spheres}");
+    assert!(
+        on_instances > 1000 && on_spheres > 50,
+        "{on_instances} {on_spheres}"
+    );
 }
 
 #[test]
@@ -230,7 +264,10 @@ fn shadow_rays_are_blocked_by_instances_as_by_copies() {
 
 #[test]
 fn ten_thousand_instances_hold_one_copy_of_the_triangles() {
-    let group = Arc::new(ShapeGroup::new(vec![Shape::Mesh(ball(&Transform::IDENTITY))], 0));
+    let group = Arc::new(ShapeGroup::new(
+        vec![Shape::Mesh(ball(&Transform::IDENTITY))],
+        0,
+    ));
     let per_tree = group.geometry().stored_triangles();
     assert_eq!(per_tree, 9 * 14 * 2);
     let instances: Vec<Instance> = (0..10_000)
@@ -251,5 +288,8 @@ fn ten_thousand_instances_hold_one_copy_of_the_triangles() {
     let hit = forest.intersect(&ray).unwrap();
     assert_eq!(hit.instance, Some(9_999));
     let s = forest.surface(&hit, &ray);
-    assert!((hit.t - 12.0).abs() < 1e-2 && (s.p.z - 298.0).abs() < 1e-2, "{hit:?} {s:?}");
+    assert!(
+        (hit.t - 12.0).abs() < 1e-2 && (s.p.z - 298.0).abs() < 1e-2,
+        "{hit:?} {s:?}"
+    );
 }

@@ -9,15 +9,12 @@ use std::sync::atomic::AtomicBool;
 
 use scotopia_render::integrator::{render, RenderOptions};
 use scotopia_render::scene::{IntegratorKind, Scene};
-use scotopia_scene::SceneInfo;
 use scotopia_scene::load_scene;
 use scotopia_scene::mitsuba::Parameters;
+use scotopia_scene::SceneInfo;
 
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!(
-        "scotopia-instances-{name}-{}",
-        std::process::id()
-    ));
+    let d = std::env::temp_dir().join(format!("scotopia-instances-{name}-{}", std::process::id()));
     std::fs::create_dir_all(&d).unwrap();
     d
 }
@@ -54,7 +51,11 @@ fn ball_obj() -> String {
         for j in 0..=cols {
             let (u, v) = (j as f32 / cols as f32, i as f32 / rows as f32);
             let (theta, phi) = (v * std::f32::consts::PI, u * std::f32::consts::TAU);
-            let n = [theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin()];
+            let n = [
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                theta.sin() * phi.sin(),
+            ];
             let r = 1.0 + 0.15 * (3.0 * phi).sin() * theta.sin();
             s += &format!("v {} {} {}\n", n[0] * r, n[1] * r, n[2] * r);
             s += &format!("vn {} {} {}\nvt {u} {v}\n", n[0], n[1], n[2]);
@@ -106,10 +107,12 @@ fn members(then: &str, sphere: bool) -> String {
     s
 }
 
-/// Three placements: a rotated and uniformly scaled one of the group with
-/// the sphere; a rotated, non-uniformly scaled one and a sheared-looking
-/// (scaled then rotated) one of the group without.
-const PLACEMENTS: [(&str, bool); 3] = [
+/// Four placements: a rotated and uniformly scaled one of the group with
+/// the sphere; of the group without, a rotated, non-uniformly scaled one,
+/// a sheared (scaled, then rotated) one, and a mirrored one (the loader
+/// reverses a mirrored copy's winding, so its face normals keep their
+/// side, as an instance's do).
+const PLACEMENTS: [(&str, bool); 4] = [
     (
         r#"<scale value="1.2"/><rotate x="0.3" y="1" z="0.2" angle="35"/><translate x="-3" y="-0.8"/>"#,
         true,
@@ -120,6 +123,10 @@ const PLACEMENTS: [(&str, bool); 3] = [
     ),
     (
         r#"<scale x="0.6" y="1.3" z="0.8"/><rotate z="1" angle="40"/><translate y="2.2" z="-2"/>"#,
+        false,
+    ),
+    (
+        r#"<scale x="-0.8" y="0.8" z="0.8"/><rotate y="1" angle="60"/><translate x="0.3" y="-1.4" z="2.5"/>"#,
         false,
     ),
 ];
@@ -142,7 +149,7 @@ fn scenes(dir: &Path) -> (Scene, Scene) {
     }
     let a = load(dir, "instanced.xml", &instanced);
     let b = load(dir, "copied.xml", &copied);
-    assert_eq!(a.geometry.instances().len(), 3);
+    assert_eq!(a.geometry.instances().len(), 4);
     assert!(b.geometry.instances().is_empty());
     (a, b)
 }
@@ -171,7 +178,9 @@ fn agree(what: &str, a: &[[f32; 4]], b: &[[f32; 4]]) {
     let differing = a
         .iter()
         .zip(b)
-        .filter(|(p, q)| (0..4).any(|c| (p[c] - q[c]).abs() > 1e-3 * p[c].abs().max(q[c].abs()) + 1e-6))
+        .filter(|(p, q)| {
+            (0..4).any(|c| (p[c] - q[c]).abs() > 1e-3 * p[c].abs().max(q[c].abs()) + 1e-6)
+        })
         .count();
     assert!(
         differing * 50 <= a.len(),
@@ -189,8 +198,17 @@ fn agree(what: &str, a: &[[f32; 4]], b: &[[f32; 4]]) {
             "{what}, channel {c}: difference {mean} ± {se} (level {level})"
         );
     }
-    let worst = a.iter().zip(b).flat_map(|(p, q)| (0..4).map(move |c| (p[c] - q[c]).abs() / p[c].abs().max(q[c].abs()).max(1e-30))).fold(0.0f32, f32::max);
-    eprintln!("{what}: {differing} of {} pixels differ beyond rounding; worst relative {worst}", a.len());
+    let worst = a
+        .iter()
+        .zip(b)
+        .flat_map(|(p, q)| {
+            (0..4).map(move |c| (p[c] - q[c]).abs() / p[c].abs().max(q[c].abs()).max(1e-30))
+        })
+        .fold(0.0f32, f32::max);
+    eprintln!(
+        "{what}: {differing} of {} pixels differ beyond rounding; worst relative {worst}",
+        a.len()
+    );
 }
 
 #[test]

@@ -449,7 +449,10 @@ fn instances_place_the_shapes_of_a_shapegroup() {
         ),
     );
     let e = load_scene(&h, &Parameters::new()).unwrap_err().to_string();
-    assert!(e.contains("u.xml:6:") && e.contains("cannot hold an emitter"), "{e}");
+    assert!(
+        e.contains("u.xml:6:") && e.contains("cannot hold an emitter"),
+        "{e}"
+    );
 }
 
 #[test]

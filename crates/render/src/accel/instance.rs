@@ -72,7 +72,13 @@ impl Instance {
             Aabb::EMPTY
         } else {
             let corners: [Vec3; 8] = std::array::from_fn(|i| {
-                let pick = |bit: usize, a: usize| if i >> bit & 1 == 0 { b.min[a] } else { b.max[a] };
+                let pick = |bit: usize, a: usize| {
+                    if i >> bit & 1 == 0 {
+                        b.min[a]
+                    } else {
+                        b.max[a]
+                    }
+                };
                 world_from_object.point(Vec3::new(pick(0, 0), pick(1, 1), pick(2, 2)))
             });
             let world = Aabb::from_points(&corners);

@@ -93,7 +93,12 @@ impl Aggregate {
                 })
                 .sum()
         };
-        count(&self.shapes) + self.groups().iter().map(|g| count(g.shapes())).sum::<usize>()
+        count(&self.shapes)
+            + self
+                .groups()
+                .iter()
+                .map(|g| count(g.shapes()))
+                .sum::<usize>()
     }
 
     /// The closest hit within (0, ray.t_max).
