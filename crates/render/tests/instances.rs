@@ -3,8 +3,9 @@
 //! at the same world-space distance) and the same surface (position,
 //! normals, uv, dpdu, dpdv), under rotation, translation and a
 //! non-uniform scale; shadow rays are blocked by instances exactly where
-//! the copies block them; and every instance shares its group's one copy
-//! of the triangles.
+//! the copies block them; every instance shares its group's one copy of
+//! the triangles; and a non-uniformly scaled sphere instance is the
+//! ellipsoid, with the implicit surface's normal.
 
 use std::sync::Arc;
 
@@ -292,4 +293,55 @@ fn ten_thousand_instances_hold_one_copy_of_the_triangles() {
         (hit.t - 12.0).abs() < 1e-2 && (s.p.z - 298.0).abs() < 1e-2,
         "{hit:?} {s:?}"
     );
+}
+
+#[test]
+fn a_non_uniformly_scaled_sphere_instance_is_an_ellipsoid() {
+    // Semi-axes (2, 1, 0.5), turned 30° about z and moved.
+    let axes = Vec3::new(2.0, 1.0, 0.5);
+    let place = Transform::translate(Vec3::new(1.0, -2.0, 3.0))
+        .then_after(&Transform::rotate(Vec3::new(0.0, 0.0, 1.0), 30.0).unwrap())
+        .then_after(&Transform::scale(axes).unwrap());
+    let group = Arc::new(ShapeGroup::new(
+        vec![Shape::Sphere(Sphere::new(Vec3::ZERO, 1.0))],
+        0,
+    ));
+    let world = Aggregate::with_instances(Vec::new(), vec![Instance::new(group, place)]);
+    let mut rng = Rng(3);
+    let mut hits = 0;
+    for _ in 0..500 {
+        let o = place.point(rng.point(6.0));
+        let target = place.point(rng.point(0.9));
+        let ray = Ray::new(o, (target - o).normalize());
+        let Some(hit) = world.intersect(&ray) else {
+            continue;
+        };
+        hits += 1;
+        let s = world.surface(&hit, &ray);
+        // The hit lies on the ellipsoid, at world distance t along the ray.
+        assert!(close(s.p, ray.at(hit.t), 1e-5), "{s:?}");
+        let q = place.inverse().point(s.p);
+        let on = q.length_squared();
+        assert!((on - 1.0).abs() < 1e-4, "{q:?}");
+        // Its normal is the gradient of the implicit surface, in world
+        // space: the inverse transpose of the placement applied to q.
+        let n = place.normal(q).normalize();
+        assert!(
+            close(s.n_geometric, n, 1e-4) && close(s.n_shading, n, 1e-4),
+            "{s:?} {n:?}"
+        );
+        // Tangents lie in the tangent plane.
+        assert!(s.dpdu.normalize().dot(n).abs() < 1e-3 && s.dpdv.normalize().dot(n).abs() < 1e-3);
+        // A shadow ray stopping short of the hit passes; past it, not.
+        let short = Ray {
+            t_max: hit.t * 0.999,
+            ..ray
+        };
+        let past = Ray {
+            t_max: hit.t * 1.001,
+            ..ray
+        };
+        assert!(!world.occluded(&short) && world.occluded(&past));
+    }
+    assert!(hits > 200, "{hits}");
 }
