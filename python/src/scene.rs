@@ -49,6 +49,7 @@ fn scene_info<'py>(
     let d = PyDict::new(py);
     d.set_item("shapes", i.shapes)?;
     d.set_item("triangles", i.triangles)?;
+    d.set_item("instances", i.instances)?;
     d.set_item("materials", i.materials)?;
     d.set_item("emitters", i.emitters)?;
     let camera = PyDict::new(py);

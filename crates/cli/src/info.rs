@@ -55,6 +55,7 @@ pub fn run(args: Args) -> Result<()> {
         let v = json!({
             "shapes": i.shapes,
             "triangles": i.triangles,
+            "instances": i.instances,
             "materials": i.materials,
             "emitters": i.emitters,
             "camera": {
@@ -72,6 +73,9 @@ pub fn run(args: Args) -> Result<()> {
         let mut o = String::new();
         writeln!(o, "{}", args.scene.display())?;
         writeln!(o, "  shapes      {} ({} triangles)", i.shapes, i.triangles)?;
+        if i.instances > 0 {
+            writeln!(o, "  instances   {}", i.instances)?;
+        }
         writeln!(o, "  materials   {}", i.materials)?;
         writeln!(o, "  emitters    {}", i.emitters)?;
         writeln!(

@@ -169,6 +169,7 @@ fn uvs_and_normals_as_mitsuba() {
         shape: 0,
         prim: 0,
         uv,
+        instance: None,
     };
     let s = c.surface(&hit, &ray);
     assert!((t - 4.0).abs() < 1e-6);

@@ -24,6 +24,7 @@ fn a_flipped_sphere_faces_and_emits_inwards() {
             shape: 0,
             prim: 0,
             uv,
+            instance: None,
         },
         &ray,
     );

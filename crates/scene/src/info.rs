@@ -1,6 +1,5 @@
 //! What a loaded scene holds, for `scotopia info`.
 
-use scotopia_render::geometry::Shape;
 use scotopia_render::light::{Light, Power, SceneExtent};
 use scotopia_render::scene::{Filter, Scene};
 
@@ -14,8 +13,12 @@ pub struct LightInfo {
 /// A summary of a scene.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SceneInfo {
+    /// Shapes outside shape groups, then those of the groups (each once).
     pub shapes: usize,
+    /// Triangles held in memory (each group's once).
     pub triangles: usize,
+    /// Placements of shape groups.
+    pub instances: usize,
     pub materials: usize,
     pub emitters: usize,
     pub width: u32,
@@ -59,16 +62,15 @@ impl SceneInfo {
             })
             .collect();
         Self {
-            shapes: scene.geometry.shapes.len(),
-            triangles: scene
-                .geometry
-                .shapes
-                .iter()
-                .map(|s| match s {
-                    Shape::Mesh(m) => m.triangle_count(),
-                    _ => 0,
-                })
-                .sum(),
+            shapes: scene.geometry.shapes.len()
+                + scene
+                    .geometry
+                    .groups()
+                    .iter()
+                    .map(|g| g.shapes().len())
+                    .sum::<usize>(),
+            triangles: scene.geometry.stored_triangles(),
+            instances: scene.geometry.instances().len(),
             materials: scene.materials.len(),
             emitters: scene.lights.len(),
             width: scene.camera.width,

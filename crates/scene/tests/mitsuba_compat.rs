@@ -395,13 +395,22 @@ fn instances_place_the_shapes_of_a_shapegroup() {
         ),
     );
     let s = load(&f);
+    // The group is built once; each instance places it.
+    assert!(s.geometry.shapes.is_empty());
+    assert_eq!(s.geometry.groups().len(), 1);
     let spheres: Vec<(Vec3, f32)> = s
         .geometry
-        .shapes
+        .instances()
         .iter()
-        .map(|sh| match sh {
-            Shape::Sphere(sp) => (sp.center, sp.radius),
-            other => panic!("{other:?}"),
+        .flat_map(|i| {
+            let t = *i.world_from_object();
+            i.group().shapes().iter().map(move |sh| match sh {
+                Shape::Sphere(sp) => (
+                    t.point(sp.center),
+                    t.vector(Vec3::new(sp.radius, 0.0, 0.0)).length(),
+                ),
+                other => panic!("{other:?}"),
+            })
         })
         .collect();
     let want = [
@@ -417,6 +426,9 @@ fn instances_place_the_shapes_of_a_shapegroup() {
             "{c:?} {r}"
         );
     }
+    // Each group shape has its material, once for all instances.
+    assert_eq!(s.shape_material.len(), 2);
+    assert_eq!(s.shape_light, vec![None, None]);
     let g = write(
         &d,
         "t.xml",
@@ -424,6 +436,23 @@ fn instances_place_the_shapes_of_a_shapegroup() {
     );
     let e = load_scene(&g, &Parameters::new()).unwrap_err().to_string();
     assert!(e.contains("'m' is a <bsdf>"), "{e}");
+    // Mitsuba refuses to instance emitters; so does scotopia, naming the
+    // emitter's line.
+    let h = write(
+        &d,
+        "u.xml",
+        &scene(
+            r#"<shape type="shapegroup" id="lamp">
+    <shape type="sphere"><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
+</shape>
+<shape type="instance"><ref id="lamp"/></shape>"#,
+        ),
+    );
+    let e = load_scene(&h, &Parameters::new()).unwrap_err().to_string();
+    assert!(
+        e.contains("u.xml:6:") && e.contains("cannot hold an emitter"),
+        "{e}"
+    );
 }
 
 #[test]

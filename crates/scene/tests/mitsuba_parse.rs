@@ -73,8 +73,10 @@ fn transforms_compose_in_document_order() {
 #[test]
 fn errors_name_file_line_column_and_element() {
     let d = tmp("err");
-    let cases: [(&str, &str); 7] = [
+    let cases: [(&str, &str); 8] = [
         ("<scene version=\"3.0.0\">\n  <shape type=\"sphere\">\n</scene>", "xml"),
+        // Columns count characters, not bytes; a CRLF ends a line.
+        ("<scene>\r\n  <transform name=\"to_world\">\r\n  <!-- é ü --><scale value=\"0\"/>\r\n  </transform>\r\n</scene>", "t.xml:3:15: <scale>: degenerate"),
         ("<scene>\n  <film type=\"hdrfilm\"><integer name=\"width\" value=\"$w\"/></film>\n</scene>", "<integer>: parameter '$w'"),
         ("<scene>\n  <include filename=\"missing.xml\"/>\n</scene>", "<include>: cannot read"),
         ("<scene>\n  <include filename=\"self.xml\"/>\n</scene>", "includes itself"),

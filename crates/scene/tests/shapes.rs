@@ -41,6 +41,7 @@ fn hit(shape: &Shape, ray: &Ray) -> Option<scotopia_render::geometry::Surface> {
                     shape: 0,
                     prim: p as u32,
                     uv,
+                    instance: None,
                 })
         })
         .min_by(|a, b| a.t.total_cmp(&b.t))

@@ -11,6 +11,9 @@ enum Test {
     Sphere(Vec3, f32),
     Plane(PlaneTest),
     Cylinder(CylinderTest),
+    /// An instance of a shape group, by its number in the aggregate: the
+    /// aggregate tests it (`Instance::intersect`).
+    Instance(u32),
 }
 
 /// One primitive: its test, and which shape and primitive it is.
@@ -35,6 +38,24 @@ impl Prim {
         Self { test, shape, index }
     }
 
+    /// Instance `k` of the aggregate.
+    pub fn of_instance(k: u32) -> Self {
+        Self {
+            test: Test::Instance(k),
+            shape: u32::MAX,
+            index: k,
+        }
+    }
+
+    /// The instance this primitive is, if it is one.
+    #[inline(always)]
+    pub fn instance(&self) -> Option<u32> {
+        match self.test {
+            Test::Instance(k) => Some(k),
+            _ => None,
+        }
+    }
+
     /// t in (0, t_max) and the hit's barycentrics or object (x, y).
     #[inline(always)]
     pub fn intersect(&self, ray: &Ray, shear: &RayShear, t_max: f32) -> Option<(f32, [f32; 2])> {
@@ -47,6 +68,8 @@ impl Prim {
             }
             Test::Plane(p) => p.intersect(ray, t_max),
             Test::Cylinder(c) => c.intersect(ray, t_max),
+            // Tested by the aggregate, which holds the instances.
+            Test::Instance(_) => None,
         }
     }
 }

@@ -48,6 +48,11 @@ pub struct Hit {
     pub prim: u32,
     /// Barycentrics (triangles) or object-space (x, y) (planar shapes).
     pub uv: [f32; 2],
+    /// The instance hit, when the shape belongs to a shape group: `shape`
+    /// is then the scene's number of the group's shape, `prim` its
+    /// primitive, and `uv` is in the group's space
+    /// (`Aggregate::surface` brings the surface to world space).
+    pub instance: Option<u32>,
 }
 
 /// The surface at a hit: position, geometric and shading normals (unit,

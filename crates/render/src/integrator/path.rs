@@ -132,8 +132,7 @@ impl Renderer<'_> {
                 }
                 break;
             };
-            let shape = &scene.geometry.shapes[hit.shape as usize];
-            let surface = shape.surface(&hit, &ray);
+            let surface = scene.geometry.surface(&hit, &ray);
             let wo_world = -ray.d;
             // Emission of an area light we landed on.
             if let Some(li) = scene.shape_light[hit.shape as usize] {

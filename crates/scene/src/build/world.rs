@@ -3,11 +3,13 @@
 //! and the integrator.
 
 use std::collections::HashMap;
+use std::sync::Arc;
 
-use scotopia_render::accel::Aggregate;
+use scotopia_render::accel::{Aggregate, Instance, ShapeGroup};
 use scotopia_render::bsdf::{Bsdf, Diffuse};
 use scotopia_render::geometry::Shape;
 use scotopia_render::light::{AreaLight, Light};
+use scotopia_render::math::Transform;
 use scotopia_render::scene::{IntegratorSettings, Scene};
 use scotopia_render::texture::Texture;
 
@@ -28,6 +30,25 @@ pub struct World {
     shape_material: Vec<u32>,
     shape_light: Vec<Option<u32>>,
     lights: Vec<Light>,
+    /// Shape groups built (on their first instance), and their numbers by id.
+    groups: Vec<Group>,
+    group_ids: HashMap<String, usize>,
+    /// Each instance: its group and its placement.
+    instances: Vec<(usize, Transform)>,
+}
+
+/// A shape built with its material, and the emitters it holds.
+struct Member {
+    shape: Shape,
+    material: u32,
+    emitters: Vec<Node>,
+}
+
+/// The shapes of a `shapegroup` and their materials.
+#[derive(Default)]
+struct Group {
+    shapes: Vec<Shape>,
+    shape_material: Vec<u32>,
 }
 
 impl Default for World {
@@ -41,6 +62,9 @@ impl Default for World {
             shape_material: Vec::new(),
             shape_light: Vec::new(),
             lights: Vec::new(),
+            groups: Vec::new(),
+            group_ids: HashMap::new(),
+            instances: Vec::new(),
         }
     }
 }
@@ -82,36 +106,48 @@ impl World {
         Ok(())
     }
 
-    /// A shape, its material (nested, referenced, or the default diffuse)
-    /// and its area emitter (nested or referenced).
+    /// A top-level shape (or those a `merge` holds): each with its
+    /// material and its area emitter.
     fn add_shape(&mut self, b: &mut Builder, n: &Node) -> Result<(), SceneError> {
-        let kind = n.require("type")?;
-        match kind {
+        match n.require("type")? {
             // Built where an instance refers to it.
             "shapegroup" => {
                 if n.attr("id").is_none() {
                     b.warn(n, "a shapegroup without an id is never used".into());
                 }
-                return Ok(());
+                Ok(())
             }
-            "instance" => return self.add_instance(b, n),
-            // Mitsuba merges its meshes into one for speed: the same image.
-            "merge" => {
-                for c in n.children.iter().filter(|c| c.tag == "shape") {
-                    self.add_shape(b, c)?;
+            "instance" => self.add_instance(b, n),
+            _ => {
+                for m in self.build_members(b, n)? {
+                    self.push_shape(b, m)?;
                 }
-                return Ok(());
+                Ok(())
             }
-            _ => {}
         }
-        // Shapes scotopia cannot intersect yet (the registry's "skipped"):
-        // left out with a warning, so the rest of the scene renders.
+    }
+
+    /// The shapes `n` describes (one, or those of a `merge`: Mitsuba merges
+    /// its meshes into one for speed, the same image), each with its
+    /// material (nested, referenced, or the default diffuse) and the
+    /// emitters it holds. Shapes scotopia cannot intersect yet (the
+    /// registry's "skipped") are left out with a warning, so the rest of
+    /// the scene renders.
+    fn build_members(&mut self, b: &mut Builder, n: &Node) -> Result<Vec<Member>, SceneError> {
+        let kind = n.require("type")?;
+        if kind == "merge" {
+            let mut members = Vec::new();
+            for c in n.children.iter().filter(|c| c.tag == "shape") {
+                members.extend(self.build_members(b, c)?);
+            }
+            return Ok(members);
+        }
         if registry::plugin("shape", kind).is_some_and(|p| p.support == Support::Skipped) {
             b.warn(
                 n,
                 format!("shape type '{kind}' is not supported yet: skipped (the image lacks it)"),
             );
-            return Ok(());
+            return Ok(Vec::new());
         }
         let shape = shape::build_shape(b, n)?;
         let mut bsdf = None;
@@ -155,9 +191,18 @@ impl World {
                 })),
             ),
         };
+        Ok(vec![Member {
+            shape,
+            material,
+            emitters,
+        }])
+    }
+
+    /// A shape of the scene's own (outside groups), with its area light.
+    fn push_shape(&mut self, b: &mut Builder, m: Member) -> Result<(), SceneError> {
         let index = self.shapes.len() as u32;
         let mut light = None;
-        for e in &emitters {
+        for e in &m.emitters {
             if light.is_some() {
                 return Err(e.error("a shape can hold one area emitter"));
             }
@@ -168,18 +213,18 @@ impl World {
             let radiance = emitter::emissive_texture(b, &p, e, "radiance")?;
             b.report_unused(&p);
             self.lights
-                .push(Light::Area(AreaLight::new(index, &shape, radiance)));
+                .push(Light::Area(AreaLight::new(index, &m.shape, radiance)));
             light = Some((self.lights.len() - 1) as u32);
         }
-        self.shapes.push(shape);
-        self.shape_material.push(material);
+        self.shapes.push(m.shape);
+        self.shape_material.push(m.material);
         self.shape_light.push(light);
         Ok(())
     }
 
-    /// `<shape type="instance">`: the shapes of the `shapegroup` it refers
-    /// to, each placed by its own `to_world` and then the instance's.
-    /// The group's shapes are copied per instance (not shared).
+    /// `<shape type="instance">`: a placement (`to_world`) of the
+    /// `shapegroup` it refers to. The group is built once, on its first
+    /// instance, and shared by all.
     fn add_instance(&mut self, b: &mut Builder, n: &Node) -> Result<(), SceneError> {
         let group_ref = n
             .children
@@ -188,38 +233,54 @@ impl World {
             .ok_or_else(|| n.error("an instance needs a <ref id=\"…\"/> to a shapegroup"))?;
         let group = if group_ref.tag == "ref" {
             let id = group_ref.require("id")?;
-            let g = b.named(group_ref, "shape", id)?;
-            if g.attr("type") != Some("shapegroup") {
-                return Err(group_ref.error(format!("'{id}' is not a shapegroup")));
+            match self.group_ids.get(id) {
+                Some(&g) => g,
+                None => {
+                    let node = b.named(group_ref, "shape", id)?;
+                    if node.attr("type") != Some("shapegroup") {
+                        return Err(group_ref.error(format!("'{id}' is not a shapegroup")));
+                    }
+                    let g = self.build_group(b, &node)?;
+                    self.group_ids.insert(id.to_string(), g);
+                    g
+                }
             }
-            g
         } else {
-            group_ref.clone()
+            self.build_group(b, group_ref)?
         };
         let p = Props::new(n);
-        let placement = p.get("to_world");
-        if let Some(t) = placement {
-            if t.tag != "transform" {
-                return Err(t.error("'to_world' must be a <transform>"));
-            }
-        }
+        let world_from_object = p.transform("to_world")?;
         for c in &n.children {
             if c.tag != "ref" && c.tag != "transform" && c.tag != "shape" {
                 b.warn(c, format!("<{}> in an instance is ignored", c.tag));
             }
         }
-        for member in group.children.iter().filter(|c| c.tag == "shape") {
+        self.instances.push((group, world_from_object));
+        Ok(())
+    }
+
+    /// The shapes of a `shapegroup`, with their materials. As Mitsuba, a
+    /// group holds no groups or instances, and its shapes no emitters.
+    fn build_group(&mut self, b: &mut Builder, n: &Node) -> Result<usize, SceneError> {
+        let mut group = Group::default();
+        for member in n.children.iter().filter(|c| c.tag == "shape") {
             if member.attr("type") == Some("shapegroup") || member.attr("type") == Some("instance")
             {
                 return Err(member.error("a shapegroup cannot hold groups or instances"));
             }
-            let placed = match placement {
-                Some(t) => place(member, t),
-                None => member.clone(),
-            };
-            self.add_shape(b, &placed)?;
+            for m in self.build_members(b, member)? {
+                if let Some(e) = m.emitters.first() {
+                    return Err(e.error(
+                        "a shape in a shapegroup cannot hold an emitter (Mitsuba does not \
+                         instance emitters): place the emitting shape outside the group",
+                    ));
+                }
+                group.shapes.push(m.shape);
+                group.shape_material.push(m.material);
+            }
         }
-        Ok(())
+        self.groups.push(group);
+        Ok(self.groups.len() - 1)
     }
 
     fn push_material(&mut self, bsdf: Bsdf) -> u32 {
@@ -228,15 +289,33 @@ impl World {
     }
 
     pub fn scene(self, sensor: Sensor, warnings: Vec<String>) -> Scene {
+        // The groups' shapes are numbered after the scene's own, each group
+        // once: materials by shape, and no area lights (groups hold none).
+        let (mut shape_material, mut shape_light) = (self.shape_material, self.shape_light);
+        let groups: Vec<Arc<ShapeGroup>> = self
+            .groups
+            .into_iter()
+            .map(|g| {
+                let first = shape_material.len() as u32;
+                shape_material.extend(g.shape_material);
+                shape_light.resize(shape_material.len(), None);
+                Arc::new(ShapeGroup::new(g.shapes, first))
+            })
+            .collect();
+        let instances = self
+            .instances
+            .into_iter()
+            .map(|(g, world_from_object)| Instance::new(groups[g].clone(), world_from_object))
+            .collect();
         Scene {
             camera: sensor.camera,
             filter: sensor.filter,
             samples_per_pixel: sensor.spp,
             integrator: self.integrator,
-            geometry: Aggregate::new(self.shapes),
+            geometry: Aggregate::with_instances(self.shapes, instances),
             materials: self.materials,
-            shape_material: self.shape_material,
-            shape_light: self.shape_light,
+            shape_material,
+            shape_light,
             lights: self.lights,
             warnings,
         }
@@ -261,24 +340,4 @@ pub fn warn_media(b: &mut Builder, node: &Node) {
             warn_media(b, c);
         }
     }
-}
-
-/// `shape` moved by `placement` (a `<transform>`): its own `to_world`
-/// operations followed by the placement's, which Mitsuba's rule (each
-/// operation applies after the previous) makes placement ∘ own.
-fn place(shape: &Node, placement: &Node) -> Node {
-    let mut placed = shape.clone();
-    let own = placed
-        .children
-        .iter_mut()
-        .find(|c| c.tag == "transform" && c.attr("name") == Some("to_world"));
-    match own {
-        Some(t) => t.children.extend(placement.children.iter().cloned()),
-        None => {
-            let mut t = placement.clone();
-            t.attributes = vec![("name".into(), "to_world".into())];
-            placed.children.push(t);
-        }
-    }
-    placed
 }

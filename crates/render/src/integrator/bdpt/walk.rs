@@ -162,8 +162,7 @@ impl Renderer<'_> {
                 }
                 break;
             };
-            let shape = &scene.geometry.shapes[hit.shape as usize];
-            let surface = shape.surface(&hit, &ray);
+            let surface = scene.geometry.surface(&hit, &ray);
             let mut v = Vertex::new(Kind::Surface, surface.p, beta);
             v.ng = surface.n_geometric;
             v.ns = surface.n_shading;
