@@ -126,7 +126,8 @@ impl Texture {
     fn breakpoints(&self, out: &mut Vec<f32>) {
         match self {
             Texture::Constant(s) => out.extend(s.breakpoints()),
-            Texture::Bitmap(_) => {}
+            // Upsampled RGB: smooth, no tabulated wavelengths.
+            Texture::Bitmap(_) | Texture::MeshAttribute(_) => {}
             Texture::Checkerboard(c) => {
                 c.color0.breakpoints(out);
                 c.color1.breakpoints(out);

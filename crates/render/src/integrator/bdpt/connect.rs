@@ -146,7 +146,7 @@ impl Renderer<'_> {
                 .fold(SampledSpectrum::splat(0.0), |a, b| a + b);
         }
         match self.light_of(v) {
-            Some(Light::Area(a)) => a.radiance(wl, v.uv, v.ng, d),
+            Some(Light::Area(a)) => a.radiance(wl, v.tex.uv, v.ng, d),
             Some(Light::Point(p)) => p.intensity.sample(wl),
             Some(Light::Spot(s)) => s.intensity_towards(wl, d),
             Some(Light::Projector(p)) => p.intensity_towards(wl, d),

@@ -101,7 +101,7 @@ impl Renderer<'_> {
             y0.ng = n;
             y0.ns = n;
         }
-        y0.uv = e.uv;
+        y0.tex = e.uv.into();
         y0.wi = -e.d;
         y0.pdf_fwd = self.origin_density(choice, &y0);
         path.push(y0);
