@@ -81,6 +81,7 @@ fn by_directions(light: &AreaLight, shape: &Shape, p: Vec3, n: usize) -> (f64, f
                 shape: 0,
                 prim: prim as u32,
                 uv,
+                instance: None,
             };
             let s = shape.surface(&hit, &ray);
             let l = light.radiance(&wl(), s.uv, s.n_geometric, -ray.d);

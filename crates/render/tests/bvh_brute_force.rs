@@ -1,35 +1,12 @@
 //! The BVH finds exactly the hits a brute-force loop over every primitive
 //! finds, on random, degenerate and mixed scenes.
 
+mod common;
+
+use common::Rng;
 use scotopia_render::accel::Aggregate;
 use scotopia_render::geometry::{Planar, PlanarKind, RayShear, Shape, Sphere, TriangleMesh};
 use scotopia_render::math::{Ray, Transform, Vec3};
-
-/// SplitMix64, seeded: reproducible random numbers for the test.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f32 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
-    }
-
-    fn point(&mut self, half: f32) -> Vec3 {
-        Vec3::new(self.next() - 0.5, self.next() - 0.5, self.next() - 0.5) * (2.0 * half)
-    }
-
-    fn direction(&mut self) -> Vec3 {
-        loop {
-            let v = self.point(1.0);
-            if v.length_squared() > 1e-4 && v.length_squared() <= 1.0 {
-                return v.normalize();
-            }
-        }
-    }
-}
 
 fn brute_force(shapes: &[Shape], ray: &Ray) -> Option<f32> {
     let shear = RayShear::new(ray);

@@ -7,28 +7,14 @@
 //! the triangles; and a non-uniformly scaled sphere instance is the
 //! ellipsoid, with the implicit surface's normal.
 
+mod common;
+
+use common::Rng;
 use std::sync::Arc;
 
 use scotopia_render::accel::{Aggregate, Instance, ShapeGroup};
 use scotopia_render::geometry::{Planar, PlanarKind, Shape, Sphere, Surface, TriangleMesh};
 use scotopia_render::math::{Frame, Ray, Transform, Vec3};
-
-/// SplitMix64, seeded: reproducible random numbers for the test.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f32 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
-    }
-
-    fn point(&mut self, half: f32) -> Vec3 {
-        Vec3::new(self.next() - 0.5, self.next() - 0.5, self.next() - 0.5) * (2.0 * half)
-    }
-}
 
 /// A bumpy latitude–longitude ball (unit size) with smooth normals and
 /// texture coordinates, placed by `world_from_object`.

@@ -96,6 +96,7 @@ mod tests {
             shape: 0,
             prim: prim as u32,
             uv,
+            instance: None,
         };
         let surface = shape.surface(&hit, &ray);
         assert!(

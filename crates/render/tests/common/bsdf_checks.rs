@@ -3,7 +3,7 @@
 
 use super::{chi2_directions, Rng};
 use scotopia_color::SampledWavelengths;
-use scotopia_render::bsdf::{Bsdf, Transport};
+use scotopia_render::bsdf::{Bsdf, ShadingPoint, Transport};
 use scotopia_render::math::Vec3;
 
 /// The χ² p-value of 200 000 directions `bsdf.sample` draws from `wi`
@@ -12,7 +12,7 @@ use scotopia_render::math::Vec3;
 pub fn sampling_p_value(
     bsdf: &Bsdf,
     wl: &SampledWavelengths<4>,
-    uv: [f32; 2],
+    uv: impl Into<ShadingPoint> + Copy,
     wi: Vec3,
     seed: u64,
 ) -> f64 {
@@ -37,7 +37,7 @@ pub fn assert_weights_are_eval_over_pdf(
     name: &str,
     bsdf: &Bsdf,
     wl: &SampledWavelengths<4>,
-    uv: [f32; 2],
+    uv: impl Into<ShadingPoint> + Copy,
     wi: Vec3,
     mode: Transport,
     n: usize,
@@ -75,7 +75,7 @@ pub fn assert_weights_are_eval_over_pdf(
 pub fn albedo(
     bsdf: &Bsdf,
     wl: &SampledWavelengths<4>,
-    uv: [f32; 2],
+    uv: impl Into<ShadingPoint> + Copy,
     wi: Vec3,
     mode: Transport,
     n: usize,

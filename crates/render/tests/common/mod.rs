@@ -24,6 +24,21 @@ impl Rng {
     pub fn pair(&mut self) -> [f32; 2] {
         [self.next(), self.next()]
     }
+
+    /// A point uniform in the cube [−half, half]³.
+    pub fn point(&mut self, half: f32) -> Vec3 {
+        Vec3::new(self.next() - 0.5, self.next() - 0.5, self.next() - 0.5) * (2.0 * half)
+    }
+
+    /// A unit direction, uniform over the sphere (by rejection).
+    pub fn direction(&mut self) -> Vec3 {
+        loop {
+            let v = self.point(1.0);
+            if v.length_squared() > 1e-4 && v.length_squared() <= 1.0 {
+                return v.normalize();
+            }
+        }
+    }
 }
 
 /// ln Γ(x), Lanczos approximation (g = 7, n = 9), accurate to ~1e-15.

@@ -14,6 +14,7 @@
 //! its integer range test starts at `char`), with a note.
 
 use super::ply::Scalar;
+use scotopia_color::space::srgb_decode;
 
 /// Where each attribute's numbers come from in an element's records.
 #[derive(Debug, Default)]
@@ -172,16 +173,7 @@ fn convert(v: f64, t: Option<Scalar>) -> f32 {
         Some(Scalar::U8 | Scalar::F32 | Scalar::F64) | None => return v as f32,
     };
     let x = (v / max).clamp(-1.0, 1.0);
-    (x.signum() * srgb_to_linear(x.abs())) as f32
-}
-
-/// The sRGB decoding curve (IEC 61966-2-1).
-fn srgb_to_linear(c: f64) -> f64 {
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
+    (x.signum() * srgb_decode(x.abs())) as f32
 }
 
 #[cfg(test)]
