@@ -127,6 +127,11 @@ pub enum FloatTexture {
     MeshAttribute(Arc<MeshAttribute>),
 }
 
+/// Mitsuba 3's `checkerboard` read as one number (its `eval_1`): `first`
+/// (`color0`) where the fractional parts of u and v lie in *different*
+/// halves of [0, 1) — the opposite of its spectral `eval`
+/// (checkerboard.cpp, 3.9.1). Followed so that a textured roughness,
+/// weight or opacity falls where Mitsuba puts it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FloatCheckerboard {
     pub first: FloatTexture,
@@ -156,7 +161,7 @@ impl FloatTexture {
             FloatTexture::Bitmap(b) => b.eval_1(at.uv),
             FloatTexture::Checkerboard(c) => {
                 let [u, v] = c.to_uv.apply(at.uv);
-                if (u - u.floor() > 0.5) == (v - v.floor() > 0.5) {
+                if (u - u.floor() > 0.5) != (v - v.floor() > 0.5) {
                     c.first.eval(at)
                 } else {
                     c.second.eval(at)
@@ -212,5 +217,27 @@ mod tests {
         assert!((du - fd).abs() < 1e-2 * fd.abs(), "{du} vs {fd}");
         b.filter = Filter::Nearest;
         assert_eq!(b.grad_1([0.1, 0.5]), [0.0, 0.0]);
+    }
+
+    /// Mitsuba 3.9.1's `eval_1` puts `color0` where u and v fall in
+    /// different halves, its spectral `eval` where they fall in the same:
+    /// a float checkerboard is the colour checkerboard's negative.
+    #[test]
+    fn a_float_checkerboard_is_the_colour_checkerboards_negative() {
+        let c = FloatTexture::Checkerboard(Arc::new(FloatCheckerboard {
+            first: FloatTexture::Constant(0.7),
+            second: FloatTexture::Constant(0.1),
+            to_uv: UvTransform::default(),
+        }));
+        assert_eq!(c.eval([0.25, 0.25]), 0.1);
+        assert_eq!(c.eval([0.75, 0.75]), 0.1);
+        assert_eq!(c.eval([0.75, 0.25]), 0.7);
+        assert_eq!(c.eval([0.25, 0.75]), 0.7);
+        let colour = crate::texture::Checkerboard {
+            color0: crate::texture::Texture::constant(0.7),
+            color1: crate::texture::Texture::constant(0.1),
+            to_uv: UvTransform::default(),
+        };
+        assert!(colour.first_at([0.25, 0.25]) && !colour.first_at([0.75, 0.25]));
     }
 }
