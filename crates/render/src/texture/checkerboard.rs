@@ -14,9 +14,16 @@ impl Checkerboard {
     /// Whether `uv` falls on a `color0` square.
     #[inline]
     pub fn first_at(&self, uv: [f32; 2]) -> bool {
-        let [u, v] = self.to_uv.apply(uv);
-        (u - u.floor() > 0.5) == (v - v.floor() > 0.5)
+        same_halves(&self.to_uv, uv)
     }
+}
+
+/// Whether the fractional parts of the transformed u and v lie in the same
+/// half of [0, 1): the squares of Mitsuba's checkerboard.
+#[inline]
+pub(crate) fn same_halves(to_uv: &UvTransform, uv: [f32; 2]) -> bool {
+    let [u, v] = to_uv.apply(uv);
+    (u - u.floor() > 0.5) == (v - v.floor() > 0.5)
 }
 
 #[cfg(test)]

@@ -5,6 +5,7 @@
 
 use std::sync::Arc;
 
+use super::checkerboard::same_halves;
 use super::{Filter, MeshAttribute, TexPoint, UvTransform, Wrap};
 
 /// Rec. 709 / sRGB luminance weights (ITU-R BT.709, the Y row of the
@@ -160,8 +161,7 @@ impl FloatTexture {
             FloatTexture::Constant(v) => *v,
             FloatTexture::Bitmap(b) => b.eval_1(at.uv),
             FloatTexture::Checkerboard(c) => {
-                let [u, v] = c.to_uv.apply(at.uv);
-                if (u - u.floor() > 0.5) != (v - v.floor() > 0.5) {
+                if !same_halves(&c.to_uv, at.uv) {
                     c.first.eval(at)
                 } else {
                     c.second.eval(at)

@@ -162,7 +162,7 @@ pub const PLUGINS: &[Plugin] = &[
     p("integrator", "depth", Warned, "", "path"),
     // Textures
     p("texture", "bitmap", Full, "filename, filter_type, wrap_mode, raw, to_uv", "texel spectra blended, not coefficients"),
-    p("texture", "checkerboard", Full, "color0, color1, to_uv", ""),
+    p("texture", "checkerboard", Full, "color0, color1, to_uv", "read as one number (a roughness, weight, opacity) color0 and color1 trade places, as in Mitsuba 3.9.1's eval_1"),
     p("texture", "mesh_attribute", Full, "name, scale", "bound to each shape's mesh; a missing attribute is an error"),
     p("texture", "rawconstant", Full, "value", "a float anywhere; a vector for normal maps"),
     p("texture", "volume", Unsupported, "", ""),
