@@ -6,7 +6,7 @@ use std::path::Path;
 use exr::prelude::*;
 use std::result::Result;
 
-use crate::png_out::tmp_path;
+use crate::tmp_file::tmp_path;
 use crate::ImageError;
 
 /// A header attribute's value.

@@ -8,6 +8,7 @@ pub mod png_out;
 pub mod preview;
 pub mod read;
 pub mod sheet;
+mod tmp_file;
 pub mod xyzv;
 
 pub use exr_out::{read_exr, write_exr, ExrImage, Meta};

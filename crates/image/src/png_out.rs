@@ -3,7 +3,9 @@
 
 use std::fs::File;
 use std::io::BufWriter;
-use std::path::{Path, PathBuf};
+use std::path::Path;
+
+use crate::tmp_file::tmp_path;
 
 /// Errors reading or writing images.
 #[derive(Debug, thiserror::Error)]
@@ -20,16 +22,6 @@ pub enum ImageError {
     Read { path: String, message: String },
     #[error("{0}")]
     Invalid(String),
-}
-
-/// A temporary file beside `path`, renamed over it when complete.
-pub(crate) fn tmp_path(path: &Path) -> PathBuf {
-    let mut name = path
-        .file_name()
-        .map(|n| n.to_os_string())
-        .unwrap_or_default();
-    name.push(format!(".tmp{}", std::process::id()));
-    path.with_file_name(name)
 }
 
 /// Writes 8-bit sRGB pixels (row-major RGB triples) as a PNG with an sRGB chunk.
