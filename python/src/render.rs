@@ -12,7 +12,8 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use scotopia_image::Meta;
-use scotopia_render::integrator::{render as render_scene, RenderOptions};
+use scotopia_render::film::{fingerprint, Checkpoint};
+use scotopia_render::integrator::{render_resumable, Checkpointing, RenderOptions};
 use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_exr};
 use scotopia_render::scene::IntegratorKind;
 use scotopia_render::wavelength::WavelengthStrategy;
@@ -26,9 +27,13 @@ use crate::scene::load_options;
 /// OpenEXR (Fichet et al. 2021) with `bands` bands; `integrator` is
 /// "path" or "bdpt" (default: the scene's); `res` overrides the film size
 /// (an int width keeping the aspect, a (width, height) pair, or "WxH").
+/// `checkpoint` names a file where the film's exact sums are saved every
+/// `checkpoint_every` seconds and at the end; with `resume` the render
+/// continues from it when it is there (the same scene, parameters and
+/// options; `spp` may grow), bit-identical to an uninterrupted render.
 /// The GIL is released while rendering.
 #[pyfunction]
-#[pyo3(signature = (path, spp = None, time = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, output = None, spectral = None, bands = 47, integrator = None, res = None))]
+#[pyo3(signature = (path, spp = None, time = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, output = None, spectral = None, bands = 47, integrator = None, res = None, checkpoint = None, checkpoint_every = 60.0, resume = false))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
@@ -44,6 +49,9 @@ fn render<'py>(
     bands: usize,
     integrator: Option<&str>,
     res: Option<Bound<'py, PyAny>>,
+    checkpoint: Option<PathBuf>,
+    checkpoint_every: f64,
+    resume: bool,
 ) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
     let err = |e: String| PyValueError::new_err(e);
     let strategy = WavelengthStrategy::from_name(wavelengths).ok_or_else(|| {
@@ -63,9 +71,14 @@ fn render<'py>(
         Some(t) => return Err(err(format!("time {t}: must be positive seconds"))),
         None => None,
     };
+    if !(checkpoint_every.is_finite() && (0.0..=1e9).contains(&checkpoint_every)) {
+        return Err(err(format!(
+            "checkpoint_every {checkpoint_every}: give 0 to 1e9 seconds"
+        )));
+    }
     let load = load_options(res.as_ref())?;
-    let scene = load_scene_with(&path, &params.unwrap_or_default(), &load)
-        .map_err(|e| err(e.to_string()))?;
+    let params = params.unwrap_or_default();
+    let scene = load_scene_with(&path, &params, &load).map_err(|e| err(e.to_string()))?;
     let options = RenderOptions {
         spp,
         time_limit,
@@ -76,8 +89,37 @@ fn render<'py>(
         integrator,
         only_strategy: None,
     };
+    let key = {
+        let bytes = std::fs::read(&path).map_err(|e| err(format!("{}: {e}", path.display())))?;
+        let mut sorted: Vec<_> = params.iter().collect();
+        sorted.sort();
+        let text = format!(
+            "{sorted:?} {:?} {seed} {wavelengths} {integrator:?} {cluster} {:?}",
+            load.resolution, options.bands
+        );
+        fingerprint(&[&bytes, text.as_bytes()])
+    };
+    let resume_from = match &checkpoint {
+        Some(file) if resume && file.exists() => Some(Checkpoint::read(file).map_err(err)?),
+        _ => None,
+    };
+    let save = |c: &Checkpoint| checkpoint.as_ref().map_or(Ok(()), |f| c.write(f));
+    let checkpoints = checkpoint.as_ref().map(|_| Checkpointing {
+        key,
+        resume: resume_from,
+        every: Duration::from_secs_f64(checkpoint_every),
+        save: &save,
+    });
     let rendered = py
-        .detach(|| render_scene(&scene, &options, &AtomicBool::new(false), &|_, _| {}))
+        .detach(|| {
+            render_resumable(
+                &scene,
+                &options,
+                &AtomicBool::new(false),
+                &|_, _| {},
+                checkpoints,
+            )
+        })
         .map_err(|e| err(e.to_string()))?;
     let meta = render_metadata(&scene, &options, &rendered, &path.display().to_string());
     if let Some(out) = output {

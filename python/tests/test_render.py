@@ -4,6 +4,7 @@ by the OpenEXR project's own Python package (an independent reader)."""
 from pathlib import Path
 
 import numpy as np
+import pytest
 import OpenEXR
 
 import scotopia
@@ -59,3 +60,18 @@ def test_render_with_the_bidirectional_tracer():
 
     with pytest.raises(ValueError, match="use path or bdpt"):
         scotopia.render(str(SCENES / "cornell-box.xml"), spp=1, integrator="light")
+
+
+def test_a_checkpointed_render_resumes_to_the_same_bits(tmp_path):
+    scene = str(SCENES / "cornell-box.xml")
+    ckpt = tmp_path / "box.ckpt"
+    opts = dict(params={"res": "8"}, seed=4, integrator="bdpt")
+    first, _ = scotopia.render(scene, spp=8, checkpoint=str(ckpt), checkpoint_every=0, **opts)
+    assert ckpt.exists()
+    resumed, meta = scotopia.render(scene, spp=24, checkpoint=str(ckpt), resume=True, **opts)
+    whole, _ = scotopia.render(scene, spp=24, **opts)
+    assert np.array_equal(resumed, whole)
+    assert not np.array_equal(first, whole)
+    # Other options: refused.
+    with pytest.raises(ValueError, match="another scene"):
+        scotopia.render(scene, spp=24, checkpoint=str(ckpt), resume=True, cluster=8, **opts)

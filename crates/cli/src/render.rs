@@ -1,6 +1,6 @@
 //! `scotopia render`: a scene to an X, Y, Z, V′ OpenEXR in absolute units.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
@@ -9,7 +9,10 @@ use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use scotopia_image::{preview_srgb8, write_png_rgb8};
-use scotopia_render::integrator::{render, RenderOptions, CLUSTER_SIZES};
+use scotopia_render::film::{fingerprint, Checkpoint};
+use scotopia_render::integrator::{
+    render_resumable, Checkpointing, RenderError, RenderOptions, CLUSTER_SIZES,
+};
 use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_exr};
 use scotopia_render::scene::IntegratorKind;
 use scotopia_render::wavelength::WavelengthStrategy;
@@ -39,6 +42,16 @@ pub struct Args {
     /// Render for this many seconds (with --spp: whichever ends first).
     #[arg(long, value_name = "SECONDS")]
     time: Option<f64>,
+    /// Save the film's exact sums to OUT.exr.ckpt every SECONDS and at the
+    /// end (complete, interrupted or out of time), so that a killed render
+    /// can be resumed, or a finished one given more samples.
+    #[arg(long, value_name = "SECONDS")]
+    checkpoint: Option<f64>,
+    /// Continue from OUT.exr.ckpt if it is there (same scene file,
+    /// parameters, seed and options; --spp may grow): the result is
+    /// bit-identical to an uninterrupted render of as many samples.
+    #[arg(long)]
+    resume: bool,
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
@@ -165,7 +178,50 @@ pub fn run(args: Args) -> Result<()> {
         .num_threads(args.threads.unwrap_or(0))
         .build()
         .context("cannot start the worker threads")?;
-    let rendered = pool.install(|| render(&scene, &options, &cancel, &progress))?;
+    let ckpt_path = checkpoint_path(&args.output);
+    let every = match args.checkpoint {
+        Some(t) if t.is_finite() && (0.0..=1e9).contains(&t) => Some(Duration::from_secs_f64(t)),
+        Some(t) => bail!("--checkpoint {t}: give 0 to 1e9 seconds"),
+        None => None,
+    };
+    let resume = if args.resume && ckpt_path.exists() {
+        let c = Checkpoint::read(&ckpt_path).map_err(anyhow::Error::msg)?;
+        eprintln!(
+            "scotopia: resuming from {} ({} spp)",
+            ckpt_path.display(),
+            c.done
+        );
+        Some(c)
+    } else {
+        if args.resume {
+            eprintln!(
+                "scotopia: no checkpoint {}: starting afresh",
+                ckpt_path.display()
+            );
+        }
+        None
+    };
+    let save = |c: &Checkpoint| c.write(&ckpt_path);
+    let checkpoints = if every.is_some() || resume.is_some() {
+        Some(Checkpointing {
+            key: render_key(&args, &load)?,
+            resume,
+            // Resuming without --checkpoint still saves when interrupted.
+            every: every.unwrap_or(Duration::MAX),
+            save: &save,
+        })
+    } else {
+        None
+    };
+    let saving = checkpoints.is_some();
+    let rendered = pool
+        .install(|| render_resumable(&scene, &options, &cancel, &progress, checkpoints))
+        .map_err(|e| match e {
+            RenderError::Checkpoint(m) if !m.contains(&*ckpt_path.to_string_lossy()) => {
+                anyhow::anyhow!("{}: {m}", ckpt_path.display())
+            }
+            e => e.into(),
+        })?;
     bar.finish_and_clear();
 
     let meta = render_metadata(
@@ -215,14 +271,45 @@ pub fn run(args: Args) -> Result<()> {
         write_shown(out, &shown, &params, png)?;
     }
     if rendered.cancelled {
+        let resume = if saving {
+            format!("; continue with --resume (from {})", ckpt_path.display())
+        } else {
+            String::new()
+        };
         bail!(
-            "interrupted: wrote the {} spp accumulated so far",
+            "interrupted: wrote the {} spp accumulated so far{resume}",
             rendered.spp
         );
     }
     Ok(())
 }
 
+/// Where `--checkpoint` saves and `--resume` reads: beside the output.
+fn checkpoint_path(output: &Path) -> PathBuf {
+    let mut name = output.file_name().unwrap_or_default().to_os_string();
+    name.push(".ckpt");
+    output.with_file_name(name)
+}
+
+/// A fingerprint of what the sample sequence depends on: the scene file,
+/// its parameters, the film size and the options (not --spp or --time,
+/// which only say how many samples).
+fn render_key(args: &Args, load: &scotopia_scene::LoadOptions) -> Result<u64> {
+    let scene = std::fs::read(&args.scene)
+        .with_context(|| format!("{}: cannot read the scene", args.scene.display()))?;
+    let options = format!(
+        "{:?} {:?} {} {} {:?} {:?} {} {:?}",
+        args.define,
+        load.resolution,
+        args.seed,
+        args.wavelengths,
+        args.integrator,
+        args.bdpt_strategy,
+        args.cluster,
+        args.spectral.as_ref().map(|_| args.bands),
+    );
+    Ok(fingerprint(&[&scene, options.as_bytes()]))
+}
 /// A bar with elapsed time, ETA and throughput on a terminal (hidden
 /// elsewhere, where `run` prints plain lines instead).
 fn progress_bar(total: u64) -> ProgressBar {

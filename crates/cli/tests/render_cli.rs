@@ -201,3 +201,53 @@ fn spectral_exr_follows_fichet_2021_and_integrates_to_y() {
         "{from_bands} vs {mean_y}"
     );
 }
+
+#[test]
+fn a_checkpointed_render_resumes_to_the_same_bits() {
+    let dir = out_dir("checkpoint");
+    let (a, b) = (dir.join("a.exr"), dir.join("b.exr"));
+    let ckpt = dir.join("a.exr.ckpt");
+    let _ = std::fs::remove_file(&ckpt);
+    let scene = scenes().join("cornell-box.xml");
+    let run = |out: &PathBuf, extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            scene.to_str().unwrap(),
+            "-D",
+            "res=10",
+            "--seed",
+            "9",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        scotopia(&args)
+    };
+    let (code, _, err) = run(&a, &["--spp", "8", "--checkpoint", "0"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(ckpt.exists());
+    let (code, _, err) = run(&a, &["--spp", "24", "--resume"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("resuming from") && err.contains("(8 spp)"),
+        "{err}"
+    );
+    let (code, _, err) = run(&b, &["--spp", "24"]);
+    assert_eq!(code, 0, "{err}");
+    let (ea, eb) = (
+        scotopia_image::read_exr(&a).unwrap(),
+        scotopia_image::read_exr(&b).unwrap(),
+    );
+    assert!(!ea.channels.is_empty());
+    assert_eq!(
+        ea.channels, eb.channels,
+        "resumed and uninterrupted renders differ"
+    );
+    // Other options make another render: refused, naming the checkpoint.
+    let (code, _, err) = run(&a, &["--spp", "24", "--resume", "--cluster", "8"]);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("a.exr.ckpt") && err.contains("another scene"),
+        "{err}"
+    );
+}

@@ -2,11 +2,13 @@
 //! its camera samples (absolute: Y in cd/m², V′ in scotopic cd/m²), and
 //! how many there were. Each sample belongs to one pixel (see `filter`).
 
+mod checkpoint;
 mod filter;
 mod spectral;
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
+pub use checkpoint::{fingerprint, Checkpoint};
 pub use filter::FilterSampler;
 pub use spectral::Bands;
 

@@ -16,7 +16,7 @@ use rayon::prelude::*;
 use scotopia_color::SampledWavelengths;
 
 use crate::camera::Projection;
-use crate::film::{Bands, Film, FilterSampler};
+use crate::film::{Bands, Checkpoint, Film, FilterSampler};
 use crate::light::{Light, SceneExtent};
 use crate::math::Vec3;
 use crate::sampling::distribution::Distribution1D;
@@ -123,6 +123,32 @@ pub enum RenderError {
     Strategy(usize, usize),
     #[error("the bidirectional tracer needs a perspective or thin-lens camera (an orthographic camera cannot be reached from a light); render with path")]
     BdptProjection,
+    #[error("{0}")]
+    Checkpoint(String),
+}
+
+/// Checkpoints of a long render (`render_resumable`).
+pub struct Checkpointing<'a> {
+    /// The fingerprint of the scene and options, stored in each checkpoint.
+    pub key: u64,
+    /// A checkpoint of this same render to continue from.
+    pub resume: Option<Checkpoint>,
+    /// How often `save` is called (at the first pass boundary after).
+    pub every: Duration,
+    /// Stores a checkpoint; called at pass boundaries and at the end
+    /// (complete, interrupted or out of time).
+    pub save: &'a (dyn Fn(&Checkpoint) -> Result<(), String> + Sync),
+}
+
+/// Samples per pixel of the pass that starts after `done`: 1, 1, 2, 4, 8,
+/// then 16. A function of `done` alone, so that a resumed render passes
+/// the same boundaries as an uninterrupted one (light-tracing splats are
+/// added at pass ends, and the order of additions fixes the bits).
+fn pass_size(done: u32) -> u32 {
+    match done {
+        0 => 1,
+        d => (1 << (31 - d.leading_zeros())).min(16),
+    }
 }
 
 /// Per-scene state shared by all samples.
@@ -328,12 +354,25 @@ pub fn render(
     cancel: &AtomicBool,
     progress: &(dyn Fn(u32, u32) + Sync),
 ) -> Result<Rendered, RenderError> {
+    render_resumable(scene, options, cancel, progress, None)
+}
+
+/// `render`, saving checkpoints and continuing from one: a render resumed
+/// from a checkpoint ends bit-identical to the uninterrupted render of the
+/// same scene, options and samples per pixel.
+pub fn render_resumable(
+    scene: &Scene,
+    options: &RenderOptions,
+    cancel: &AtomicBool,
+    progress: &(dyn Fn(u32, u32) + Sync),
+    checkpoints: Option<Checkpointing>,
+) -> Result<Rendered, RenderError> {
     match options.cluster {
-        1 => render_k::<1>(scene, options, cancel, progress),
-        2 => render_k::<2>(scene, options, cancel, progress),
-        4 => render_k::<4>(scene, options, cancel, progress),
-        8 => render_k::<8>(scene, options, cancel, progress),
-        16 => render_k::<16>(scene, options, cancel, progress),
+        1 => render_k::<1>(scene, options, cancel, progress, checkpoints),
+        2 => render_k::<2>(scene, options, cancel, progress, checkpoints),
+        4 => render_k::<4>(scene, options, cancel, progress, checkpoints),
+        8 => render_k::<8>(scene, options, cancel, progress, checkpoints),
+        16 => render_k::<16>(scene, options, cancel, progress, checkpoints),
         k => Err(RenderError::Cluster(k)),
     }
 }
@@ -343,6 +382,7 @@ fn render_k<const K: usize>(
     options: &RenderOptions,
     cancel: &AtomicBool,
     progress: &(dyn Fn(u32, u32) + Sync),
+    mut checkpoints: Option<Checkpointing>,
 ) -> Result<Rendered, RenderError> {
     // A time limit alone renders until the time is spent.
     let total = match (options.spp, options.time_limit) {
@@ -370,19 +410,49 @@ fn render_k<const K: usize>(
         Some(_) => return Err(RenderError::Bands),
         None => None,
     };
-    let mut film = Film::new(scene.camera.width, scene.camera.height, bands);
-    let mut counts = PassCounts::default();
-    let mut done = 0;
+    let (width, height) = (scene.camera.width, scene.camera.height);
+    let mut state = match checkpoints.as_mut().and_then(|c| c.resume.take()) {
+        Some(c) => {
+            let key = checkpoints.as_ref().map_or(0, |c| c.key);
+            if c.key != key {
+                return Err(RenderError::Checkpoint(
+                    "the checkpoint was saved by a render of another scene or with other options"
+                        .into(),
+                ));
+            }
+            if (c.film.width, c.film.height, c.film.bands) != (width, height, bands) {
+                return Err(RenderError::Checkpoint(format!(
+                    "the checkpoint's film is {}×{}, the render's {width}×{height} (or its bands differ)",
+                    c.film.width, c.film.height
+                )));
+            }
+            if c.done > total {
+                return Err(RenderError::Checkpoint(format!(
+                    "the checkpoint holds {} spp, more than the {total} asked for",
+                    c.done
+                )));
+            }
+            c
+        }
+        None => Checkpoint {
+            key: checkpoints.as_ref().map_or(0, |c| c.key),
+            done: 0,
+            counts: [0; 4],
+            film: Film::new(width, height, bands),
+        },
+    };
+    let resumed_at = state.done;
     let mut cancelled = false;
+    let mut last_save = Instant::now();
     // Passes grow from 1 spp so that progress, time limits and Ctrl-C are
     // honoured early, to at most 16 spp per pass.
-    let mut step = 1;
-    while done < total {
+    while state.done < total {
         if cancel.load(Ordering::Relaxed) {
             cancelled = true;
             break;
         }
-        let mut count = step.min(total - done);
+        let done = state.done;
+        let mut count = pass_size(done).min(total - done);
         if let Some(limit) = options.time_limit {
             // Only as many samples as the time left should allow, judged by
             // the rate so far, so a time limit is met rather than overrun
@@ -391,8 +461,8 @@ fn render_k<const K: usize>(
             if elapsed >= limit {
                 break;
             }
-            if done > 0 {
-                let per_spp = elapsed.as_secs_f64() / done as f64;
+            if done > resumed_at {
+                let per_spp = elapsed.as_secs_f64() / (done - resumed_at) as f64;
                 let fits = ((limit - elapsed).as_secs_f64() / per_spp) as u32;
                 if fits == 0 {
                     break;
@@ -400,22 +470,37 @@ fn render_k<const K: usize>(
                 count = count.min(fits);
             }
         }
-        let c = renderer.pass::<K>(options.seed, &mut film, done, count);
-        counts.dropped += c.dropped;
-        counts.dropped_splats += c.dropped_splats;
-        counts.rays += c.rays;
-        counts.collapsed += c.collapsed;
-        done += count;
-        step = (step * 2).min(16);
-        progress(done, total);
+        let c = renderer.pass::<K>(options.seed, &mut state.film, done, count);
+        let n = &mut state.counts;
+        n[0] += c.dropped;
+        n[1] += c.dropped_splats;
+        n[2] += c.rays;
+        n[3] += c.collapsed;
+        state.done += count;
+        progress(state.done, total);
+        if let Some(cp) = &checkpoints {
+            if state.done < total && last_save.elapsed() >= cp.every {
+                (cp.save)(&state).map_err(RenderError::Checkpoint)?;
+                last_save = Instant::now();
+            }
+        }
     }
+    if let Some(cp) = &checkpoints {
+        (cp.save)(&state).map_err(RenderError::Checkpoint)?;
+    }
+    let Checkpoint {
+        done,
+        counts: [dropped, dropped_splats, rays, collapsed],
+        film,
+        ..
+    } = state;
     Ok(Rendered {
         film,
         spp: done,
-        nonfinite: counts.dropped,
-        nonfinite_splats: counts.dropped_splats,
-        rays: counts.rays,
-        collapsed: counts.collapsed,
+        nonfinite: dropped,
+        nonfinite_splats: dropped_splats,
+        rays,
+        collapsed,
         elapsed: start.elapsed(),
         cancelled,
     })
