@@ -9,7 +9,7 @@ CARGO     ?= cargo
 BIN       := target/release/scotopia
 DEMO_OUT  := out/demo
 
-.PHONY: all test demo gallery bench tables fmt lint cargo-test python pytest toolchain clean
+.PHONY: all test demo gallery bench tables fmt lint cargo-test python pytest toolchain clean fuzz
 
 all: test
 
@@ -40,6 +40,11 @@ python: $(STAMP)
 
 pytest: python
 	$(PY) -m pytest -q python/tests
+
+## The seeded fuzz test of every input format at length (make test runs
+## 40 mutations per input; this runs 5000).
+fuzz:
+	SCOTOPIA_FUZZ_CASES=5000 $(CARGO) test -p scotopia --test fuzz_cli -- --nocapture
 
 ## Everything CI checks.
 test: fmt lint cargo-test pytest
