@@ -184,18 +184,25 @@ fn mutated_scenes_load_or_fail_cleanly() {
     for sub in ["meshes", "lamps", "materials", "textures"] {
         let _ = std::os::unix::fs::symlink(scenes().join(sub), dir.join(sub));
     }
-    for (i, scene) in ["cornell-box.xml", "prism.xml", "night-street.xml"]
+    // A small scene whose film size and spectra are literal numbers, for
+    // the mutations of numbers to reach them.
+    let small = br#"<scene version="3.0.0"><sensor type="perspective"><float name="fov" value="40"/><film type="hdrfilm"><integer name="width" value="5"/><integer name="height" value="4"/></film><sampler type="independent"><integer name="sample_count" value="2"/></sampler></sensor><shape type="sphere"><float name="radius" value="0.5"/><transform name="to_world"><translate z="3"/></transform><bsdf type="diffuse"><spectrum name="reflectance" value="400:0.2, 500:0.5, 700:0.9"/></bsdf></shape><emitter type="point"><point name="position" x="0" y="0" z="0"/><spectrum name="intensity" value="400:1, 700:3"/></emitter></scene>"#;
+    for (i, scene) in ["cornell-box.xml", "prism.xml", "night-street.xml", ""]
         .iter()
         .enumerate()
     {
-        let text = std::fs::read(scenes().join(scene)).unwrap();
+        let text = match *scene {
+            "" => small.to_vec(),
+            name => std::fs::read(scenes().join(name)).unwrap(),
+        };
         let out = dir.join("out.exr");
-        // The Cornell box at its own film size (a mutated size must be
-        // refused or rendered), the others at 6 pixels wide.
-        let res: &[&str] = if i == 0 {
-            &["-D", "res=8"]
-        } else {
-            &["--res", "6"]
+        // The Cornell box at 8 pixels through its parameter, the small
+        // scene at its own film size (a mutated size must be refused or
+        // rendered), the others 6 pixels wide.
+        let res: &[&str] = match i {
+            0 => &["-D", "res=8"],
+            3 => &[],
+            _ => &["--res", "6"],
         };
         fuzz(10 + i as u64, &text, &dir, "case.xml", |p| {
             let mut a = vec!["render".into(), s(p), "--spp".into(), "1".into()];
