@@ -27,7 +27,9 @@ use scotopia_render::bsdf::Bsdf;
 use scotopia_render::scene::Scene;
 use scotopia_render::texture::Texture;
 
-use crate::mitsuba::{parse_scene, Node, Parameters, Props, SceneError, SceneErrors, Usage};
+use crate::mitsuba::{
+    parse_scene, Node, Parameters, Props, SceneError, SceneErrors, Usage, MAX_DEPTH,
+};
 
 /// Collects state while building.
 pub struct Builder {
@@ -137,6 +139,14 @@ impl Builder {
     ) -> Result<T, SceneError> {
         if self.resolving.iter().any(|r| r == id) {
             return Err(at.error(format!("'{id}' refers to itself through <ref>")));
+        }
+        // A chain of references nests objects as deeply as elements do.
+        if self.resolving.len() >= MAX_DEPTH {
+            return Err(at.error(format!(
+                "<ref>s to objects that hold <ref>s are chained more than {MAX_DEPTH} deep \
+                 (through '{}' … '{id}')",
+                self.resolving[0]
+            )));
         }
         self.resolving.push(id.to_string());
         let built = build(self);
