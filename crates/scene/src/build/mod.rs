@@ -19,7 +19,7 @@ mod world;
 pub use sensor::Resolution;
 pub use standalone::bsdf_from_xml;
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::Path;
 
 use scotopia_color::{Spectrum, SpectrumKind};
@@ -34,6 +34,9 @@ use crate::mitsuba::{
 /// Collects state while building.
 pub struct Builder {
     warnings: Vec<String>,
+    /// The warnings given, to give each once (a set: a scene of 100 000
+    /// objects may warn 100 000 times, and a scan per warning is quadratic).
+    warned: HashSet<String>,
     errors: Vec<SceneError>,
     /// Top-level objects with an `id`, built on reference.
     named: HashMap<String, Node>,
@@ -53,6 +56,7 @@ impl Builder {
     pub(crate) fn new() -> Self {
         Self {
             warnings: Vec::new(),
+            warned: HashSet::new(),
             errors: Vec::new(),
             named: HashMap::new(),
             textures: HashMap::new(),
@@ -77,7 +81,7 @@ impl Builder {
 
     pub(crate) fn warn(&mut self, node: &Node, message: String) {
         let line = format!("{}: <{}>: {message}", node.location, node.tag);
-        if !self.warnings.contains(&line) {
+        if self.warned.insert(line.clone()) {
             self.warnings.push(line);
         }
     }
