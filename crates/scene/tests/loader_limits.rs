@@ -5,9 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use scotopia_scene::load_scene;
-use scotopia_scene::mitsuba::{
-    parse_file, Parameters, MAX_DEPTH, MAX_INCLUDE_DEPTH, XML_LIMIT,
-};
+use scotopia_scene::mitsuba::{parse_file, Parameters, MAX_DEPTH, MAX_INCLUDE_DEPTH, XML_LIMIT};
 
 fn tmp(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("scotopia-limits-{name}-{}", std::process::id()));
@@ -73,7 +71,9 @@ fn ten_thousand_nested_unknown_elements_are_a_located_error() {
     // The first element past the limit, on its own line.
     let line = MAX_DEPTH + 1;
     assert!(
-        e.contains(&format!("deep.xml:{line}:1: <foo>: elements are nested more than {MAX_DEPTH}")),
+        e.contains(&format!(
+            "deep.xml:{line}:1: <foo>: elements are nested more than {MAX_DEPTH}"
+        )),
         "{e}"
     );
 }
@@ -96,7 +96,12 @@ fn nesting_continues_across_includes() {
     let half = MAX_DEPTH / 2 + 1;
     let inner = nested("<foo>", "</foo>", "", half);
     write(&d, "inner.xml", &inner);
-    let outer = nested("<foo>", "</foo>", r#"<include filename="inner.xml"/>"#, half);
+    let outer = nested(
+        "<foo>",
+        "</foo>",
+        r#"<include filename="inner.xml"/>"#,
+        half,
+    );
     let e = load_error(write(&d, "outer.xml", &outer));
     assert!(
         e.contains("inner.xml:1:") && e.contains(&format!("more than {MAX_DEPTH} deep")),
@@ -118,14 +123,25 @@ fn a_long_reference_chain_is_an_error_not_an_overflow() {
     }
     s.push_str(r#"<shape type="sphere"><ref id="b9999"/></shape></scene>"#);
     let e = load_error(write(&d, "chain.xml", &s));
-    assert!(e.contains(&format!("chained more than {MAX_DEPTH} deep")), "{e}");
+    assert!(
+        e.contains(&format!("chained more than {MAX_DEPTH} deep")),
+        "{e}"
+    );
 }
 
 #[test]
 fn an_include_cycle_names_the_files() {
     let d = tmp("cycle");
-    write(&d, "a.xml", r#"<scene version="3.0.0"><include filename="b.xml"/></scene>"#);
-    write(&d, "b.xml", r#"<scene version="3.0.0"><include filename="a.xml"/></scene>"#);
+    write(
+        &d,
+        "a.xml",
+        r#"<scene version="3.0.0"><include filename="b.xml"/></scene>"#,
+    );
+    write(
+        &d,
+        "b.xml",
+        r#"<scene version="3.0.0"><include filename="a.xml"/></scene>"#,
+    );
     let e = load_error(d.join("a.xml"));
     assert!(
         e.contains("b.xml:1:24: <include>: ")
@@ -144,7 +160,10 @@ fn a_deep_include_chain_is_an_error_naming_the_files() {
         write(
             &d,
             &format!("f{i}.xml"),
-            &format!(r#"<scene version="3.0.0"><include filename="f{}.xml"/></scene>"#, i + 1),
+            &format!(
+                r#"<scene version="3.0.0"><include filename="f{}.xml"/></scene>"#,
+                i + 1
+            ),
         );
     }
     write(&d, &format!("f{n}.xml"), r#"<scene version="3.0.0"/>"#);

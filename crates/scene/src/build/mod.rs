@@ -14,6 +14,7 @@ mod sensor;
 mod shape;
 mod standalone;
 mod texture;
+mod unread;
 mod world;
 
 pub use sensor::Resolution;
@@ -205,6 +206,7 @@ pub fn load_scene_with(
     }
     b.collect_ids(&root);
     world::warn_media(&mut b, &root);
+    unread::warn_unread(&mut b, &root);
 
     let mut world = world::World::default();
     for n in &root.children {
@@ -239,20 +241,30 @@ pub fn load_scene_with(
 }
 
 impl Builder {
-    /// Registers top-level objects by `id`; a second object with the same
-    /// id is an error (as in Mitsuba), naming both.
+    /// Registers top-level objects by `id`. A second object with the same
+    /// id, at the top level or nested anywhere, is an error (as in Mitsuba,
+    /// which keeps one table of ids), naming both.
     fn collect_ids(&mut self, root: &Node) {
-        for n in &root.children {
-            let Some(id) = n.attr("id") else { continue };
-            if let Some(first) = self.named.get(id) {
-                let e = n.error(format!(
+        let mut first: HashMap<&str, &Node> = HashMap::new();
+        // Depth first in document order, without recursion.
+        let mut stack: Vec<(&Node, bool)> = root.children.iter().rev().map(|n| (n, true)).collect();
+        while let Some((n, top)) = stack.pop() {
+            stack.extend(n.children.iter().rev().map(|c| (c, false)));
+            // A `<ref id>` names an object; it defines none.
+            let Some(id) = n.attr("id").filter(|_| n.tag != "ref") else {
+                continue;
+            };
+            if let Some(f) = first.get(id) {
+                self.errors.push(n.error(format!(
                     "id '{id}' is already used by the <{}> at {}",
-                    first.tag, first.location
-                ));
-                self.errors.push(e);
+                    f.tag, f.location
+                )));
                 continue;
             }
-            self.named.insert(id.to_string(), n.clone());
+            first.insert(id, n);
+            if top {
+                self.named.insert(id.to_string(), n.clone());
+            }
         }
     }
 }
