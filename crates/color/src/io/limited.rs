@@ -44,7 +44,7 @@ pub fn read_text_limited(path: &Path, limit: u64) -> io::Result<String> {
 }
 
 fn too_large(limit: u64) -> io::Error {
-    let size = if limit >= MIB && limit % MIB == 0 {
+    let size = if limit >= MIB && limit.is_multiple_of(MIB) {
         format!("{} MiB", limit / MIB)
     } else {
         format!("{limit} bytes")
