@@ -8,9 +8,16 @@ use crate::error::ColorError;
 use crate::spectrum::Tabulated;
 use crate::{LAMBDA_MAX, LAMBDA_MIN};
 
+mod limited;
 mod matrix;
 
+pub use limited::{read_limited, read_text_limited, MIB};
 pub use matrix::{parse_matrix, read_matrix_file, Matrix};
+
+/// The largest spectrum or matrix file read: tabulated data is a few
+/// thousand lines (a 1 nm table from 300 to 2500 nm is ~30 KiB), so
+/// 64 MiB is generous and stops `/dev/zero` or a runaway file.
+pub const DATA_FILE_LIMIT: u64 = 64 * MIB;
 
 /// The non-empty lines of `text` with their 1-based numbers, split into
 /// fields (commas, semicolons, tabs or spaces), `#` comments removed.
@@ -161,7 +168,7 @@ pub fn read_spectrum_file(path: impl AsRef<Path>) -> Result<Tabulated, ColorErro
 /// A data file's text and the name its errors give.
 fn read_text(path: &Path) -> Result<(String, String), ColorError> {
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|cause| ColorError::Io {
+    let text = read_text_limited(path, DATA_FILE_LIMIT).map_err(|cause| ColorError::Io {
         path: name.clone(),
         cause,
     })?;

@@ -14,12 +14,13 @@ mod sensor;
 mod shape;
 mod standalone;
 mod texture;
+mod unread;
 mod world;
 
 pub use sensor::Resolution;
 pub use standalone::bsdf_from_xml;
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::Path;
 
 use scotopia_color::{Spectrum, SpectrumKind};
@@ -27,11 +28,16 @@ use scotopia_render::bsdf::Bsdf;
 use scotopia_render::scene::Scene;
 use scotopia_render::texture::Texture;
 
-use crate::mitsuba::{parse_scene, Node, Parameters, Props, SceneError, SceneErrors, Usage};
+use crate::mitsuba::{
+    parse_scene, Node, Parameters, Props, SceneError, SceneErrors, Usage, MAX_DEPTH,
+};
 
 /// Collects state while building.
 pub struct Builder {
     warnings: Vec<String>,
+    /// The warnings given, to give each once (a set: a scene of 100 000
+    /// objects may warn 100 000 times, and a scan per warning is quadratic).
+    warned: HashSet<String>,
     errors: Vec<SceneError>,
     /// Top-level objects with an `id`, built on reference.
     named: HashMap<String, Node>,
@@ -51,6 +57,7 @@ impl Builder {
     pub(crate) fn new() -> Self {
         Self {
             warnings: Vec::new(),
+            warned: HashSet::new(),
             errors: Vec::new(),
             named: HashMap::new(),
             textures: HashMap::new(),
@@ -75,7 +82,7 @@ impl Builder {
 
     pub(crate) fn warn(&mut self, node: &Node, message: String) {
         let line = format!("{}: <{}>: {message}", node.location, node.tag);
-        if !self.warnings.contains(&line) {
+        if self.warned.insert(line.clone()) {
             self.warnings.push(line);
         }
     }
@@ -138,6 +145,14 @@ impl Builder {
         if self.resolving.iter().any(|r| r == id) {
             return Err(at.error(format!("'{id}' refers to itself through <ref>")));
         }
+        // A chain of references nests objects as deeply as elements do.
+        if self.resolving.len() >= MAX_DEPTH {
+            return Err(at.error(format!(
+                "<ref>s to objects that hold <ref>s are chained more than {MAX_DEPTH} deep \
+                 (through '{}' … '{id}')",
+                self.resolving[0]
+            )));
+        }
         self.resolving.push(id.to_string());
         let built = build(self);
         self.resolving.pop();
@@ -191,6 +206,7 @@ pub fn load_scene_with(
     }
     b.collect_ids(&root);
     world::warn_media(&mut b, &root);
+    unread::warn_unread(&mut b, &root);
 
     let mut world = world::World::default();
     for n in &root.children {
@@ -225,20 +241,30 @@ pub fn load_scene_with(
 }
 
 impl Builder {
-    /// Registers top-level objects by `id`; a second object with the same
-    /// id is an error (as in Mitsuba), naming both.
+    /// Registers top-level objects by `id`. A second object with the same
+    /// id, at the top level or nested anywhere, is an error (as in Mitsuba,
+    /// which keeps one table of ids), naming both.
     fn collect_ids(&mut self, root: &Node) {
-        for n in &root.children {
-            let Some(id) = n.attr("id") else { continue };
-            if let Some(first) = self.named.get(id) {
-                let e = n.error(format!(
+        let mut first: HashMap<&str, &Node> = HashMap::new();
+        // Depth first in document order, without recursion.
+        let mut stack: Vec<(&Node, bool)> = root.children.iter().rev().map(|n| (n, true)).collect();
+        while let Some((n, top)) = stack.pop() {
+            stack.extend(n.children.iter().rev().map(|c| (c, false)));
+            // A `<ref id>` names an object; it defines none.
+            let Some(id) = n.attr("id").filter(|_| n.tag != "ref") else {
+                continue;
+            };
+            if let Some(f) = first.get(id) {
+                self.errors.push(n.error(format!(
                     "id '{id}' is already used by the <{}> at {}",
-                    first.tag, first.location
-                ));
-                self.errors.push(e);
+                    f.tag, f.location
+                )));
                 continue;
             }
-            self.named.insert(id.to_string(), n.clone());
+            first.insert(id, n);
+            if top {
+                self.named.insert(id.to_string(), n.clone());
+            }
         }
     }
 }

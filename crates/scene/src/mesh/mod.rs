@@ -11,8 +11,25 @@ pub use obj::{parse_obj, read_obj};
 pub use ply::{parse_ply, read_ply};
 pub use serialized::{parse_serialized, read_serialized, SerializedShape};
 
+use std::path::Path;
+
 use scotopia_render::geometry::Attribute;
 use scotopia_render::math::Vec3;
+
+/// The largest mesh file read (all three formats are read whole into
+/// memory): 4 GiB is ~130 million triangles of binary PLY, more than a
+/// scene's mesh files hold one by one (large scenes split their geometry
+/// over many files), and stops `/dev/zero` or an endless pipe.
+pub const MESH_LIMIT: u64 = 4096 * scotopia_color::io::MIB;
+
+/// A mesh file's bytes, read up to [`MESH_LIMIT`].
+fn read_mesh_file(path: &Path) -> Result<Vec<u8>, MeshError> {
+    scotopia_color::io::read_limited(path, MESH_LIMIT).map_err(|e| MeshError {
+        file: path.display().to_string(),
+        line: 0,
+        message: e.to_string(),
+    })
+}
 
 /// A triangle mesh as read from a file, in object space.
 #[derive(Debug, Clone, PartialEq, Default)]

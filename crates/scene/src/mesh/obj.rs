@@ -12,10 +12,14 @@ use super::{MeshData, MeshError};
 
 pub fn read_obj(path: &Path) -> Result<MeshData, MeshError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| MeshError {
+    let bytes = super::read_mesh_file(path)?;
+    let text = String::from_utf8(bytes).map_err(|e| MeshError {
         file: file.clone(),
         line: 0,
-        message: e.to_string(),
+        message: format!(
+            "not UTF-8 text (invalid byte at offset {})",
+            e.utf8_error().valid_up_to()
+        ),
     })?;
     parse_obj(&text, &file)
 }

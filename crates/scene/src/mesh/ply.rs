@@ -160,11 +160,7 @@ impl Reader<'_> {
 
 pub fn read_ply(path: &Path) -> Result<MeshData, MeshError> {
     let file = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| MeshError {
-        file: file.clone(),
-        line: 0,
-        message: e.to_string(),
-    })?;
+    let bytes = super::read_mesh_file(path)?;
     parse_ply(&bytes, &file)
 }
 

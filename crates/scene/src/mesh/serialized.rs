@@ -38,11 +38,7 @@ pub struct SerializedShape {
 
 pub fn read_serialized(path: &Path, shape_index: usize) -> Result<SerializedShape, MeshError> {
     let file = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| MeshError {
-        file: file.clone(),
-        line: 0,
-        message: e.to_string(),
-    })?;
+    let bytes = super::read_mesh_file(path)?;
     parse_serialized(&bytes, shape_index, &file)
 }
 

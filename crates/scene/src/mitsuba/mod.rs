@@ -10,7 +10,10 @@ mod spectrum;
 mod values;
 
 pub use error::{Location, SceneError, SceneErrors};
-pub use parse::{parse_file, parse_scene, parse_str, Node, Parameters, Parsed};
+pub use parse::{
+    parse_file, parse_scene, parse_str, Node, Parameters, Parsed, MAX_DEPTH, MAX_INCLUDE_DEPTH,
+    XML_LIMIT,
+};
 pub use props::{Props, Usage};
 pub use search::{resolve, SearchPath};
 pub use spectrum::{normalised_illuminant, read_spectrum, read_spectrum_as};

@@ -44,6 +44,23 @@ impl Node {
     }
 }
 
+/// The deepest nesting of elements read, counted from `<scene>` (an
+/// included file's elements count from where it is included). Mitsuba
+/// scenes nest a handful deep (scene → shape → bsdf → twosided's bsdf →
+/// blend's bsdf → texture → transform's operation ≈ 7); 64 leaves room for
+/// any real scene and stops a runaway one (thousands deep) long before the
+/// stack would overflow in this parser or in the builders that walk the tree.
+pub const MAX_DEPTH: usize = 64;
+
+/// The longest chain of `<include>`s (a file including a file …). Real
+/// scenes include one or two levels; 32 stops a runaway chain.
+pub const MAX_INCLUDE_DEPTH: usize = 32;
+
+/// The largest XML file (scene or include) read: Mitsuba XML holds
+/// parameters and names mesh files, so even scenes of 100 000 objects are
+/// tens of MiB; 256 MiB stops `/dev/zero` or a runaway file.
+pub const XML_LIMIT: u64 = 256 * scotopia_color::io::MIB;
+
 /// Command-line or API parameters (`-D name=value`), overriding `<default>`.
 pub type Parameters = HashMap<String, String>;
 
@@ -106,7 +123,7 @@ pub fn parse_scene(path: &Path, params: &Parameters) -> Result<Parsed, SceneErro
         scene_dir,
         known: BTreeSet::new(),
     };
-    let mut root = parser.file(path, None)?;
+    let mut root = parser.file(path, None, 1)?;
     root.tag = "scene".into();
     // Every node resolves files with the final search path (plugins
     // resolve after parsing in Mitsuba too, so `<path>` applies to all).
@@ -169,25 +186,48 @@ fn io_error(path: &Path, from: Option<&Location>, e: std::io::Error) -> SceneErr
 
 impl Parser {
     /// One file: its root's children (or, for an included file whose root
-    /// is a single object, that object) under a `<scene>` node.
-    fn file(&mut self, path: &Path, from: Option<&Location>) -> Result<Node, SceneError> {
+    /// is a single object, that object) under a `<scene>` node; `depth`:
+    /// how deep its root's children are nested in the scene.
+    fn file(
+        &mut self,
+        path: &Path,
+        from: Option<&Location>,
+        depth: usize,
+    ) -> Result<Node, SceneError> {
         let canonical = path.canonicalize().map_err(|e| io_error(path, from, e))?;
-        if self.stack.contains(&canonical) {
+        let refused = if self.stack.contains(&canonical) {
+            Some(format!("{} includes itself", path.display()))
+        } else if self.stack.len() >= MAX_INCLUDE_DEPTH {
+            Some(format!(
+                "includes are nested more than {MAX_INCLUDE_DEPTH} files deep"
+            ))
+        } else {
+            None
+        };
+        if let Some(message) = refused {
             let location = from.cloned().unwrap_or_else(|| Location {
                 file: path.display().to_string(),
                 line: 0,
                 column: 0,
             });
+            let chain: Vec<String> = self
+                .stack
+                .iter()
+                .map(|p| p.display().to_string())
+                .chain(std::iter::once(canonical.display().to_string()))
+                .collect();
             return Err(SceneError::new(
                 &location,
                 "include",
-                format!("{} includes itself", path.display()),
+                format!("{message} ({})", chain.join(" → ")),
             ));
         }
-        let text = std::fs::read_to_string(path).map_err(|e| io_error(path, from, e))?;
+        let text = scotopia_color::io::read_text_limited(path, XML_LIMIT)
+            .map_err(|e| io_error(path, from, e))?;
         let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
         self.stack.push(canonical);
-        let scene = self.text(&text, &path.display().to_string(), &dir, from.is_some());
+        let file = path.display().to_string();
+        let scene = self.text(&text, &file, &dir, from.is_some(), depth);
         self.stack.pop();
         scene
     }
@@ -201,6 +241,7 @@ impl Parser {
         file: &str,
         dir: &Path,
         fragment: bool,
+        depth: usize,
     ) -> Result<Node, SceneError> {
         let file = file.to_string();
         let doc = roxmltree::Document::parse(text).map_err(|e| {
@@ -281,14 +322,14 @@ impl Parser {
             own: &own,
         };
         if is_scene {
-            self.children(root, &mut scene, &context, true)?;
+            self.children(root, &mut scene, &context, true, depth)?;
         } else {
             // An included fragment that is one object: keep the object.
             let mut holder = Node {
                 children: Vec::new(),
                 ..scene.clone()
             };
-            self.element(root, &mut holder, &context, false)?;
+            self.element(root, &mut holder, &context, false, depth)?;
             scene.children = holder.children;
         }
         Ok(scene)
@@ -311,7 +352,7 @@ pub fn parse_str(
         scene_dir: dir.to_path_buf(),
         known: BTreeSet::new(),
     };
-    let mut root = parser.text(text, name, dir, true)?;
+    let mut root = parser.text(text, name, dir, true, 1)?;
     let mut cache = HashMap::new();
     set_search(&mut root, &parser, &mut cache);
     Ok(root)
@@ -365,26 +406,39 @@ impl Parser {
         into: &mut Node,
         cx: &FileContext,
         top: bool,
+        depth: usize,
     ) -> Result<(), SceneError> {
         for child in element.children().filter(|n| n.is_element()) {
-            self.element(child, into, cx, top)?;
+            self.element(child, into, cx, top, depth)?;
         }
         Ok(())
     }
 
     /// Converts `child` (and its subtree) into `into`'s children; `top`
-    /// when `into` is the file's root.
+    /// when `into` is the file's root; `depth`: `child`'s nesting below
+    /// `<scene>` (1 for its children).
     fn element(
         &mut self,
         child: roxmltree::Node,
         into: &mut Node,
         cx: &FileContext,
         top: bool,
+        depth: usize,
     ) -> Result<(), SceneError> {
         let tag = child.tag_name().name();
         let location = (cx.loc)(child);
         if tag == "default" {
             return Ok(());
+        }
+        if depth > MAX_DEPTH {
+            return Err(SceneError::new(
+                &location,
+                tag,
+                format!(
+                    "elements are nested more than {MAX_DEPTH} deep (Mitsuba scenes nest a \
+                     handful deep; is an element not closed where it should be?)"
+                ),
+            ));
         }
         let mut attributes = Vec::new();
         for a in child.attributes() {
@@ -410,7 +464,7 @@ impl Parser {
                 let mut search = vec![cx.dir.to_path_buf()];
                 search.extend(self.search(None).folders().iter().cloned());
                 let path = SearchPath::new(search).resolve(&file);
-                let included = self.file(&path, Some(&location))?;
+                let included = self.file(&path, Some(&location), depth)?;
                 into.children.extend(included.children);
                 return Ok(());
             }
@@ -446,7 +500,7 @@ impl Parser {
             location,
             dir: cx.own.clone(),
         };
-        self.children(child, &mut node, cx, false)?;
+        self.children(child, &mut node, cx, false, depth + 1)?;
         into.children.push(node);
         Ok(())
     }

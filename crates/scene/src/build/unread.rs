@@ -1,0 +1,88 @@
+//! Elements no builder reads, warned about with their location: an unknown
+//! tag (`<foo name="fov" …/>`), or an object where scotopia takes none of
+//! its kind (`<bsdf name="fov">` in a `<sensor>`, a `<sensor>` on a shape).
+//! Without this they would be dropped without a word and the default used.
+//! (Properties of a known tag that are never read are reported by
+//! `Builder::report_unused`; top-level elements by `World::add`; media by
+//! `warn_media`.)
+
+use super::Builder;
+use crate::mitsuba::Node;
+
+/// Tags that set a parameter (`texture` and `ref` are objects given as one).
+const PROPERTY_TAGS: [&str; 11] = [
+    "float",
+    "integer",
+    "boolean",
+    "string",
+    "rgb",
+    "spectrum",
+    "point",
+    "vector",
+    "transform",
+    "texture",
+    "ref",
+];
+
+/// Mitsuba's object tags that scotopia reads, and the objects each holds
+/// that some builder reads. `medium` is left to `warn_media`.
+const HOLDS: [(&str, &[&str]); 8] = [
+    ("sensor", &["film", "sampler"]),
+    ("film", &["rfilter"]),
+    ("shape", &["bsdf", "emitter", "shape"]),
+    ("bsdf", &["bsdf"]),
+    ("emitter", &[]),
+    ("integrator", &["integrator"]),
+    ("sampler", &[]),
+    ("rfilter", &[]),
+];
+
+/// Mitsuba's object tags scotopia never reads nested (phase functions and
+/// volumes belong to media), so they are named as objects, not unknown.
+const OTHER_OBJECTS: [&str; 2] = ["phase", "volume"];
+
+/// Warns once for each element under the top-level objects that no
+/// builder reads.
+pub fn warn_unread(b: &mut Builder, root: &Node) {
+    for n in &root.children {
+        walk(b, n);
+    }
+}
+
+fn walk(b: &mut Builder, node: &Node) {
+    // A transform's operations are read (or refused) by `read_transform`;
+    // a medium's contents are warned about with the medium.
+    if node.tag == "transform" || node.tag == "medium" {
+        return;
+    }
+    let holds = HOLDS
+        .iter()
+        .find(|(tag, _)| *tag == node.tag)
+        .map(|(_, h)| *h);
+    for c in &node.children {
+        let tag = c.tag.as_str();
+        let is_object = HOLDS.iter().any(|(t, _)| *t == tag) || OTHER_OBJECTS.contains(&tag);
+        let named = c
+            .attr("name")
+            .map(|n| format!(" (named '{n}')"))
+            .unwrap_or_default();
+        if PROPERTY_TAGS.contains(&tag) || tag == "medium" {
+            walk(b, c);
+        } else if !is_object {
+            b.warn(
+                c,
+                format!("unknown element <{tag}>{named} is not read by scotopia; ignored"),
+            );
+        } else if holds.is_some_and(|h| h.contains(&tag)) {
+            walk(b, c);
+        } else {
+            b.warn(
+                c,
+                format!(
+                    "a <{tag}>{named} in a <{}> is not read by scotopia; ignored",
+                    node.tag
+                ),
+            );
+        }
+    }
+}

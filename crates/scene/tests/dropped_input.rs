@@ -1,0 +1,122 @@
+//! Input the loader once dropped without a word: a second object with an
+//! id already used (nested as well as at the top level), and elements no
+//! builder reads (an unknown tag, an object where none of its kind is
+//! taken). Each is now an error or a located warning.
+
+use std::path::{Path, PathBuf};
+
+use scotopia_scene::load_scene;
+use scotopia_scene::mitsuba::Parameters;
+
+fn write(name: &str, text: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("scotopia-dropped-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let p = d.join("s.xml");
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+/// A scene whose line 2 is a sensor holding `in_sensor`, then `body`.
+fn scene(in_sensor: &str, body: &str) -> String {
+    format!(
+        "<scene version=\"3.0.0\">\n<sensor type=\"perspective\">{in_sensor}\
+         <film type=\"hdrfilm\"><integer name=\"width\" value=\"8\"/></film></sensor>\n{body}\n</scene>"
+    )
+}
+
+fn warnings(path: &Path) -> Vec<String> {
+    load_scene(path, &Parameters::new())
+        .unwrap_or_else(|e| panic!("{e}"))
+        .warnings
+}
+
+#[test]
+fn a_nested_object_reusing_an_id_is_an_error_naming_both_lines() {
+    let f = write(
+        "nested-id",
+        &scene(
+            "",
+            "<bsdf type=\"diffuse\" id=\"m\"/>\n\
+             <shape type=\"sphere\"><bsdf type=\"conductor\" id=\"m\"/></shape>\n\
+             <shape type=\"sphere\" id=\"ball\"><bsdf type=\"diffuse\" id=\"ball\"/></shape>",
+        ),
+    );
+    let e = load_scene(&f, &Parameters::new()).unwrap_err();
+    let text = e.to_string();
+    assert_eq!(e.errors.len(), 2, "{text}");
+    assert!(
+        text.contains("s.xml:4:22: <bsdf>: id 'm' is already used by the <bsdf> at ")
+            && text.contains("s.xml:3:1")
+            && text.contains("<bsdf>: id 'ball' is already used by the <shape> at ")
+            && text.contains("s.xml:5:1"),
+        "{text}"
+    );
+}
+
+#[test]
+fn references_are_not_definitions() {
+    // Two `<ref id="m">` name one object: no duplicate.
+    let f = write(
+        "refs",
+        &scene(
+            "",
+            "<bsdf type=\"diffuse\" id=\"m\"/>\n\
+             <shape type=\"sphere\"><ref id=\"m\"/></shape>\n\
+             <shape type=\"sphere\"><ref id=\"m\"/></shape>",
+        ),
+    );
+    assert!(warnings(&f).is_empty());
+}
+
+#[test]
+fn an_unknown_property_tag_is_a_located_warning_naming_it() {
+    let f = write(
+        "unknown-tag",
+        &scene("<foo name=\"fov\" value=\"10\"/>", ""),
+    );
+    let w = warnings(&f);
+    assert_eq!(w.iter().filter(|w| w.contains("<foo>")).count(), 1, "{w:?}");
+    assert!(
+        w.iter()
+            .any(|w| w.contains("s.xml:2:28: <foo>: unknown element <foo> (named 'fov')")),
+        "{w:?}"
+    );
+}
+
+#[test]
+fn an_object_where_none_is_read_is_a_located_warning() {
+    let f = write(
+        "misplaced",
+        &scene(
+            "<bsdf type=\"diffuse\" name=\"fov\"/>",
+            "<shape type=\"sphere\"><sensor type=\"perspective\"/>\
+             <bsdf type=\"diffuse\"><bar/></bsdf></shape>",
+        ),
+    );
+    let w = warnings(&f);
+    let expected = [
+        "s.xml:2:28: <bsdf>: a <bsdf> (named 'fov') in a <sensor> is not read",
+        "s.xml:3:22: <sensor>: a <sensor> in a <shape> is not read",
+        "<bar>: unknown element <bar> is not read",
+    ];
+    for e in expected {
+        assert!(w.iter().any(|w| w.contains(e)), "{e} not in {w:?}");
+    }
+    assert_eq!(w.len(), expected.len(), "{w:?}");
+}
+
+#[test]
+fn what_builders_read_is_not_warned_about() {
+    let f = write(
+        "read",
+        &scene(
+            "<sampler type=\"independent\"><integer name=\"sample_count\" value=\"4\"/></sampler>\
+             <transform name=\"to_world\"><translate x=\"1\"/></transform>",
+            "<integrator type=\"path\"/>\n\
+             <shape type=\"sphere\"><bsdf type=\"twosided\"><bsdf type=\"diffuse\">\
+             <texture type=\"checkerboard\" name=\"reflectance\"/></bsdf></bsdf>\
+             <emitter type=\"area\"><rgb name=\"radiance\" value=\"1\"/></emitter></shape>",
+        ),
+    );
+    assert!(warnings(&f).is_empty(), "{:?}", warnings(&f));
+}
