@@ -20,6 +20,11 @@ pub enum ImageError {
     Read { path: String, message: String },
     #[error("{0}")]
     Invalid(String),
+    #[error("{path}: {cause}")]
+    TooLarge {
+        path: String,
+        cause: crate::limits::TooLarge,
+    },
 }
 
 /// A temporary file beside `path`, renamed over it when complete.
