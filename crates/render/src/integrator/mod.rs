@@ -123,6 +123,8 @@ pub enum RenderError {
     Strategy(usize, usize),
     #[error("the bidirectional tracer needs a perspective or thin-lens camera (an orthographic camera cannot be reached from a light); render with path")]
     BdptProjection,
+    #[error("{0}")]
+    TooLarge(#[from] scotopia_image::TooLarge),
 }
 
 /// Per-scene state shared by all samples.
@@ -370,7 +372,7 @@ fn render_k<const K: usize>(
         Some(_) => return Err(RenderError::Bands),
         None => None,
     };
-    let mut film = Film::new(scene.camera.width, scene.camera.height, bands);
+    let mut film = Film::try_new(scene.camera.width, scene.camera.height, bands)?;
     let mut counts = PassCounts::default();
     let mut done = 0;
     let mut cancelled = false;
