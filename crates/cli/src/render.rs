@@ -37,10 +37,10 @@ pub struct Args {
     #[arg(long)]
     spp: Option<u32>,
     /// Render for this many seconds (with --spp: whichever ends first).
-    #[arg(long, value_name = "SECONDS")]
-    time: Option<f64>,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
+    #[arg(long, value_name = "SECONDS", value_parser = crate::numbers::seconds)]
+    time: Option<Duration>,
+    /// Worker threads (default: all cores; at most 4096).
+    #[arg(long, value_parser = crate::numbers::threads)]
     threads: Option<usize>,
     /// Seed of the sample sequence: the same seed gives the same image.
     #[arg(long, default_value_t = 0)]
@@ -108,11 +108,7 @@ pub fn run(args: Args) -> Result<()> {
         }
         None => None,
     };
-    let time_limit = match args.time {
-        Some(t) if t.is_finite() && t > 0.0 => Some(Duration::from_secs_f64(t)),
-        Some(t) => bail!("--time {t}: must be a positive number of seconds"),
-        None => None,
-    };
+    let time_limit = args.time;
     if args.spp == Some(0) {
         bail!("--spp must be positive");
     }

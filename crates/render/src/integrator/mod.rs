@@ -322,6 +322,25 @@ impl<'a> Renderer<'a> {
     }
 }
 
+/// The longest time limit accepted, seconds (≈ 31.7 years): longer ones
+/// would overflow the clock's arithmetic, and no render is meant to last
+/// them.
+pub const MAX_TIME_LIMIT_SECONDS: f64 = 1e9;
+
+/// A render time limit of `seconds`, or why it cannot be one (not a
+/// positive finite number, or over `MAX_TIME_LIMIT_SECONDS`).
+pub fn time_limit(seconds: f64) -> Result<Duration, String> {
+    if !(seconds.is_finite() && seconds > 0.0) {
+        return Err(format!("{seconds}: must be a positive number of seconds"));
+    }
+    if seconds > MAX_TIME_LIMIT_SECONDS {
+        return Err(format!(
+            "{seconds}: must be at most {MAX_TIME_LIMIT_SECONDS:e} seconds (about 31 years)"
+        ));
+    }
+    Duration::try_from_secs_f64(seconds).map_err(|e| format!("{seconds}: {e}"))
+}
+
 /// Renders `scene`. `progress(done, total)` is called after each pass
 /// (samples per pixel); setting `cancel` stops after the current pass.
 pub fn render(
@@ -421,4 +440,22 @@ fn render_k<const K: usize>(
         elapsed: start.elapsed(),
         cancelled,
     })
+}
+
+#[cfg(test)]
+mod time_limit_tests {
+    use super::*;
+
+    #[test]
+    fn time_limits_out_of_range_are_errors_not_panics() {
+        assert_eq!(time_limit(2.5), Ok(Duration::from_millis(2500)));
+        assert!(time_limit(MAX_TIME_LIMIT_SECONDS).is_ok());
+        for t in [1e20, 1e30, f64::INFINITY] {
+            let e = time_limit(t).unwrap_err();
+            assert!(e.contains("at most") || e.contains("positive"), "{t}: {e}");
+        }
+        for t in [0.0, -1.0, f64::NAN, f64::NEG_INFINITY] {
+            assert!(time_limit(t).unwrap_err().contains("positive"), "{t}");
+        }
+    }
 }
