@@ -4,15 +4,14 @@
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
-use std::time::Duration;
 
 use numpy::ndarray::Array3;
 use numpy::{IntoPyArray, PyArray3};
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyMemoryError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use scotopia_image::Meta;
-use scotopia_render::integrator::{render as render_scene, RenderOptions};
+use scotopia_render::integrator::{render as render_scene, time_limit, RenderError, RenderOptions};
 use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_exr};
 use scotopia_render::scene::IntegratorKind;
 use scotopia_render::wavelength::WavelengthStrategy;
@@ -59,8 +58,7 @@ fn render<'py>(
         None => None,
     };
     let time_limit = match time {
-        Some(t) if t.is_finite() && t > 0.0 => Some(Duration::from_secs_f64(t)),
-        Some(t) => return Err(err(format!("time {t}: must be positive seconds"))),
+        Some(t) => Some(time_limit(t).map_err(|e| err(format!("time {e}")))?),
         None => None,
     };
     let load = load_options(res.as_ref())?;
@@ -78,7 +76,10 @@ fn render<'py>(
     };
     let rendered = py
         .detach(|| render_scene(&scene, &options, &AtomicBool::new(false), &|_, _| {}))
-        .map_err(|e| err(e.to_string()))?;
+        .map_err(|e| match e {
+            RenderError::TooLarge(_) => PyMemoryError::new_err(e.to_string()),
+            _ => err(e.to_string()),
+        })?;
     let meta = render_metadata(&scene, &options, &rendered, &path.display().to_string());
     if let Some(out) = output {
         write_xyzv_exr(&out, &rendered, &meta).map_err(|e| err(e.to_string()))?;
