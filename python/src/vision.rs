@@ -33,7 +33,9 @@ fn finite_in(name: &str, value: f64, lo: f64, hi: f64) -> PyResult<()> {
     if value.is_finite() && (lo..=hi).contains(&value) {
         Ok(())
     } else {
-        Err(err(format!("{name} must be finite, from {lo} to {hi}; got {value}")))
+        Err(err(format!(
+            "{name} must be finite, from {lo} to {hi}; got {value}"
+        )))
     }
 }
 

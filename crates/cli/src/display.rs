@@ -70,7 +70,9 @@ impl VisionArgs {
     ) -> Result<(DisplayParams, PngOptions, Vec<String>)> {
         let mut notes = Vec::new();
         let degrees_per_pixel = match (self.fov, fov) {
-            (Some(f), _) => degrees_per_pixel(f, width).map_err(|e| anyhow::anyhow!("--fov {e}"))?,
+            (Some(f), _) => {
+                degrees_per_pixel(f, width).map_err(|e| anyhow::anyhow!("--fov {e}"))?
+            }
             (None, Some(f)) => degrees_per_pixel(f, width)
                 .map_err(|e| anyhow::anyhow!("the image's field of view {e}; give --fov"))?,
             (None, None) => {

@@ -152,7 +152,10 @@ fn numbers_out_of_range_are_usage_errors_naming_the_flag() {
     for (args, flag) in [
         (vec!["render", s, "-o", o, "--time", "1e20"], "--time"),
         (vec!["render", s, "-o", o, "--time", "inf"], "--time"),
-        (vec!["render", s, "-o", o, "--threads", "100000000"], "--threads"),
+        (
+            vec!["render", s, "-o", o, "--threads", "100000000"],
+            "--threads",
+        ),
         (vec!["display", e, "--info", "--fov", "1e300"], "--fov"),
         (vec!["display", e, "--info", "--fov", "NaN"], "--fov"),
     ] {
@@ -169,18 +172,29 @@ fn numbers_out_of_range_are_usage_errors_naming_the_flag() {
         &tiny,
         64,
         48,
-        ["X", "Y", "Z", "V"].map(|c| (c.to_string(), px.clone())).to_vec(),
+        ["X", "Y", "Z", "V"]
+            .map(|c| (c.to_string(), px.clone()))
+            .to_vec(),
         &[("fovHorizontalDegrees", scotopia_image::Meta::F32(1e-30))],
     )
     .unwrap();
     for (args, expect) in [
-        (vec!["display", e, "--info", "--fov", "1e-10"], "--fov 0.0000000001"),
+        (
+            vec!["display", e, "--info", "--fov", "1e-10"],
+            "--fov 0.0000000001",
+        ),
         (vec!["display", e, "--info", "--fov", "1e-6"], "--fov"),
-        (vec!["display", tiny.to_str().unwrap(), "--info"], "the image's field of view"),
+        (
+            vec!["display", tiny.to_str().unwrap(), "--info"],
+            "the image's field of view",
+        ),
     ] {
         let (code, _, err) = scotopia(&args);
         assert_ne!(code, 0, "{args:?}");
-        assert!(err.contains(expect) && err.contains("0.0001° per pixel"), "{args:?}: {err}");
+        assert!(
+            err.contains(expect) && err.contains("0.0001° per pixel"),
+            "{args:?}: {err}"
+        );
         assert!(!err.contains("panicked"), "{err}");
     }
 }

@@ -156,7 +156,10 @@ mod tests {
         let e = check_with("a buffer", Some(1 << 20), 16, budget).unwrap_err();
         let msg = e.to_string();
         assert!(msg.contains("a buffer would need 16.0 MiB"), "{msg}");
-        assert!(msg.contains("the limit is 1.0 MiB (1048576 bytes) (test budget)"), "{msg}");
+        assert!(
+            msg.contains("the limit is 1.0 MiB (1048576 bytes) (test budget)"),
+            "{msg}"
+        );
         // A count that overflowed before it got here.
         let e = check_with("a film", None, 16, budget).unwrap_err();
         assert!(e.to_string().contains("more bytes than"), "{e}");
@@ -165,7 +168,10 @@ mod tests {
     #[test]
     fn images_over_2_31_pixels_or_overflowing_are_errors() {
         let e = check_image("a film", 1_000_000_000, 1_000_000_000, 36).unwrap_err();
-        assert!(e.to_string().contains("1000000000 × 1000000000 pixels"), "{e}");
+        assert!(
+            e.to_string().contains("1000000000 × 1000000000 pixels"),
+            "{e}"
+        );
         assert!(e.to_string().contains("2³¹"), "{e}");
         let e = check_image("an EXR", u64::MAX, 3, 4).unwrap_err();
         assert!(e.bytes.is_none(), "{e}");

@@ -181,7 +181,10 @@ fn a_film_that_cannot_fit_is_an_error_naming_the_line_and_the_limit() {
         .unwrap();
         let e = load_scene(&f, &Parameters::new()).unwrap_err().to_string();
         assert!(e.contains("huge.xml:2:"), "{e}");
-        assert!(e.contains(&format!("a film of {size} × {size} pixels")), "{e}");
+        assert!(
+            e.contains(&format!("a film of {size} × {size} pixels")),
+            "{e}"
+        );
         assert!(e.contains("the limit is"), "{e}");
     }
 }

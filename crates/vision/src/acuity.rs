@@ -208,7 +208,10 @@ mod tests {
             let slow = blur_by_every_tap(&px, w, h, sigma);
             for (a, b) in fast.iter().zip(&slow) {
                 for c in 0..4 {
-                    assert!((a[c] - b[c]).abs() < 1e-4 * (1.0 + b[c].abs()), "σ {sigma}: {a:?} {b:?}");
+                    assert!(
+                        (a[c] - b[c]).abs() < 1e-4 * (1.0 + b[c].abs()),
+                        "σ {sigma}: {a:?} {b:?}"
+                    );
                 }
             }
         }
@@ -230,7 +233,9 @@ mod tests {
             assert!(e.contains("at least 0.0001° per pixel"), "{e}");
         }
         for fov in [0.0, -1.0, 360.0, f64::NAN, f64::INFINITY] {
-            assert!(degrees_per_pixel(fov, 64).unwrap_err().contains("between 0 and 360"));
+            assert!(degrees_per_pixel(fov, 64)
+                .unwrap_err()
+                .contains("between 0 and 360"));
         }
     }
 

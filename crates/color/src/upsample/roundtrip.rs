@@ -95,6 +95,11 @@ mod tests {
             let e = round_trip(UpsampleMethod::Smits, RgbSpace::Srgb, n).unwrap_err();
             assert!(e.to_string().contains("from 2 to 256"), "{e}");
         }
-        assert_eq!(round_trip(UpsampleMethod::Smits, RgbSpace::Srgb, 2).unwrap().count, 8);
+        assert_eq!(
+            round_trip(UpsampleMethod::Smits, RgbSpace::Srgb, 2)
+                .unwrap()
+                .count,
+            8
+        );
     }
 }

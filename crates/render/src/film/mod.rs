@@ -179,7 +179,11 @@ mod tests {
     #[test]
     fn films_that_cannot_fit_are_errors_naming_the_limit() {
         assert!(Film::try_new(64, 48, Some(Bands(47))).is_ok());
-        for (w, h) in [(1_000_000_000, 1_000_000_000), (100_000, 100_000), (u32::MAX, 2)] {
+        for (w, h) in [
+            (1_000_000_000, 1_000_000_000),
+            (100_000, 100_000),
+            (u32::MAX, 2),
+        ] {
             let e = Film::try_new(w, h, None).unwrap_err().to_string();
             assert!(e.contains(&format!("a film of {w} × {h} pixels")), "{e}");
             assert!(e.contains("the limit is"), "{e}");
