@@ -279,6 +279,8 @@ fn display<'py>(
 ) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
     let (w, h, px) = pixels::<4>(&image)?;
     let degrees_per_pixel = degrees_per_pixel(fov, w).map_err(|e| err(format!("fov {e}")))?;
+    scotopia_vision::pipeline::check_size(w, h)
+        .map_err(|e| PyMemoryError::new_err(e.to_string()))?;
     let adaptation = Adaptation::parse(adaptation).ok_or_else(|| {
         err(format!(
             "adaptation '{adaptation}': use 'global', 'local' or a luminance in cd/m²"

@@ -163,6 +163,8 @@ pub fn run(args: Args) -> Result<()> {
     for note in &image.notes {
         eprintln!("scotopia: note: {}: {note}", args.input.display());
     }
+    scotopia_vision::pipeline::check_size(image.width, image.height)
+        .with_context(|| args.input.display().to_string())?;
     let (params, png, notes) = args.vision.params(image.width, image.fov_horizontal)?;
     for note in notes {
         eprintln!("scotopia: note: {note}");

@@ -117,6 +117,18 @@ pub fn run(args: Args) -> Result<()> {
     for w in &scene.warnings {
         eprintln!("scotopia: warning: {w}");
     }
+    // The vision pipeline's settings and size, checked before rendering.
+    let display = match &args.display {
+        Some(_) => {
+            let (w, h) = (scene.camera.width as usize, scene.camera.height as usize);
+            scotopia_vision::pipeline::check_size(w, h).context("--display")?;
+            let (params, png, _) = args
+                .vision
+                .params(w, Some(scene.camera.fov_degrees().0 as f64))?;
+            Some((params, png))
+        }
+        None => None,
+    };
     let options = RenderOptions {
         spp: args.spp,
         time_limit,
@@ -202,11 +214,8 @@ pub fn run(args: Args) -> Result<()> {
             rendered.nonfinite_splats
         );
     }
-    if let Some(out) = &args.display {
+    if let (Some(out), Some((params, png))) = (&args.display, display) {
         let (w, h) = (rendered.film.width as usize, rendered.film.height as usize);
-        let (params, png, _) = args
-            .vision
-            .params(w, Some(scene.camera.fov_degrees().0 as f64))?;
         let shown = scotopia_vision::display(&rendered.film.xyzv(), w, h, &params);
         write_shown(out, &shown, &params, png)?;
     }
