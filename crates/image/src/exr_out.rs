@@ -140,7 +140,7 @@ fn check_exr_size(path: &Path) -> Result<(), ImageError> {
     })?;
     let too_large = |cause| ImageError::TooLarge {
         path: path.display().to_string(),
-        cause,
+        cause: Box::new(cause),
     };
     let mut total: Option<u64> = Some(0);
     for h in &meta.headers {

@@ -94,7 +94,7 @@ fn parse_bytes(text: &str) -> Option<u64> {
     };
     let v: f64 = num.trim().parse().ok()?;
     (v.is_finite() && v > 0.0 && v * (scale as f64) < u64::MAX as f64)
-        .then(|| (v * scale as f64) as u64)
+        .then_some((v * scale as f64) as u64)
 }
 
 /// Checks that `count` elements of `element_bytes` each fit the budget

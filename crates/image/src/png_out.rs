@@ -23,7 +23,7 @@ pub enum ImageError {
     #[error("{path}: {cause}")]
     TooLarge {
         path: String,
-        cause: crate::limits::TooLarge,
+        cause: Box<crate::limits::TooLarge>,
     },
 }
 

@@ -61,7 +61,7 @@ pub fn read_rgb(path: &Path) -> Result<RgbImage, ImageError> {
     crate::limits::check_image("the image", w as u64, h as u64, 40).map_err(|cause| {
         ImageError::TooLarge {
             path: path.display().to_string(),
-            cause,
+            cause: Box::new(cause),
         }
     })?;
     let reader = open()?;

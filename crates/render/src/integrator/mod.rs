@@ -124,7 +124,7 @@ pub enum RenderError {
     #[error("the bidirectional tracer needs a perspective or thin-lens camera (an orthographic camera cannot be reached from a light); render with path")]
     BdptProjection,
     #[error("{0}")]
-    TooLarge(#[from] scotopia_image::TooLarge),
+    TooLarge(Box<scotopia_image::TooLarge>),
 }
 
 /// Per-scene state shared by all samples.
@@ -391,7 +391,8 @@ fn render_k<const K: usize>(
         Some(_) => return Err(RenderError::Bands),
         None => None,
     };
-    let mut film = Film::try_new(scene.camera.width, scene.camera.height, bands)?;
+    let mut film = Film::try_new(scene.camera.width, scene.camera.height, bands)
+        .map_err(|e| RenderError::TooLarge(Box::new(e)))?;
     let mut counts = PassCounts::default();
     let mut done = 0;
     let mut cancelled = false;
