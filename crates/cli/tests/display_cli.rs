@@ -181,7 +181,7 @@ fn numbers_out_of_range_are_usage_errors_naming_the_flag() {
     for (args, expect) in [
         (
             vec!["display", e, "--info", "--fov", "1e-10"],
-            "--fov 0.0000000001",
+            "--fov 1e-10",
         ),
         (vec!["display", e, "--info", "--fov", "1e-6"], "--fov"),
         (

@@ -20,12 +20,13 @@ const FALLBACK_BYTES: u64 = 8 << 30;
 /// A buffer that would not fit: what it is, the bytes it needs (`None`
 /// where even the count overflows), and the limit.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("{what} {}; the limit is {} ({})", needs(*.bytes), human(*.limit), .source_of_limit)]
+#[error("{what} {}; the limit is {limit}", needs(*.bytes))]
 pub struct TooLarge {
     pub what: String,
     pub bytes: Option<u128>,
-    pub limit: u64,
-    pub source_of_limit: String,
+    /// The limit, in words ("160.0 GiB (… bytes), half of this machine's
+    /// memory").
+    pub limit: String,
 }
 
 fn needs(bytes: Option<u128>) -> String {
@@ -112,8 +113,7 @@ pub fn check_with(
         _ => Err(TooLarge {
             what: what.to_string(),
             bytes,
-            limit,
-            source_of_limit: source.to_string(),
+            limit: format!("{}, {source}", human(limit)),
         }),
     }
 }
@@ -136,10 +136,9 @@ pub fn check_image(
     let count = width.checked_mul(height);
     if let Some(c) = count.filter(|&c| c > MAX_PIXELS) {
         return Err(TooLarge {
-            what,
+            what: format!("{what} ({c} pixels)"),
             bytes: Some(c as u128 * bytes_per_pixel as u128),
-            limit: MAX_PIXELS * bytes_per_pixel,
-            source_of_limit: format!("at most 2³¹ = {MAX_PIXELS} pixels"),
+            limit: format!("2³¹ = {MAX_PIXELS} pixels per image"),
         });
     }
     check_buffer(&what, count, bytes_per_pixel)
@@ -157,7 +156,7 @@ mod tests {
         let msg = e.to_string();
         assert!(msg.contains("a buffer would need 16.0 MiB"), "{msg}");
         assert!(
-            msg.contains("the limit is 1.0 MiB (1048576 bytes) (test budget)"),
+            msg.contains("the limit is 1.0 MiB (1048576 bytes), test budget"),
             "{msg}"
         );
         // A count that overflowed before it got here.

@@ -49,13 +49,19 @@ pub const MIN_DEGREES_PER_PIXEL: f64 = 1e-4;
 /// with where `fov` came from) unless 0 < fov < 360 and a pixel spans at
 /// least `MIN_DEGREES_PER_PIXEL`.
 pub fn degrees_per_pixel(fov: f64, width: usize) -> Result<f64, String> {
+    // Tiny and huge values in exponent form (1e-10, not 0.0000000001).
+    let shown = if fov != 0.0 && !(1e-3..1e6).contains(&fov.abs()) {
+        format!("{fov:e}")
+    } else {
+        format!("{fov}")
+    };
     if !(fov.is_finite() && fov > 0.0 && fov < 360.0) {
-        return Err(format!("{fov}: must be between 0 and 360 degrees"));
+        return Err(format!("{shown}: must be between 0 and 360 degrees"));
     }
     let dpp = fov / width.max(1) as f64;
     if dpp < MIN_DEGREES_PER_PIXEL {
         return Err(format!(
-            "{fov}: over {width} pixels, a pixel would span {dpp:e}°; the vision model needs at least {MIN_DEGREES_PER_PIXEL}° per pixel (a field of view of at least {}°)",
+            "{shown}: over {width} pixels, a pixel would span {dpp:e}°; the vision model needs at least {MIN_DEGREES_PER_PIXEL}° per pixel (a field of view of at least {}°)",
             MIN_DEGREES_PER_PIXEL * width.max(1) as f64
         ));
     }

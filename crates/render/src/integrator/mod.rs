@@ -335,7 +335,7 @@ pub fn time_limit(seconds: f64) -> Result<Duration, String> {
     }
     if seconds > MAX_TIME_LIMIT_SECONDS {
         return Err(format!(
-            "{seconds}: must be at most {MAX_TIME_LIMIT_SECONDS:e} seconds (about 31 years)"
+            "{seconds:e}: must be at most {MAX_TIME_LIMIT_SECONDS:e} seconds (about 31 years)"
         ));
     }
     Duration::try_from_secs_f64(seconds).map_err(|e| format!("{seconds}: {e}"))
