@@ -8,12 +8,14 @@ use std::time::Duration;
 
 use numpy::ndarray::Array3;
 use numpy::{IntoPyArray, PyArray3};
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyMemoryError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use scotopia_image::Meta;
 use scotopia_render::film::{fingerprint, Checkpoint};
-use scotopia_render::integrator::{render_resumable, Checkpointing, RenderOptions};
+use scotopia_render::integrator::{
+    render_resumable, time_limit, Checkpointing, RenderError, RenderOptions,
+};
 use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_exr};
 use scotopia_render::scene::IntegratorKind;
 use scotopia_render::wavelength::WavelengthStrategy;
@@ -67,8 +69,7 @@ fn render<'py>(
         None => None,
     };
     let time_limit = match time {
-        Some(t) if t.is_finite() && t > 0.0 => Some(Duration::from_secs_f64(t)),
-        Some(t) => return Err(err(format!("time {t}: must be positive seconds"))),
+        Some(t) => Some(time_limit(t).map_err(|e| err(format!("time {e}")))?),
         None => None,
     };
     if !(checkpoint_every.is_finite() && (0.0..=1e9).contains(&checkpoint_every)) {
@@ -120,7 +121,10 @@ fn render<'py>(
                 checkpoints,
             )
         })
-        .map_err(|e| err(e.to_string()))?;
+        .map_err(|e| match e {
+            RenderError::TooLarge(_) => PyMemoryError::new_err(e.to_string()),
+            _ => err(e.to_string()),
+        })?;
     let meta = render_metadata(&scene, &options, &rendered, &path.display().to_string());
     if let Some(out) = output {
         write_xyzv_exr(&out, &rendered, &meta).map_err(|e| err(e.to_string()))?;

@@ -50,11 +50,6 @@ fn round_trip<'py>(
     space: &str,
     n: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
-    if n < 2 {
-        return Err(pyo3::exceptions::PyValueError::new_err(
-            "n must be at least 2",
-        ));
-    }
     let method = UpsampleMethod::from_name(method).map_err(to_py)?;
     let space = RgbSpace::from_name(space).map_err(to_py)?;
     let r = py

@@ -7,12 +7,12 @@ use std::path::PathBuf;
 
 use numpy::ndarray::Array3;
 use numpy::{IntoPyArray, PyArray3, PyReadonlyArray3};
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyMemoryError, PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use scotopia_color::RgbSpace;
-use scotopia_image::{read_xyzv, RgbInput};
-use scotopia_vision::acuity::gaussian_blur;
+use scotopia_image::{read_xyzv, ImageError, RgbInput};
+use scotopia_vision::acuity::{degrees_per_pixel, gaussian_blur, MAX_BLUR_SIGMA};
 use scotopia_vision::gamut::map_to_gamut;
 use scotopia_vision::glare::{apply_glare, GlareParams};
 use scotopia_vision::mode::{image_statistics, Adaptation, VisualState};
@@ -28,6 +28,17 @@ fn err(e: impl ToString) -> PyErr {
 }
 
 /// An H × W × C array as (width, height, pixels).
+/// `value` (argument `name`) must be finite and within [lo, hi].
+fn finite_in(name: &str, value: f64, lo: f64, hi: f64) -> PyResult<()> {
+    if value.is_finite() && (lo..=hi).contains(&value) {
+        Ok(())
+    } else {
+        Err(err(format!(
+            "{name} must be finite, from {lo} to {hi}; got {value}"
+        )))
+    }
+}
+
 fn pixels<const C: usize>(a: &PyReadonlyArray3<f32>) -> PyResult<(usize, usize, Vec<[f32; C]>)> {
     let a = a.as_array();
     let (h, w, c) = a.dim();
@@ -111,8 +122,14 @@ fn glare<'py>(
     s: f64,
 ) -> PyResult<Bound<'py, PyArray3<f32>>> {
     let (w, h, mut px) = pixels::<4>(&image)?;
-    if degrees_per_pixel.is_nan() || degrees_per_pixel <= 0.0 {
-        return Err(err("degrees_per_pixel must be positive"));
+    if !(degrees_per_pixel.is_finite() && degrees_per_pixel > 0.0) {
+        return Err(err(format!(
+            "degrees_per_pixel must be positive and finite, got {degrees_per_pixel}"
+        )));
+    }
+    finite_in("s", s, 0.0, 1.0)?;
+    if threshold.is_nan() {
+        return Err(err("threshold must be a number, got NaN"));
     }
     let p = GlareParams {
         degrees_per_pixel,
@@ -140,6 +157,15 @@ fn multiscale<'py>(
     mean_ceiling: f64,
 ) -> PyResult<Bound<'py, PyArray3<f32>>> {
     let (w, h, px) = pixels::<4>(&image)?;
+    finite_in("display_peak", display_peak, f64::MIN_POSITIVE, f64::MAX)?;
+    for (name, v) in [
+        ("display_adaptation", display_adaptation),
+        ("adaptation", adaptation),
+    ] {
+        if let Some(v) = v {
+            finite_in(name, v, f64::MIN_POSITIVE, f64::MAX)?;
+        }
+    }
     if mean_ceiling.is_nan() || mean_ceiling <= 0.0 {
         return Err(PyValueError::new_err(format!(
             "mean_ceiling must be positive (got {mean_ceiling})"
@@ -166,6 +192,7 @@ fn night_shift<'py>(
     s: f64,
 ) -> PyResult<Bound<'py, PyArray3<f32>>> {
     let (w, h, px) = pixels::<4>(&image)?;
+    finite_in("s", s, 0.0, 1.0)?;
     let out = px
         .iter()
         .map(|q| shift(q.map(f64::from), s).map(|v| v as f32))
@@ -181,7 +208,8 @@ fn acuity_blur<'py>(
     sigma: f64,
 ) -> PyResult<Bound<'py, PyArray3<f32>>> {
     let (w, h, mut px) = pixels::<4>(&image)?;
-    gaussian_blur(&mut px, w, h, sigma);
+    finite_in("sigma", sigma, 0.0, MAX_BLUR_SIGMA)?;
+    py.detach(|| gaussian_blur(&mut px, w, h, sigma));
     array(py, w, h, px)
 }
 
@@ -215,7 +243,11 @@ fn read_image<'py>(
     input_space: &str,
 ) -> PyResult<(Bound<'py, PyArray3<f32>>, Option<f64>, Vec<String>)> {
     let space = RgbSpace::from_name(input_space).map_err(err)?;
-    let img = read_xyzv(&path, RgbInput { units, space }).map_err(err)?;
+    let img = read_xyzv(&path, RgbInput { units, space }).map_err(|e| match e {
+        ImageError::TooLarge { .. } => PyMemoryError::new_err(e.to_string()),
+        ImageError::Io { .. } => PyOSError::new_err(e.to_string()),
+        _ => err(e),
+    })?;
     Ok((
         array(py, img.width, img.height, img.pixels)?,
         img.fov_horizontal,
@@ -246,9 +278,9 @@ fn display<'py>(
     compare: Option<PathBuf>,
 ) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
     let (w, h, px) = pixels::<4>(&image)?;
-    if !(fov.is_finite() && fov > 0.0 && fov < 360.0) {
-        return Err(err(format!("fov {fov}: must be between 0 and 360 degrees")));
-    }
+    let degrees_per_pixel = degrees_per_pixel(fov, w).map_err(|e| err(format!("fov {e}")))?;
+    scotopia_vision::pipeline::check_size(w, h)
+        .map_err(|e| PyMemoryError::new_err(e.to_string()))?;
     let adaptation = Adaptation::parse(adaptation).ok_or_else(|| {
         err(format!(
             "adaptation '{adaptation}': use 'global', 'local' or a luminance in cd/m²"
@@ -262,7 +294,7 @@ fn display<'py>(
     let gamut = display_gamut(gamut, hdr).map_err(err)?;
     let png = PngOptions::new(bits, hdr).map_err(err)?;
     let p = DisplayParams {
-        degrees_per_pixel: fov / w.max(1) as f64,
+        degrees_per_pixel,
         display_peak: peak(display_peak, hdr).map_err(err)?,
         adaptation,
         glare,

@@ -7,6 +7,7 @@ use anyhow::{bail, Context, Result};
 
 use scotopia_color::RgbSpace;
 use scotopia_image::{read_xyzv, write_png_rgb8, RgbInput};
+use scotopia_vision::acuity::degrees_per_pixel;
 use scotopia_vision::mode::Adaptation;
 use scotopia_vision::output::{
     compare_sheet, display_gamut, display_peak, write_display, PngOptions,
@@ -17,7 +18,7 @@ use scotopia_vision::{display, DisplayParams, Displayed, ToneOperator};
 #[derive(clap::Args, Clone)]
 pub struct VisionArgs {
     /// Horizontal field of view in degrees (default: the image's metadata).
-    #[arg(long, value_name = "DEG")]
+    #[arg(long, value_name = "DEG", value_parser = crate::numbers::fov)]
     fov: Option<f64>,
     /// The display's peak luminance, cd/m² (default 100; 1000 with --hdr).
     #[arg(long, value_name = "CD")]
@@ -68,14 +69,16 @@ impl VisionArgs {
         fov: Option<f64>,
     ) -> Result<(DisplayParams, PngOptions, Vec<String>)> {
         let mut notes = Vec::new();
-        let fov = match (self.fov, fov) {
-            (Some(f), _) if !(f.is_finite() && f > 0.0 && f < 360.0) => {
-                bail!("--fov {f}: must be between 0 and 360 degrees")
+        let degrees_per_pixel = match (self.fov, fov) {
+            (Some(f), _) => {
+                degrees_per_pixel(f, width).map_err(|e| anyhow::anyhow!("--fov {e}"))?
             }
-            (Some(f), _) | (None, Some(f)) => f,
+            (None, Some(f)) => degrees_per_pixel(f, width)
+                .map_err(|e| anyhow::anyhow!("the image's field of view {e}; give --fov"))?,
             (None, None) => {
                 notes.push("no field of view in the image: assuming 45°; give --fov".into());
-                45.0
+                degrees_per_pixel(45.0, width)
+                    .map_err(|e| anyhow::anyhow!("the assumed field of view {e}; give --fov"))?
             }
         };
         let flag = |e: String| anyhow::anyhow!("--{e}");
@@ -95,7 +98,7 @@ impl VisionArgs {
         let gamut = display_gamut(self.gamut.as_deref(), self.hdr).map_err(flag)?;
         let png = PngOptions::new(self.bits, self.hdr).map_err(flag)?;
         let params = DisplayParams {
-            degrees_per_pixel: fov / width.max(1) as f64,
+            degrees_per_pixel,
             display_peak: peak,
             adaptation,
             glare: on_off("glare", &self.glare)?,
@@ -160,6 +163,8 @@ pub fn run(args: Args) -> Result<()> {
     for note in &image.notes {
         eprintln!("scotopia: note: {}: {note}", args.input.display());
     }
+    scotopia_vision::pipeline::check_size(image.width, image.height)
+        .with_context(|| args.input.display().to_string())?;
     let (params, png, notes) = args.vision.params(image.width, image.fov_horizontal)?;
     for note in notes {
         eprintln!("scotopia: note: {note}");

@@ -3,6 +3,7 @@
 
 mod display;
 mod info;
+mod numbers;
 mod render;
 mod spectrum;
 

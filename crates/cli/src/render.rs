@@ -40,8 +40,8 @@ pub struct Args {
     #[arg(long)]
     spp: Option<u32>,
     /// Render for this many seconds (with --spp: whichever ends first).
-    #[arg(long, value_name = "SECONDS")]
-    time: Option<f64>,
+    #[arg(long, value_name = "SECONDS", value_parser = crate::numbers::seconds)]
+    time: Option<Duration>,
     /// Save the film's exact sums to OUT.exr.ckpt every SECONDS and at the
     /// end (complete, interrupted or out of time), so that a killed render
     /// can be resumed, or a finished one given more samples.
@@ -52,8 +52,8 @@ pub struct Args {
     /// bit-identical to an uninterrupted render of as many samples.
     #[arg(long)]
     resume: bool,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
+    /// Worker threads (default: all cores; at most 4096).
+    #[arg(long, value_parser = crate::numbers::threads)]
     threads: Option<usize>,
     /// Seed of the sample sequence: the same seed gives the same image.
     #[arg(long, default_value_t = 0)]
@@ -121,11 +121,7 @@ pub fn run(args: Args) -> Result<()> {
         }
         None => None,
     };
-    let time_limit = match args.time {
-        Some(t) if t.is_finite() && t > 0.0 => Some(Duration::from_secs_f64(t)),
-        Some(t) => bail!("--time {t}: must be a positive number of seconds"),
-        None => None,
-    };
+    let time_limit = args.time;
     if args.spp == Some(0) {
         bail!("--spp must be positive");
     }
@@ -134,6 +130,18 @@ pub fn run(args: Args) -> Result<()> {
     for w in &scene.warnings {
         eprintln!("scotopia: warning: {w}");
     }
+    // The vision pipeline's settings and size, checked before rendering.
+    let display = match &args.display {
+        Some(_) => {
+            let (w, h) = (scene.camera.width as usize, scene.camera.height as usize);
+            scotopia_vision::pipeline::check_size(w, h).context("--display")?;
+            let (params, png, _) = args
+                .vision
+                .params(w, Some(scene.camera.fov_degrees().0 as f64))?;
+            Some((params, png))
+        }
+        None => None,
+    };
     let options = RenderOptions {
         spp: args.spp,
         time_limit,
@@ -262,11 +270,8 @@ pub fn run(args: Args) -> Result<()> {
             rendered.nonfinite_splats
         );
     }
-    if let Some(out) = &args.display {
+    if let (Some(out), Some((params, png))) = (&args.display, display) {
         let (w, h) = (rendered.film.width as usize, rendered.film.height as usize);
-        let (params, png, _) = args
-            .vision
-            .params(w, Some(scene.camera.fov_degrees().0 as f64))?;
         let shown = scotopia_vision::display(&rendered.film.xyzv(), w, h, &params);
         write_shown(out, &shown, &params, png)?;
     }

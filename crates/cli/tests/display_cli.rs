@@ -138,3 +138,63 @@ fn render_display_runs_the_pipeline_after_rendering() {
     assert!(err.contains("displayed"), "{err}");
     assert_eq!(scotopia_image::read_rgb(&png).unwrap().width, 16);
 }
+
+#[test]
+fn numbers_out_of_range_are_usage_errors_naming_the_flag() {
+    let dir = out_dir("numbers");
+    let exr = night_exr(&dir, 0.01);
+    let e = exr.to_str().unwrap();
+    let scene = common::scenes().join("cornell-box.xml");
+    let s = scene.to_str().unwrap();
+    let out = dir.join("o.exr");
+    let o = out.to_str().unwrap();
+    // Rejected by the argument parser: exit code 2.
+    for (args, flag) in [
+        (vec!["render", s, "-o", o, "--time", "1e20"], "--time"),
+        (vec!["render", s, "-o", o, "--time", "inf"], "--time"),
+        (
+            vec!["render", s, "-o", o, "--threads", "100000000"],
+            "--threads",
+        ),
+        (vec!["display", e, "--info", "--fov", "1e300"], "--fov"),
+        (vec!["display", e, "--info", "--fov", "NaN"], "--fov"),
+    ] {
+        let (code, _, err) = scotopia(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(flag), "{args:?}: {err}");
+    }
+    // A field of view whose pixels are finer than the vision model takes
+    // (given, or from the image's metadata) is an error naming the limit,
+    // quickly, instead of a blur thousands of pixels wide.
+    let tiny = dir.join("tiny-fov.exr");
+    let px = vec![0.01f32; 64 * 48];
+    scotopia_image::write_exr(
+        &tiny,
+        64,
+        48,
+        ["X", "Y", "Z", "V"]
+            .map(|c| (c.to_string(), px.clone()))
+            .to_vec(),
+        &[("fovHorizontalDegrees", scotopia_image::Meta::F32(1e-30))],
+    )
+    .unwrap();
+    for (args, expect) in [
+        (
+            vec!["display", e, "--info", "--fov", "1e-10"],
+            "--fov 1e-10",
+        ),
+        (vec!["display", e, "--info", "--fov", "1e-6"], "--fov"),
+        (
+            vec!["display", tiny.to_str().unwrap(), "--info"],
+            "the image's field of view",
+        ),
+    ] {
+        let (code, _, err) = scotopia(&args);
+        assert_ne!(code, 0, "{args:?}");
+        assert!(
+            err.contains(expect) && err.contains("0.0001° per pixel"),
+            "{args:?}: {err}"
+        );
+        assert!(!err.contains("panicked"), "{err}");
+    }
+}

@@ -96,6 +96,7 @@ pub fn read_exr(path: &Path) -> Result<ExrImage, ImageError> {
         path: path.display().to_string(),
         message,
     };
+    check_exr_size(path)?;
     let image = read_all_flat_layers_from_file(path).map_err(|e| fail(e.to_string()))?;
     let layer = image
         .layer_data
@@ -130,9 +131,53 @@ pub fn read_exr(path: &Path) -> Result<ExrImage, ImageError> {
     })
 }
 
+/// Checks the sizes an EXR's headers declare (data windows × channels)
+/// before any pixel is read, so a forged window is an error, not an abort.
+fn check_exr_size(path: &Path) -> Result<(), ImageError> {
+    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| ImageError::Exr {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })?;
+    let too_large = |cause| ImageError::TooLarge {
+        path: path.display().to_string(),
+        cause: Box::new(cause),
+    };
+    let mut total: Option<u64> = Some(0);
+    for h in &meta.headers {
+        let (w, ht) = (h.layer_size.width() as u64, h.layer_size.height() as u64);
+        let channels = h.channels.list.len() as u64;
+        // Each sample is stored (up to 4 bytes) and converted to an f32.
+        crate::limits::check_image("its data window", w, ht, 8 * channels.max(1))
+            .map_err(too_large)?;
+        total = total.and_then(|t| t.checked_add(w * ht * channels));
+    }
+    crate::limits::check_buffer("its layers together", total, 8).map_err(too_large)?;
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_forged_data_window_is_an_error_naming_the_limit() {
+        let dir = std::env::temp_dir().join(format!("scotopia-exr-forged-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("forged.exr");
+        write_exr(&path, 2, 2, vec![("Y".into(), vec![1.0; 4])], &[]).unwrap();
+        // Rewrite the data window's maximum corner to 1e9 - 1 on both axes.
+        let mut bytes = std::fs::read(&path).unwrap();
+        let key = b"dataWindow\0box2i\0";
+        let at = bytes.windows(key.len()).position(|w| w == key).unwrap() + key.len() + 4;
+        for k in [8, 12] {
+            bytes[at + k..at + k + 4].copy_from_slice(&999_999_999i32.to_le_bytes());
+        }
+        std::fs::write(&path, bytes).unwrap();
+        let e = read_exr(&path).unwrap_err().to_string();
+        assert!(e.contains("forged.exr"), "{e}");
+        assert!(e.contains("1000000000 × 1000000000 pixels"), "{e}");
+        assert!(e.contains("the limit is"), "{e}");
+    }
 
     #[test]
     fn channels_and_metadata_round_trip() {

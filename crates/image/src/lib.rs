@@ -3,6 +3,7 @@
 //! PNG/JPEG/EXR reading for textures, spectrum plots.
 
 pub mod exr_out;
+pub mod limits;
 pub mod plot;
 pub mod png_out;
 pub mod preview;
@@ -12,6 +13,7 @@ mod tmp_file;
 pub mod xyzv;
 
 pub use exr_out::{read_exr, write_exr, ExrImage, Meta};
+pub use limits::{check_buffer, check_image, TooLarge};
 pub use plot::{display_colour, plot_spectrum};
 pub use png_out::{write_png, write_png_rgb8, ImageError, PngColour, PngSamples};
 pub use preview::preview_srgb8;

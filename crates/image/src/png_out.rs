@@ -22,6 +22,11 @@ pub enum ImageError {
     Read { path: String, message: String },
     #[error("{0}")]
     Invalid(String),
+    #[error("{path}: {cause}")]
+    TooLarge {
+        path: String,
+        cause: Box<crate::limits::TooLarge>,
+    },
 }
 
 /// Writes 8-bit sRGB pixels (row-major RGB triples) as a PNG with an sRGB chunk.

@@ -46,13 +46,25 @@ pub fn read_rgb(path: &Path) -> Result<RgbImage, ImageError> {
         path: path.display().to_string(),
         message,
     };
-    let reader = image::ImageReader::open(path)
-        .map_err(|cause| ImageError::Io {
+    let open = || {
+        image::ImageReader::open(path)
+            .map_err(|cause| ImageError::Io {
+                path: path.display().to_string(),
+                cause,
+            })?
+            .with_guessed_format()
+            .map_err(|e| fail(e.to_string()))
+    };
+    // The size the header declares, checked before decoding: the decoded
+    // image, its float copy and the pixels returned.
+    let (w, h) = open()?.into_dimensions().map_err(|e| fail(e.to_string()))?;
+    crate::limits::check_image("the image", w as u64, h as u64, 40).map_err(|cause| {
+        ImageError::TooLarge {
             path: path.display().to_string(),
-            cause,
-        })?
-        .with_guessed_format()
-        .map_err(|e| fail(e.to_string()))?;
+            cause: Box::new(cause),
+        }
+    })?;
+    let reader = open()?;
     let img = reader.decode().map_err(|e| fail(e.to_string()))?;
     let float = matches!(
         img.color(),
@@ -131,6 +143,25 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn a_png_declaring_a_huge_size_is_an_error_before_decoding() {
+        let path = tmp("huge.png");
+        {
+            let file = std::fs::File::create(&path).unwrap();
+            let mut enc = png::Encoder::new(file, 100_000, 100_000);
+            enc.set_color(png::ColorType::Rgb);
+            // The header and one short data chunk: the size is what is
+            // checked, before any data is decoded.
+            let mut w = enc.write_header().unwrap();
+            w.write_chunk(png::chunk::IDAT, &[0x78, 0x9c, 0x03, 0, 0, 0, 0, 1])
+                .unwrap();
+        }
+        let e = read_rgb(&path).unwrap_err().to_string();
+        assert!(e.contains("huge.png"), "{e}");
+        assert!(e.contains("100000 × 100000 pixels"), "{e}");
+        assert!(e.contains("the limit is"), "{e}");
     }
 
     #[test]

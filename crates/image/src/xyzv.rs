@@ -93,8 +93,10 @@ pub fn read_xyzv(path: &Path, rgb: RgbInput) -> Result<XyzvImage, ImageError> {
                         .into(),
                 ));
             };
-            if units.is_nan() || units <= 0.0 {
-                return Err(fail(format!("--units must be positive, not {units}")));
+            if !(units.is_finite() && units > 0.0) {
+                return Err(fail(format!(
+                    "--units must be positive and finite, not {units}"
+                )));
             }
             notes.push(format!(
                 "RGB read as linear {} × {units} cd/m²; V′ estimated from X, Y, Z",

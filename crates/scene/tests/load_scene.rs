@@ -165,6 +165,31 @@ fn load_errors_name_the_place() {
 }
 
 #[test]
+fn a_film_that_cannot_fit_is_an_error_naming_the_line_and_the_limit() {
+    let dir = std::env::temp_dir().join(format!("scotopia-huge-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let f = dir.join("huge.xml");
+    for size in ["1000000000", "100000"] {
+        std::fs::write(
+            &f,
+            format!(
+                "<scene version=\"3.0.0\">\n<sensor type=\"perspective\">\n<film type=\"hdrfilm\">\
+                 <integer name=\"width\" value=\"{size}\"/><integer name=\"height\" value=\"{size}\"/>\
+                 </film></sensor></scene>"
+            ),
+        )
+        .unwrap();
+        let e = load_scene(&f, &Parameters::new()).unwrap_err().to_string();
+        assert!(e.contains("huge.xml:2:"), "{e}");
+        assert!(
+            e.contains(&format!("a film of {size} × {size} pixels")),
+            "{e}"
+        );
+        assert!(e.contains("the limit is"), "{e}");
+    }
+}
+
+#[test]
 fn obj_and_ply_meshes_load_with_mitsuba_conventions() {
     let dir = std::env::temp_dir().join(format!("scotopia-obj-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();

@@ -28,12 +28,22 @@ pub fn rgb_cube(n: usize) -> Vec<[f32; 3]> {
         .collect()
 }
 
-/// Measures `method` on the n×n×n grid of `space`'s RGB cube.
+/// The finest grid `round_trip` measures: 256³ ≈ 16.8 million colours
+/// (each an upsampling and a spectral integral).
+pub const MAX_ROUND_TRIP_GRID: usize = 256;
+
+/// Measures `method` on the n×n×n grid of `space`'s RGB cube, 2 ≤ n ≤
+/// `MAX_ROUND_TRIP_GRID`.
 pub fn round_trip(
     method: UpsampleMethod,
     space: RgbSpace,
     n: usize,
 ) -> Result<RoundTrip, ColorError> {
+    if !(2..=MAX_ROUND_TRIP_GRID).contains(&n) {
+        return Err(ColorError::OutOfRange(format!(
+            "round-trip grid n = {n}: must be from 2 to {MAX_ROUND_TRIP_GRID}"
+        )));
+    }
     round_trip_colours(method, space, &rgb_cube(n))
 }
 
@@ -73,4 +83,23 @@ pub fn round_trip_colours(
         out_of_range: errors.iter().filter(|e| e.1).count(),
         count: errors.len(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grids_out_of_range_are_errors() {
+        for n in [0, 1, 257, 1_000_000_000_000] {
+            let e = round_trip(UpsampleMethod::Smits, RgbSpace::Srgb, n).unwrap_err();
+            assert!(e.to_string().contains("from 2 to 256"), "{e}");
+        }
+        assert_eq!(
+            round_trip(UpsampleMethod::Smits, RgbSpace::Srgb, 2)
+                .unwrap()
+                .count,
+            8
+        );
+    }
 }

@@ -59,7 +59,37 @@ pub struct Film {
     pub spectral: Vec<f64>,
 }
 
+/// Bytes the output takes per pixel beyond the sums (the X, Y, Z, V′
+/// image and its copy written to the EXR).
+const OUTPUT_BYTES_PER_PIXEL: u64 = 32;
+
 impl Film {
+    /// A film, after checking that its sums (and band sums) and the image
+    /// written from them fit the memory budget (`scotopia_image::limits`).
+    pub fn try_new(
+        width: u32,
+        height: u32,
+        bands: Option<Bands>,
+    ) -> Result<Self, scotopia_image::TooLarge> {
+        Self::check_size(width, height, bands)?;
+        Ok(Self::new(width, height, bands))
+    }
+
+    /// Whether a `width` × `height` film (with `bands`) fits the memory
+    /// budget; the error says how much it needs and what the limit is.
+    pub fn check_size(
+        width: u32,
+        height: u32,
+        bands: Option<Bands>,
+    ) -> Result<(), scotopia_image::TooLarge> {
+        let per_pixel = (std::mem::size_of::<PixelSum>() as u64)
+            .saturating_add(8u64.saturating_mul(bands.map_or(1, |b| b.0 as u64)))
+            .saturating_add(OUTPUT_BYTES_PER_PIXEL);
+        scotopia_image::check_image("a film", width as u64, height as u64, per_pixel)?;
+        Ok(())
+    }
+
+    /// A film of a size already checked (see `try_new`).
     pub fn new(width: u32, height: u32, bands: Option<Bands>) -> Self {
         let mut film = Self {
             width,
@@ -141,5 +171,24 @@ impl Film {
         self.pixels.iter().fold((u32::MAX, 0), |(lo, hi), p| {
             (lo.min(p.samples), hi.max(p.samples))
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn films_that_cannot_fit_are_errors_naming_the_limit() {
+        assert!(Film::try_new(64, 48, Some(Bands(47))).is_ok());
+        for (w, h) in [
+            (1_000_000_000, 1_000_000_000),
+            (100_000, 100_000),
+            (u32::MAX, 2),
+        ] {
+            let e = Film::try_new(w, h, None).unwrap_err().to_string();
+            assert!(e.contains(&format!("a film of {w} × {h} pixels")), "{e}");
+            assert!(e.contains("the limit is"), "{e}");
+        }
     }
 }

@@ -124,6 +124,8 @@ pub enum RenderError {
     #[error("the bidirectional tracer needs a perspective or thin-lens camera (an orthographic camera cannot be reached from a light); render with path")]
     BdptProjection,
     #[error("{0}")]
+    TooLarge(Box<scotopia_image::TooLarge>),
+    #[error("{0}")]
     Checkpoint(String),
 }
 
@@ -346,6 +348,25 @@ impl<'a> Renderer<'a> {
     }
 }
 
+/// The longest time limit accepted, seconds (≈ 31.7 years): longer ones
+/// would overflow the clock's arithmetic, and no render is meant to last
+/// them.
+pub const MAX_TIME_LIMIT_SECONDS: f64 = 1e9;
+
+/// A render time limit of `seconds`, or why it cannot be one (not a
+/// positive finite number, or over `MAX_TIME_LIMIT_SECONDS`).
+pub fn time_limit(seconds: f64) -> Result<Duration, String> {
+    if !(seconds.is_finite() && seconds > 0.0) {
+        return Err(format!("{seconds}: must be a positive number of seconds"));
+    }
+    if seconds > MAX_TIME_LIMIT_SECONDS {
+        return Err(format!(
+            "{seconds:e}: must be at most {MAX_TIME_LIMIT_SECONDS:e} seconds (about 31 years)"
+        ));
+    }
+    Duration::try_from_secs_f64(seconds).map_err(|e| format!("{seconds}: {e}"))
+}
+
 /// Renders `scene`. `progress(done, total)` is called after each pass
 /// (samples per pixel); setting `cancel` stops after the current pass.
 pub fn render(
@@ -438,7 +459,8 @@ fn render_k<const K: usize>(
             key: checkpoints.as_ref().map_or(0, |c| c.key),
             done: 0,
             counts: [0; 4],
-            film: Film::new(width, height, bands),
+            film: Film::try_new(width, height, bands)
+                .map_err(|e| RenderError::TooLarge(Box::new(e)))?,
         },
     };
     let resumed_at = state.done;
@@ -504,4 +526,22 @@ fn render_k<const K: usize>(
         elapsed: start.elapsed(),
         cancelled,
     })
+}
+
+#[cfg(test)]
+mod time_limit_tests {
+    use super::*;
+
+    #[test]
+    fn time_limits_out_of_range_are_errors_not_panics() {
+        assert_eq!(time_limit(2.5), Ok(Duration::from_millis(2500)));
+        assert!(time_limit(MAX_TIME_LIMIT_SECONDS).is_ok());
+        for t in [1e20, 1e30, f64::INFINITY] {
+            let e = time_limit(t).unwrap_err();
+            assert!(e.contains("at most") || e.contains("positive"), "{t}: {e}");
+        }
+        for t in [0.0, -1.0, f64::NAN, f64::NEG_INFINITY] {
+            assert!(time_limit(t).unwrap_err().contains("positive"), "{t}");
+        }
+    }
 }

@@ -1,6 +1,7 @@
 //! `<sensor>` with its `<film>`, `<sampler>` and `<rfilter>`.
 
 use scotopia_render::camera::{Camera, FovAxis};
+use scotopia_render::film::Film;
 use scotopia_render::scene::Filter;
 
 use super::Builder;
@@ -101,6 +102,8 @@ pub fn build_sensor(b: &mut Builder, node: &Node) -> Result<Sensor, SceneError> 
         });
         (width, height) = (w, h);
     }
+    // Checked here, so the error names the scene's line.
+    Film::check_size(width, height, None).map_err(|e| node.error(e.to_string()))?;
     let camera = if orthographic {
         Camera::orthographic(to_world, width, height, near, far)
     } else {

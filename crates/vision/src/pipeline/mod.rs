@@ -132,6 +132,24 @@ pub struct Displayed {
     pub report: Report,
 }
 
+/// What the pipeline holds per pixel at its peak, bytes, an upper
+/// estimate: the input and its glare copy, the excess, the padded glare
+/// FFT grids (complex, up to 4× the pixels), the tone-mapped, shown and
+/// RGB images and the local-adaptation pyramid.
+const PIPELINE_BYTES_PER_PIXEL: u64 = 256;
+
+/// Whether a `width` × `height` image fits the memory budget for the
+/// pipeline (`scotopia_image::limits`); the error names the limit.
+pub fn check_size(width: usize, height: usize) -> Result<(), scotopia_image::TooLarge> {
+    scotopia_image::check_image(
+        "the vision pipeline on an image",
+        width as u64,
+        height as u64,
+        PIPELINE_BYTES_PER_PIXEL,
+    )
+    .map(|_| ())
+}
+
 /// Runs the pipeline on `pixels` ([X, Y, Z, V′] absolute).
 pub fn display(pixels: &[[f32; 4]], width: usize, height: usize, p: &DisplayParams) -> Displayed {
     run(pixels, width, height, p, None)

@@ -1,0 +1,60 @@
+//! Parsers for the numeric flags, run by clap: a value out of range is a
+//! usage error (exit code 2) naming the flag, before any work starts.
+
+use std::time::Duration;
+
+/// The most worker threads `--threads` accepts.
+pub const MAX_THREADS: usize = 4096;
+
+/// `--time`: positive, finite, at most `MAX_TIME_LIMIT_SECONDS`.
+pub fn seconds(text: &str) -> Result<Duration, String> {
+    let v: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{text}' is not a number of seconds"))?;
+    scotopia_render::integrator::time_limit(v)
+}
+
+/// `--threads`: 1 to `MAX_THREADS`.
+pub fn threads(text: &str) -> Result<usize, String> {
+    text.trim()
+        .parse::<usize>()
+        .ok()
+        .filter(|n| (1..=MAX_THREADS).contains(n))
+        .ok_or_else(|| format!("'{text}': give a count from 1 to {MAX_THREADS}"))
+}
+
+/// `--fov`: degrees in (0, 360); the per-pixel limit is checked once the
+/// image's width is known.
+pub fn fov(text: &str) -> Result<f64, String> {
+    let v: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{text}' is not a number of degrees"))?;
+    if v.is_finite() && v > 0.0 && v < 360.0 {
+        Ok(v)
+    } else {
+        Err(format!("{v}: must be between 0 and 360 degrees"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn out_of_range_numbers_are_errors() {
+        assert_eq!(seconds("1.5"), Ok(Duration::from_millis(1500)));
+        for bad in ["1e20", "inf", "nan", "-3", "0", "soon"] {
+            assert!(seconds(bad).is_err(), "{bad}");
+        }
+        assert_eq!(threads("8"), Ok(8));
+        for bad in ["0", "100000", "-1", "18446744073709551616"] {
+            assert!(threads(bad).is_err(), "{bad}");
+        }
+        assert_eq!(fov("40"), Ok(40.0));
+        for bad in ["0", "360", "1e300", "NaN", "-5"] {
+            assert!(fov(bad).is_err(), "{bad}");
+        }
+    }
+}
