@@ -212,6 +212,7 @@ pub fn run(args: Args) -> Result<()> {
             .vision
             .params(w, Some(scene.camera.fov_degrees().0 as f64))?;
         let shown = scotopia_vision::display(&rendered.film.xyzv(), w, h, &params);
+        crate::display::say_left_out(&shown);
         write_shown(out, &shown, &params, png)?;
     }
     if rendered.cancelled {
