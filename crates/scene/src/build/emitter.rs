@@ -145,10 +145,17 @@ pub(super) fn check_power(b: &mut Builder, node: &Node, light: &Light) -> Result
     };
     let p = light.power(&unit);
     // The light sampler weighs lights by their power in single precision.
-    if !(p.watts.is_finite() && p.lumens.is_finite() && (p.watts as f32).is_finite()) {
+    if !(p.watts.is_finite() && p.lumens.is_finite()) {
         return Err(node.error(format!(
             "the emitter's power is {} W ({} lm): it must be a finite number",
             p.watts, p.lumens
+        )));
+    }
+    if !(p.watts as f32).is_finite() {
+        return Err(node.error(format!(
+            "the emitter's power {:e} W is beyond single precision (3.4e38): it must be finite \
+             there; use larger length units (scenes of 1e-12 to 1e16 units render alike)",
+            p.watts
         )));
     }
     if p.watts == 0.0 {
