@@ -202,7 +202,12 @@ fn nan_and_absurd_pixels_leave_the_rest_of_the_image_alone_and_are_named_once() 
     for i in (0..64 * 48).filter(|&i| !in_block(i) && i != 100) {
         for c in 0..3 {
             let d = (a.pixels[i][c] - b.pixels[i][c]).abs();
-            assert!(d <= 1.0 / 255.0 + 1e-6, "pixel {i}: {:?} {:?}", a.pixels[i], b.pixels[i]);
+            assert!(
+                d <= 1.0 / 255.0 + 1e-6,
+                "pixel {i}: {:?} {:?}",
+                a.pixels[i],
+                b.pixels[i]
+            );
         }
     }
     // Not black: the grey is shown as grey.

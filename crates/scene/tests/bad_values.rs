@@ -30,7 +30,11 @@ fn load(d: &std::path::Path, body: &str) -> Result<scotopia_render::scene::Scene
 fn a_subnormal_spectrum_scaled_to_a_luminance_is_an_error_naming_the_file() {
     let d = dir("subnormal");
     // Values of 1e-45 (the smallest subnormal) need a factor beyond f32.
-    std::fs::write(d.join("tiny.csv"), "400,1e-45\n500,1e-45\n600,1e-45\n700,0\n").unwrap();
+    std::fs::write(
+        d.join("tiny.csv"),
+        "400,1e-45\n500,1e-45\n600,1e-45\n700,0\n",
+    )
+    .unwrap();
     let e = load(
         &d,
         r#"<shape type="sphere"><emitter type="area"><spectrum name="radiance" filename="tiny.csv"><float name="luminance" value="100"/></spectrum></emitter></shape>"#,

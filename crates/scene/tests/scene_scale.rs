@@ -41,8 +41,7 @@ fn luminance(s: f64) -> Vec<f64> {
     std::fs::create_dir_all(&dir).unwrap();
     let f = dir.join(format!("scale-{s:e}.xml"));
     std::fs::write(&f, scene(s)).unwrap();
-    let scene =
-        load_scene(&f, &Parameters::new()).unwrap_or_else(|e| panic!("scale {s:e}: {e}"));
+    let scene = load_scene(&f, &Parameters::new()).unwrap_or_else(|e| panic!("scale {s:e}: {e}"));
     let options = RenderOptions {
         spp: Some(16),
         seed: 3,

@@ -124,7 +124,14 @@ mod tests {
         use LeftOut::*;
         assert_eq!(
             kinds,
-            [None, Some(NonFinite), Some(NonFinite), Some(Absurd), None, Some(Absurd)]
+            [
+                None,
+                Some(NonFinite),
+                Some(NonFinite),
+                Some(Absurd),
+                None,
+                Some(Absurd)
+            ]
         );
         let c = LeftOutCount::of(&px);
         assert_eq!((c.non_finite, c.absurd), (2, 2));

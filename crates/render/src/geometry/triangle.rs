@@ -145,6 +145,30 @@ mod tests {
     }
 
     #[test]
+    fn hits_at_scales_beyond_f32_cubes() {
+        // At 10¹⁴ the scaled distance (length³) overflows f32, at 10⁻¹⁴
+        // it underflows: the f64 finish gives the same t and barycentrics.
+        for s in [1e-14f32, 1e14] {
+            let (p0, p1, p2) = tri();
+            let ray = Ray::new(Vec3::new(0.25, 0.5, 2.0) * s, Vec3::new(0.0, 0.0, -1.0));
+            let h = intersect_triangle(
+                &ray,
+                &RayShear::new(&ray),
+                p0 * s,
+                p1 * s,
+                p2 * s,
+                f32::INFINITY,
+            )
+            .unwrap_or_else(|| panic!("scale {s:e}: missed"));
+            assert!((h.t / (2.0 * s) - 1.0).abs() < 1e-5, "{s:e}: {h:?}");
+            assert!(
+                (h.b[1] - 0.25).abs() < 1e-5 && (h.b[2] - 0.5).abs() < 1e-5,
+                "{h:?}"
+            );
+        }
+    }
+
+    #[test]
     fn hits_with_barycentrics() {
         let (p0, p1, p2) = tri();
         let ray = Ray::new(Vec3::new(0.25, 0.5, 2.0), Vec3::new(0.0, 0.0, -1.0));

@@ -48,12 +48,7 @@ pub(super) fn spawn(p: Vec3, n: Vec3, d: Vec3, unit: f32) -> Ray {
 /// at the offset origin and stops just short of the light's point as seen
 /// from there: measured from `p` instead, a grazing ray would reach the
 /// light's own surface before its end and count as shadowed.
-pub(super) fn shadow_ray<const K: usize>(
-    p: Vec3,
-    n: Vec3,
-    ls: &LightSample<K>,
-    unit: f32,
-) -> Ray {
+pub(super) fn shadow_ray<const K: usize>(p: Vec3, n: Vec3, ls: &LightSample<K>, unit: f32) -> Ray {
     let mut ray = spawn(p, n, ls.wi, unit);
     if ls.distance.is_finite() {
         let to = p + ls.wi * ls.distance;

@@ -256,6 +256,14 @@ mod tests {
     }
 
     #[test]
+    fn far_placements_and_tiny_scales_are_not_singular() {
+        let far = Vec3::new(0.0, 0.0, 3e14);
+        assert!(Transform::look_at(far, Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0)).is_some());
+        assert!(Transform::scale(Vec3::new(1e-12, 1e-12, 1e-12)).is_some());
+        assert!(Transform::scale(Vec3::new(1.0, 1.0, 0.0)).is_none());
+    }
+
+    #[test]
     fn look_at_is_mitsuba_s() {
         let t = Transform::look_at(
             Vec3::ZERO,

@@ -218,6 +218,21 @@ mod tests {
     use super::*;
 
     #[test]
+    fn length_neither_overflows_nor_underflows() {
+        for s in [1e-30f32, 1e-20, 1.0, 1e20, 1e30] {
+            let v = Vec3::new(3.0 * s, 4.0 * s, 0.0);
+            assert!(
+                (v.length() / (5.0 * s) - 1.0).abs() < 1e-6,
+                "{s:e}: {}",
+                v.length()
+            );
+            assert!((v.normalize().length() - 1.0).abs() < 1e-6, "{s:e}");
+        }
+        assert_eq!(Vec3::ZERO.length(), 0.0);
+        assert!(Vec3::new(f32::INFINITY, 0.0, 0.0).length().is_infinite());
+    }
+
+    #[test]
     fn products() {
         let (a, b) = (Vec3::new(1.0, 2.0, 3.0), Vec3::new(-2.0, 0.5, 4.0));
         assert_eq!(a.dot(b), 11.0);

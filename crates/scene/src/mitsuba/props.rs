@@ -236,7 +236,11 @@ impl<'a> Props<'a> {
 fn check_reflectance(n: &Node, s: &Spectrum) -> Result<(), SceneError> {
     let range = scotopia_color::LAMBDA_MIN..=scotopia_color::LAMBDA_MAX;
     let grid = (360..=830).step_by(5).map(|l| l as f32);
-    let samples = s.breakpoints().iter().copied().filter(|l| range.contains(l));
+    let samples = s
+        .breakpoints()
+        .iter()
+        .copied()
+        .filter(|l| range.contains(l));
     let bad = grid
         .chain(samples)
         .map(|l| (l, s.eval(l)))

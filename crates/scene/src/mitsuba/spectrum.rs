@@ -94,7 +94,11 @@ fn check_finite(n: &Node, s: Spectrum, how: &str) -> Result<Spectrum, SceneError
         Some(v) => Err(n.error(format!(
             "{}the spectrum{} has a value or integral of {v}: it must be finite",
             source(n),
-            if how.is_empty() { String::new() } else { format!(" {how}") }
+            if how.is_empty() {
+                String::new()
+            } else {
+                format!(" {how}")
+            }
         ))),
     }
 }

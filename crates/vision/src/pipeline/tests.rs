@@ -157,7 +157,9 @@ fn a_nan_block_leaves_the_other_pixels_as_they_were() {
             assert!(b.report.statistics.left_out.note().is_some());
             assert!(a.report.statistics.left_out.note().is_none());
             // The block itself is shown black.
-            assert!((0..W * H).filter(|&i| in_block(i)).all(|i| b.rgb[i] == [0.0; 3]));
+            assert!((0..W * H)
+                .filter(|&i| in_block(i))
+                .all(|i| b.rgb[i] == [0.0; 3]));
         }
     }
 }
