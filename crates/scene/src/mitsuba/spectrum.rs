@@ -85,6 +85,10 @@ fn source(n: &Node) -> String {
 /// blank image: an error naming the element (and its file). Checked at its
 /// own samples and on the 1 nm grid the photometric integrals use.
 fn check_finite(n: &Node, s: Spectrum, how: &str) -> Result<Spectrum, SceneError> {
+    // A constant (most spectra in a large scene) is its one value.
+    if matches!(s, Spectrum::Constant(v) if v.is_finite()) {
+        return Ok(s);
+    }
     let grid = s.on_grid(scotopia_color::LAMBDA_MIN, scotopia_color::LAMBDA_MAX, 1.0);
     let at_samples = s.breakpoints().iter().map(|&l| s.eval(l));
     let value = grid.into_iter().chain(at_samples).find(|v| !v.is_finite());
