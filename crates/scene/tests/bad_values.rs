@@ -95,6 +95,17 @@ fn a_reflectance_spike_between_grid_points_is_an_error() {
             "{body}\n→ {e}"
         );
     }
+    // A fluorescent BSDF: reflectance 0.5 plus an excitation spike of 0.9
+    // at 500.5 nm (between the 1 nm grid points) takes 1.4 of the light.
+    let e = load(
+        &d,
+        r#"<shape type="sphere"><bsdf type="fluorescent"><float name="reflectance" value="0.5"/><spectrum name="excitation" value="500:0, 500.5:0.9, 501:0"/><spectrum name="emission" value="520:0, 550:1, 600:0"/></bsdf></shape>"#,
+    )
+    .unwrap_err();
+    assert!(
+        e.contains("s.xml:3:") && e.contains("reflectance + excitation is 1.4000"),
+        "{e}"
+    );
     // The same curve below 1 loads.
     let ok = load(
         &d,
