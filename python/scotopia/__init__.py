@@ -124,6 +124,8 @@ def display(
     when not given). ``adaptation`` is "global", "local" or a luminance in
     cd/m². Returns (linear RGB H × W × 3 in [0, 1] of ``gamut``, report
     dict with the adaptation luminance, s, m, mode and stage timings).
+    Non-finite pixels and pixels above 1e10 cd/m² are left out of the
+    image statistics (shown black and at peak white) with a warning.
     ``output`` writes a .png or .exr, ``compare`` a sheet of the stages.
     """
     import numpy as np
@@ -136,7 +138,7 @@ def display(
             fov = file_fov
     if fov is None:
         raise ValueError("fov (horizontal field of view, degrees) is needed for an array")
-    return _display(
+    rgb, report = _display(
         np.ascontiguousarray(image, dtype=np.float32),
         float(fov),
         display_peak,
@@ -150,3 +152,6 @@ def display(
         None if output is None else str(output),
         None if compare is None else str(compare),
     )
+    if report.get("left_out"):
+        warnings.warn(report["left_out"], stacklevel=2)
+    return rgb, report

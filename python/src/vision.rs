@@ -325,6 +325,9 @@ fn display<'py>(
     d.set_item("mode", r.state.mode.name())?;
     d.set_item("glare_applied", r.glare_applied)?;
     d.set_item("blur_pixels", r.blur_pixels)?;
+    // Pixels left out of the statistics (non-finite or absurd): a sentence,
+    // or None; the Python wrapper issues it as a warning.
+    d.set_item("left_out", r.statistics.left_out.note())?;
     let t = PyDict::new(py);
     for (stage, secs) in &r.timings {
         t.set_item(*stage, *secs)?;

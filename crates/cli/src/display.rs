@@ -178,6 +178,7 @@ pub fn run(args: Args) -> Result<()> {
         }
         None => display(&image.pixels, image.width, image.height, &params),
     };
+    say_left_out(&shown);
     if let Some(out) = &args.output {
         write_shown(out, &shown, &params, png)?;
     }
@@ -185,6 +186,14 @@ pub fn run(args: Args) -> Result<()> {
         crate::print(&info_text(&shown, &params))?;
     }
     Ok(())
+}
+
+/// Says once, on stderr, which pixels the pipeline left out of its
+/// statistics (non-finite or absurd values).
+pub fn say_left_out(shown: &Displayed) {
+    if let Some(note) = shown.report.statistics.left_out.note() {
+        eprintln!("scotopia: note: {note}");
+    }
 }
 
 /// Writes the pipeline's result and says so.
@@ -220,6 +229,9 @@ fn info_text(shown: &Displayed, p: &DisplayParams) -> String {
         s.log_average, s.maximum
     );
     t += &format!("S/P ratio     {:.4}\n", s.sp_ratio);
+    if let Some(note) = s.left_out.note() {
+        t += &format!("left out      {note}\n");
+    }
     t += &format!("s (Jensen)    {:.4}\n", r.state.s);
     t += &format!("m (CIE 191)   {:.4}\n", r.state.m);
     t += &format!("mode          {}\n", r.state.mode.name());

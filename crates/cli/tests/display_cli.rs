@@ -198,3 +198,78 @@ fn numbers_out_of_range_are_usage_errors_naming_the_flag() {
         assert!(!err.contains("panicked"), "{err}");
     }
 }
+
+/// A 64 × 48 XYZV′ EXR of D65 grey at 20 cd/m² with a lamp, with
+/// `broken` applied to its pixels.
+fn grey_exr(dir: &Path, name: &str, broken: impl Fn(usize, &mut [f32; 4])) -> PathBuf {
+    let (w, h) = (64, 48);
+    let y = 20.0f32;
+    let mut px = vec![[0.9505 * y, y, 1.089 * y, 2.4645 * y]; w * h];
+    px[24 * w + 32] = [9.5e4, 1e5, 1.09e5, 2.4e5];
+    for (i, p) in px.iter_mut().enumerate() {
+        broken(i, p);
+    }
+    let chan = |c: usize| px.iter().map(|p| p[c]).collect::<Vec<f32>>();
+    let path = dir.join(name);
+    let chans = ["X", "Y", "Z", "V"]
+        .iter()
+        .enumerate()
+        .map(|(c, n)| (n.to_string(), chan(c)))
+        .collect();
+    let meta = [("fovHorizontalDegrees", scotopia_image::Meta::F32(30.0))];
+    scotopia_image::write_exr(&path, w, h, chans, &meta).unwrap();
+    path
+}
+
+#[test]
+fn nan_and_absurd_pixels_leave_the_rest_of_the_image_alone_and_are_named_once() {
+    let dir = out_dir("leftout");
+    let in_block = |i: usize| (8..12).contains(&(i % 64)) && (8..12).contains(&(i / 64));
+    let clean = grey_exr(&dir, "clean.exr", |_, _| {});
+    let broken = grey_exr(&dir, "broken.exr", |i, p| {
+        if in_block(i) {
+            *p = [f32::NAN; 4];
+        }
+        if i == 100 {
+            *p = [2e38; 4];
+        }
+    });
+    let show = |exr: &Path, png: &str| {
+        let png = dir.join(png);
+        let (code, out, err) = scotopia(&[
+            "display",
+            exr.to_str().unwrap(),
+            "-o",
+            png.to_str().unwrap(),
+            "--info",
+        ]);
+        assert_eq!(code, 0, "{err}");
+        (scotopia_image::read_rgb(&png).unwrap(), out, err)
+    };
+    let (a, out_a, err_a) = show(&clean, "clean.png");
+    let (b, out_b, err_b) = show(&broken, "broken.png");
+    // Said once on stderr (and in --info), and only when it happens.
+    assert_eq!(err_b.matches("left out").count(), 1, "{err_b}");
+    assert!(
+        err_b.contains("16 non-finite") && err_b.contains("1 pixel(s) above"),
+        "{err_b}"
+    );
+    assert!(!err_a.contains("left out"), "{err_a}");
+    // The same adaptation, and the same 8-bit code values elsewhere.
+    let line = |o: &str| o.lines().next().unwrap_or_default().to_string();
+    assert_eq!(line(&out_a), line(&out_b), "{out_a}\n{out_b}");
+    assert!(out_b.contains("left out"), "{out_b}");
+    for i in (0..64 * 48).filter(|&i| !in_block(i) && i != 100) {
+        for c in 0..3 {
+            let d = (a.pixels[i][c] - b.pixels[i][c]).abs();
+            assert!(
+                d <= 1.0 / 255.0 + 1e-6,
+                "pixel {i}: {:?} {:?}",
+                a.pixels[i],
+                b.pixels[i]
+            );
+        }
+    }
+    // Not black: the grey is shown as grey.
+    assert!(b.pixels[0].iter().all(|&v| v > 0.05), "{:?}", b.pixels[0]);
+}

@@ -114,13 +114,9 @@ pub fn read_xyzv(path: &Path, rgb: RgbInput) -> Result<XyzvImage, ImageError> {
                 .collect()
         }
     };
-    if pixels.iter().any(|p| p.iter().any(|v| !v.is_finite())) {
-        notes.push("non-finite pixel values read as black".into());
-    }
-    let pixels = pixels
-        .into_iter()
-        .map(|p| p.map(|v| if v.is_finite() { v } else { 0.0 }))
-        .collect();
+    // Non-finite values are kept as they are: the vision pipeline leaves
+    // them out of its statistics and says so (reading them as black would
+    // count them as black in the adaptation luminance).
     let fov_horizontal = exr
         .metadata
         .iter()

@@ -3,7 +3,8 @@
 //! mode (`mode`), glare, multiscale adaptation (`multiscale`, on the
 //! pyramids of `pyramid`), the night-vision shift (`night`) and scotopic
 //! acuity (`acuity`), tone operators (`tonemap`), gamut mapping (`gamut`),
-//! code values (`encode`); `pipeline` runs them in order.
+//! code values (`encode`); `pipeline` runs them in order, on pixels
+//! screened for non-finite and absurd values (`screen`).
 
 pub mod acuity;
 pub mod encode;
@@ -15,6 +16,7 @@ pub mod night;
 pub mod output;
 pub mod pipeline;
 pub mod pyramid;
+pub mod screen;
 pub mod tonemap;
 
 pub use pipeline::{

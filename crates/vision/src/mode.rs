@@ -8,6 +8,8 @@
 //!   from photopic luminance and the S/P ratio (§5), which also names the
 //!   mode: photopic at m = 1 (≥ 5 cd/m²), scotopic at m = 0 (≤ 0.005).
 
+use crate::screen::{left_out, LeftOutCount};
+
 /// Jensen et al. 2001: s = 0 at log₁₀ L ≤ −2, 1 at log₁₀ L ≥ 0.6, and the
 /// smoothstep 3t² − 2t³ of t = (log₁₀ L + 2) / 2.6 between. s = 1 is fully
 /// photopic (no night shift), s = 0 fully scotopic.
@@ -111,28 +113,36 @@ pub struct ImageStatistics {
     pub maximum: f64,
     /// Mean V′ / mean Y: the scene's S/P ratio, for CIE 191.
     pub sp_ratio: f64,
+    /// Mean X, Y, Z, V′ of the pixels used.
+    pub mean: [f64; 4],
+    /// Pixels left out of all of these (see [`crate::screen`]).
+    pub left_out: LeftOutCount,
 }
 
-/// Statistics of pixels given as [X, Y, Z, V′].
+/// Statistics of pixels given as [X, Y, Z, V′], over the pixels that are
+/// finite and not absurd ([`crate::screen::left_out`]): the others count
+/// neither as black nor at all.
 pub fn image_statistics(pixels: &[[f32; 4]]) -> ImageStatistics {
     const DELTA: f64 = 1e-6;
-    let n = pixels.len().max(1) as f64;
-    let (mut log_sum, mut max, mut y_sum, mut v_sum) = (0.0, 0.0f64, 0.0, 0.0);
-    for p in pixels {
+    let mut used = 0usize;
+    let (mut log_sum, mut max) = (0.0, 0.0f64);
+    let mut sum = [0.0f64; 4];
+    for p in pixels.iter().filter(|p| left_out(p).is_none()) {
         let y = (p[1] as f64).max(0.0);
-        let v = (p[3] as f64).max(0.0);
-        if !(y.is_finite() && v.is_finite()) {
-            continue;
-        }
+        used += 1;
         log_sum += (DELTA + y).ln();
         max = max.max(y);
-        y_sum += y;
-        v_sum += v;
+        for (s, v) in sum.iter_mut().zip(p) {
+            *s += (*v as f64).max(0.0);
+        }
     }
+    let n = used.max(1) as f64;
     ImageStatistics {
         log_average: (log_sum / n).exp(),
         maximum: max,
-        sp_ratio: if y_sum > 0.0 { v_sum / y_sum } else { 0.0 },
+        sp_ratio: if sum[1] > 0.0 { sum[3] / sum[1] } else { 0.0 },
+        mean: sum.map(|s| s / n),
+        left_out: LeftOutCount::of(pixels),
     }
 }
 

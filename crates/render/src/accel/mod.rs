@@ -69,6 +69,20 @@ impl Aggregate {
         self.bvh.bounds()
     }
 
+    /// The scene's size for moving ray origins off surfaces
+    /// ([`crate::math::offset_ray_origin`]): the largest coordinate of its
+    /// bounds, at most 1 (larger scenes are covered by the offset's ULPs).
+    #[inline]
+    pub fn offset_unit(&self) -> f32 {
+        let b = self.bvh.bounds();
+        let size = b.min.abs().max_component().max(b.max.abs().max_component());
+        if size > 0.0 && size.is_finite() {
+            size.min(1.0)
+        } else {
+            1.0
+        }
+    }
+
     pub fn instances(&self) -> &[Instance] {
         &self.instances
     }

@@ -96,6 +96,12 @@ pub fn intersect_triangle(
     let bz = s.sz * b[kz];
     let cz = s.sz * c[kz];
     let t_scaled = u * az + v * bz + w * cz;
+    // The edge functions grow as length², the scaled distance as length³:
+    // beyond ~10¹² it overflows f32 (and below ~10⁻¹² it underflows), so
+    // such a scene's test is finished in f64.
+    if !(t_scaled.is_normal() && det.is_normal()) {
+        return finish_f64([u, v, w], [az, bz, cz], t_max);
+    }
     if (det < 0.0 && (t_scaled >= 0.0 || t_scaled < t_max * det))
         || (det > 0.0 && (t_scaled <= 0.0 || t_scaled > t_max * det))
     {
@@ -112,6 +118,20 @@ pub fn intersect_triangle(
     })
 }
 
+/// The end of [`intersect_triangle`] in f64, for edge functions and
+/// distances beyond f32's range.
+#[cold]
+fn finish_f64(uvw: [f32; 3], z: [f32; 3], t_max: f32) -> Option<TriangleHit> {
+    let [u, v, w] = uvw.map(f64::from);
+    let det = u + v + w;
+    let t = (u * z[0] as f64 + v * z[1] as f64 + w * z[2] as f64) / det;
+    if !(t > 0.0 && t < t_max as f64) {
+        return None;
+    }
+    let b = [u / det, v / det, w / det].map(|x| x as f32);
+    Some(TriangleHit { t: t as f32, b })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -122,6 +142,30 @@ mod tests {
             Vec3::new(1.0, 0.0, 0.0),
             Vec3::new(0.0, 1.0, 0.0),
         )
+    }
+
+    #[test]
+    fn hits_at_scales_beyond_f32_cubes() {
+        // At 10¹⁴ the scaled distance (length³) overflows f32, at 10⁻¹⁴
+        // it underflows: the f64 finish gives the same t and barycentrics.
+        for s in [1e-14f32, 1e14] {
+            let (p0, p1, p2) = tri();
+            let ray = Ray::new(Vec3::new(0.25, 0.5, 2.0) * s, Vec3::new(0.0, 0.0, -1.0));
+            let h = intersect_triangle(
+                &ray,
+                &RayShear::new(&ray),
+                p0 * s,
+                p1 * s,
+                p2 * s,
+                f32::INFINITY,
+            )
+            .unwrap_or_else(|| panic!("scale {s:e}: missed"));
+            assert!((h.t / (2.0 * s) - 1.0).abs() < 1e-5, "{s:e}: {h:?}");
+            assert!(
+                (h.b[1] - 0.25).abs() < 1e-5 && (h.b[2] - 0.5).abs() < 1e-5,
+                "{h:?}"
+            );
+        }
     }
 
     #[test]

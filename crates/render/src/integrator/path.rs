@@ -38,17 +38,18 @@ fn power_heuristic(a: f32, b: f32) -> f32 {
 
 /// A ray leaving `p` (geometric normal `n`) in direction `d`.
 #[inline]
-pub(super) fn spawn(p: Vec3, n: Vec3, d: Vec3) -> Ray {
+/// `unit`: the scene's [`crate::accel::Aggregate::offset_unit`].
+pub(super) fn spawn(p: Vec3, n: Vec3, d: Vec3, unit: f32) -> Ray {
     let side = if d.dot(n) >= 0.0 { n } else { -n };
-    Ray::new(offset_ray_origin(p, side), d)
+    Ray::new(offset_ray_origin(p, side, unit), d)
 }
 
 /// The ray that tests whether light sample `ls` reaches `p`. It starts
 /// at the offset origin and stops just short of the light's point as seen
 /// from there: measured from `p` instead, a grazing ray would reach the
 /// light's own surface before its end and count as shadowed.
-pub(super) fn shadow_ray<const K: usize>(p: Vec3, n: Vec3, ls: &LightSample<K>) -> Ray {
-    let mut ray = spawn(p, n, ls.wi);
+pub(super) fn shadow_ray<const K: usize>(p: Vec3, n: Vec3, ls: &LightSample<K>, unit: f32) -> Ray {
+    let mut ray = spawn(p, n, ls.wi, unit);
     if ls.distance.is_finite() {
         let to = p + ls.wi * ls.distance;
         let d = to - ray.o;
@@ -184,7 +185,12 @@ impl Renderer<'_> {
                         let wo = frame.to_local(ls.wi);
                         let f = bsdf.eval(&now, at, wi, wo, Transport::Radiance);
                         if ls.pdf > 0.0 && !f.is_zero() && !ls.radiance.is_zero() {
-                            let shadow = shadow_ray(surface.p, surface.n_geometric, &ls);
+                            let shadow = shadow_ray(
+                                surface.p,
+                                surface.n_geometric,
+                                &ls,
+                                scene.geometry.offset_unit(),
+                            );
                             *rays += 1;
                             if !scene.geometry.occluded(&shadow) {
                                 let p_light = p_choice * ls.pdf;
@@ -217,7 +223,12 @@ impl Renderer<'_> {
             bsdf_pdf = bs.pdf;
             prev = surface.p;
             let d = frame.to_world(bs.wo);
-            ray = spawn(surface.p, surface.n_geometric, d);
+            ray = spawn(
+                surface.p,
+                surface.n_geometric,
+                d,
+                scene.geometry.offset_unit(),
+            );
             depth += 1;
             // Russian roulette from rr_depth on (Mitsuba's rule: survive
             // with the throughput's largest value, at most 0.95).

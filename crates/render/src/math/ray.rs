@@ -32,18 +32,22 @@ impl Ray {
 /// Robust Method for Avoiding Self-Intersection" (Ray Tracing Gems, ch. 6).
 /// The offset is a fixed number of ULPs of p, so it scales with p's
 /// magnitude, with an absolute offset near the origin where ULPs vanish.
+/// Their constants are for a scene of unit size; `unit` (the scene's size,
+/// at most 1: [`crate::accel::Aggregate::offset_unit`]) scales the
+/// absolute offset and the region it applies in, so a scene of 10⁻⁶ m is
+/// not offset by more than its own size.
 #[inline]
-pub fn offset_ray_origin(p: Vec3, n: Vec3) -> Vec3 {
+pub fn offset_ray_origin(p: Vec3, n: Vec3, unit: f32) -> Vec3 {
     // Constants of Wächter & Binder 2019, listing 6-1.
-    const ORIGIN: f32 = 1.0 / 32.0;
-    const FLOAT_SCALE: f32 = 1.0 / 65536.0;
+    let origin = unit / 32.0;
+    let float_scale = unit / 65536.0;
     const INT_SCALE: f32 = 256.0;
     let offset = |p: f32, n: f32| {
         let of_i = (INT_SCALE * n) as i32;
         let bits = p.to_bits() as i32;
         let moved = f32::from_bits((if p < 0.0 { bits - of_i } else { bits + of_i }) as u32);
-        if p.abs() < ORIGIN {
-            p + FLOAT_SCALE * n
+        if p.abs() < origin {
+            p + float_scale * n
         } else {
             moved
         }
@@ -63,7 +67,7 @@ mod tests {
             Vec3::ZERO,
         ] {
             let n = Vec3::new(0.3, -0.8, 0.52).normalize();
-            let q = offset_ray_origin(p, n);
+            let q = offset_ray_origin(p, n, 1.0);
             assert!((q - p).dot(n) > 0.0, "{p:?} → {q:?}");
             assert!((q - p).length() < 1e-3 * p.length().max(1.0));
         }

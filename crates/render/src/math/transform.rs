@@ -27,14 +27,23 @@ fn mul(a: &Mat4, b: &Mat4) -> Mat4 {
 /// Inverse by Gauss–Jordan elimination with partial pivoting; `None` when
 /// singular (relative to the matrix's scale).
 pub fn invert(m: &Mat4) -> Option<Mat4> {
-    let scale = m.iter().flatten().fold(0.0f64, |s, v| s.max(v.abs()));
-    if !(scale.is_finite() && scale > 0.0) {
+    let max_abs = |v: &mut dyn Iterator<Item = f64>| v.fold(0.0f64, |s, v| s.max(v.abs()));
+    if !max_abs(&mut m.iter().flatten().copied()).is_finite() {
+        return None;
+    }
+    // Singular relative to the linear part's own scale (and the last
+    // pivot to the bottom row's), not to the translation's: a scene
+    // scaled by 10⁻¹² or placed at 10¹⁴ is not degenerate.
+    let linear = max_abs(&mut m.iter().flat_map(|r| r[..3].iter().copied()));
+    let bottom = max_abs(&mut m[3].iter().copied());
+    if !(linear > 0.0 && bottom > 0.0) {
         return None;
     }
     let mut a = *m;
     let mut inv = IDENTITY;
     for col in 0..4 {
         let pivot = (col..4).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))?;
+        let scale = if col < 3 { linear } else { bottom };
         if a[pivot][col].abs() <= 1e-12 * scale {
             return None;
         }
@@ -244,6 +253,14 @@ mod tests {
         )
         .is_none());
         assert!(Transform::from_matrix([[f64::NAN; 4]; 4]).is_none());
+    }
+
+    #[test]
+    fn far_placements_and_tiny_scales_are_not_singular() {
+        let far = Vec3::new(0.0, 0.0, 3e14);
+        assert!(Transform::look_at(far, Vec3::ZERO, Vec3::new(0.0, 1.0, 0.0)).is_some());
+        assert!(Transform::scale(Vec3::new(1e-12, 1e-12, 1e-12)).is_some());
+        assert!(Transform::scale(Vec3::new(1.0, 1.0, 0.0)).is_none());
     }
 
     #[test]

@@ -43,9 +43,27 @@ impl Vec3 {
         self.dot(self)
     }
 
+    /// The length, without overflow or underflow of its square: a vector
+    /// of components beyond ~1.8·10¹⁹ (or below ~10⁻¹⁹, as a cross
+    /// product of a scene's edges is at scales beyond 10¹⁰ or below 10⁻¹⁰)
+    /// is rescaled by its largest component first.
     #[inline]
     pub fn length(self) -> f32 {
-        self.length_squared().sqrt()
+        let l2 = self.length_squared();
+        if l2.is_finite() && l2 >= f32::MIN_POSITIVE {
+            l2.sqrt()
+        } else {
+            self.length_rescaled()
+        }
+    }
+
+    #[cold]
+    fn length_rescaled(self) -> f32 {
+        let m = self.abs().max_component();
+        if m == 0.0 || !m.is_finite() {
+            return self.length_squared().sqrt();
+        }
+        m * (self / m).length_squared().sqrt()
     }
 
     /// The unit vector in this direction (NaN for the zero vector).
@@ -198,6 +216,21 @@ impl Div<f32> for Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn length_neither_overflows_nor_underflows() {
+        for s in [1e-30f32, 1e-20, 1.0, 1e20, 1e30] {
+            let v = Vec3::new(3.0 * s, 4.0 * s, 0.0);
+            assert!(
+                (v.length() / (5.0 * s) - 1.0).abs() < 1e-6,
+                "{s:e}: {}",
+                v.length()
+            );
+            assert!((v.normalize().length() - 1.0).abs() < 1e-6, "{s:e}");
+        }
+        assert_eq!(Vec3::ZERO.length(), 0.0);
+        assert!(Vec3::new(f32::INFINITY, 0.0, 0.0).length().is_infinite());
+    }
 
     #[test]
     fn products() {

@@ -292,6 +292,7 @@ fn fluorescent(b: &mut Builder, p: &Props, node: &Node) -> Result<Bsdf, SceneErr
     // the light arriving.
     check_energy(
         &reflectance,
+        excitation.breakpoints(),
         |l| excitation.eval(l),
         |l, total| {
             node.error(format!(
@@ -355,6 +356,7 @@ fn fluorescent_matrix(
     };
     check_energy(
         &reflectance,
+        &[],
         |l| matrix.reemitted(l),
         |l, total| {
             at.error(format!(
@@ -376,11 +378,15 @@ fn fluorescent_matrix(
 /// are smooth).
 fn check_energy(
     reflectance: &Texture,
+    breakpoints: &[f32],
     taken: impl Fn(f32) -> f32,
     error: impl Fn(u32, f32) -> SceneError,
 ) -> Result<(), SceneError> {
     let step = if reflectance.is_varying() { 5 } else { 1 };
-    let lambdas: Vec<f32> = (360..=830).step_by(step).map(|l| l as f32).collect();
+    // The grid, and the taken spectrum's own samples (a spike between
+    // grid points is its maximum there).
+    let mut lambdas: Vec<f32> = (360..=830).step_by(step).map(|l| l as f32).collect();
+    lambdas.extend(breakpoints.iter().filter(|l| (360.0..=830.0).contains(*l)));
     let rho = reflectance.max_over_surface(&lambdas);
     for (&l, r) in lambdas.iter().zip(rho) {
         let total = r + taken(l);

@@ -4,7 +4,8 @@ use scotopia_color::{RgbSpace, Spectrum};
 use scotopia_image::read_rgb;
 use scotopia_render::camera::Camera;
 use scotopia_render::light::{
-    ConstantLight, DirectionalLight, EnvMapLight, Light, PointLight, ProjectorLight, SpotLight,
+    ConstantLight, DirectionalLight, EnvMapLight, Light, PointLight, ProjectorLight, SceneExtent,
+    SpotLight,
 };
 use scotopia_render::math::{Frame, Vec3};
 use scotopia_render::texture::Texture;
@@ -127,7 +128,40 @@ pub fn build_emitter(b: &mut Builder, node: &Node) -> Result<Light, SceneError> 
         other => return Err(node.error(format!("emitter type '{other}' is not supported (area, point, spot, projector, directional, constant, envmap)"))),
     };
     b.report_unused(&p);
+    check_power(b, node, &light)?;
     Ok(light)
+}
+
+/// A light whose power is not a finite number (a NaN or overflowing
+/// emission, a scale that overflows single precision) would make the image
+/// black or NaN: an error naming the emitter. A light of zero power adds
+/// nothing to the image: a warning. Lights at infinity are checked per
+/// unit scene radius.
+pub(super) fn check_power(b: &mut Builder, node: &Node, light: &Light) -> Result<(), SceneError> {
+    let unit = SceneExtent {
+        shapes: &[],
+        center: Vec3::ZERO,
+        radius: 1.0,
+    };
+    let p = light.power(&unit);
+    // The light sampler weighs lights by their power in single precision.
+    if !(p.watts.is_finite() && p.lumens.is_finite()) {
+        return Err(node.error(format!(
+            "the emitter's power is {} W ({} lm): it must be a finite number",
+            p.watts, p.lumens
+        )));
+    }
+    if !(p.watts as f32).is_finite() {
+        return Err(node.error(format!(
+            "the emitter's power {:e} W is beyond single precision (3.4e38): it must be finite \
+             there; use larger length units (scenes of 1e-12 to 1e16 units render alike)",
+            p.watts
+        )));
+    }
+    if p.watts == 0.0 {
+        b.warn(node, "the emitter's power is zero: it adds no light".into());
+    }
+    Ok(())
 }
 
 /// An emitter's texture parameter `name` (`radiance`, `irradiance`), as

@@ -212,8 +212,9 @@ impl World {
             let p = Props::new(e);
             let radiance = emitter::emissive_texture(b, &p, e, "radiance")?;
             b.report_unused(&p);
-            self.lights
-                .push(Light::Area(AreaLight::new(index, &m.shape, radiance)));
+            let area = Light::Area(AreaLight::new(index, &m.shape, radiance));
+            emitter::check_power(b, e, &area)?;
+            self.lights.push(area);
             light = Some((self.lights.len() - 1) as u32);
         }
         self.shapes.push(m.shape);

@@ -229,14 +229,26 @@ impl<'a> Props<'a> {
     }
 }
 
-/// Reflectances above 1 or below 0 create energy: an error.
+/// Reflectances above 1 or below 0 create energy: an error. Checked on a
+/// 5 nm grid and at the spectrum's own samples (a tabulated spectrum is
+/// piecewise linear, so its extremes lie there: a spike between grid
+/// points is caught).
 fn check_reflectance(n: &Node, s: &Spectrum) -> Result<(), SceneError> {
-    let bad = (360..=830)
-        .step_by(5)
-        .map(|l| s.eval(l as f32))
-        .find(|v| !(0.0..=1.0 + 1e-4).contains(v));
+    let range = scotopia_color::LAMBDA_MIN..=scotopia_color::LAMBDA_MAX;
+    let grid = (360..=830).step_by(5).map(|l| l as f32);
+    let samples = s
+        .breakpoints()
+        .iter()
+        .copied()
+        .filter(|l| range.contains(l));
+    let bad = grid
+        .chain(samples)
+        .map(|l| (l, s.eval(l)))
+        .find(|(_, v)| !(0.0..=1.0 + 1e-4).contains(v));
     match bad {
-        Some(v) => Err(n.error(format!("a reflectance must lie in [0, 1], found {v}"))),
+        Some((l, v)) => Err(n.error(format!(
+            "a reflectance must lie in [0, 1], found {v} at {l} nm"
+        ))),
         None => Ok(()),
     }
 }

@@ -40,19 +40,71 @@ pub fn read_spectrum_as(n: &Node, usage: Usage) -> Result<Spectrum, SceneError> 
         if !(scale.is_finite() && scale >= 0.0) {
             return Err(n.error(format!("scale must be non-negative, got {scale}")));
         }
-        return Ok(s.scaled(scale));
+        return check_finite(n, s.scaled(scale), &format!("× scale {scale}"));
     }
     if target.is_nan() {
-        return Ok(s);
+        return check_finite(n, s, "");
     }
     if !(target.is_finite() && target >= 0.0) {
         return Err(n.error(format!("luminance must be non-negative, got {target}")));
     }
     let y = spectrum_to_xyzv(&s).y;
     if y.is_nan() || y <= 0.0 {
-        return Err(n.error("the spectrum has no luminance to scale to 'luminance'"));
+        return Err(n.error(format!(
+            "{}the spectrum has no luminance to scale to 'luminance'",
+            source(n)
+        )));
     }
-    Ok(s.scaled((target as f64 / y) as f32))
+    // A spectrum of tiny (e.g. subnormal) values needs a factor beyond
+    // single precision: ∞ × 0 would make the light NaN.
+    let factor = target as f64 / y;
+    if !(factor as f32).is_finite() {
+        return Err(n.error(format!(
+            "{}the spectrum's luminance {y:e} is too small to scale to luminance {target}: \
+             the factor {factor:e} exceeds single precision; give the values in larger units",
+            source(n)
+        )));
+    }
+    check_finite(
+        n,
+        s.scaled(factor as f32),
+        &format!("scaled to luminance {target}"),
+    )
+}
+
+/// `file.csv: ` for a spectrum read from a file, else nothing: errors
+/// about its values name the file as well as the element.
+fn source(n: &Node) -> String {
+    n.attr("filename")
+        .map(|f| format!("{}: ", resolve(&n.dir, f).display()))
+        .unwrap_or_default()
+}
+
+/// A spectrum whose values or integrals are not finite numbers would make
+/// NaN or infinite light power, reflectance or index, and a black or
+/// blank image: an error naming the element (and its file). Checked at its
+/// own samples and on the 1 nm grid the photometric integrals use.
+fn check_finite(n: &Node, s: Spectrum, how: &str) -> Result<Spectrum, SceneError> {
+    // A constant (most spectra in a large scene) is its one value.
+    if matches!(s, Spectrum::Constant(v) if v.is_finite()) {
+        return Ok(s);
+    }
+    let grid = s.on_grid(scotopia_color::LAMBDA_MIN, scotopia_color::LAMBDA_MAX, 1.0);
+    let at_samples = s.breakpoints().iter().map(|&l| s.eval(l));
+    let value = grid.into_iter().chain(at_samples).find(|v| !v.is_finite());
+    let integral = integrate_observers(&s).into_iter().find(|v| !v.is_finite());
+    match value.map(f64::from).or(integral) {
+        None => Ok(s),
+        Some(v) => Err(n.error(format!(
+            "{}the spectrum{} has a value or integral of {v}: it must be finite",
+            source(n),
+            if how.is_empty() {
+                String::new()
+            } else {
+                format!(" {how}")
+            }
+        ))),
+    }
 }
 
 /// The spectrum's shape, before any `luminance` scaling.

@@ -17,6 +17,7 @@ use crate::mode::{
 use crate::multiscale::{multiscale, GainAdaptation, MultiscaleParams};
 use crate::night::night_shift;
 use crate::pyramid::{expand, gaussian, Plane};
+use crate::screen::{self, LeftOut};
 use crate::tonemap::{exposure_scale, reinhard_scale};
 
 /// The tone operator of stage 3.
@@ -190,8 +191,14 @@ fn run(
         clock = Instant::now();
     };
 
-    // 1. Visual mode.
+    // 1. Visual mode, from the pixels that are finite and not absurd.
     let statistics = image_statistics(pixels);
+    let original = pixels;
+    // The pixels left out take the others' mean colour at their
+    // log-average luminance in the spatial stages, so they neither glare
+    // nor darken or brighten their neighbourhood.
+    let screened = screen::filled(pixels, fill_value(&statistics));
+    let pixels: &[[f32; 4]] = screened.as_deref().unwrap_or(pixels);
     let la = match p.adaptation {
         Adaptation::Fixed(l) => l,
         Adaptation::Global | Adaptation::Local => statistics.log_average,
@@ -247,7 +254,13 @@ fn run(
     let space = p.gamut.def();
     let rgb: Vec<[f32; 3]> = shown
         .par_iter()
-        .map(|q| map_to_gamut([q[0], q[1], q[2]].map(f64::from), space).map(|v| v as f32))
+        .zip(original)
+        .map(|(q, o)| match screen::left_out(o) {
+            // Shown as what they are: no light, or more than the display has.
+            Some(LeftOut::NonFinite) => [0.0; 3],
+            Some(LeftOut::Absurd) => [1.0; 3],
+            None => map_to_gamut([q[0], q[1], q[2]].map(f64::from), space).map(|v| v as f32),
+        })
         .collect();
     observe(Stage::Final, &|| {
         rgb.par_iter()
@@ -267,6 +280,17 @@ fn run(
             blur_pixels,
             timings,
         },
+    }
+}
+
+/// What a left-out pixel is replaced by in the spatial stages: the used
+/// pixels' mean colour at their log-average luminance.
+fn fill_value(stats: &ImageStatistics) -> [f32; 4] {
+    let y = stats.mean[1];
+    if y > 0.0 {
+        stats.mean.map(|v| (v * stats.log_average / y) as f32)
+    } else {
+        [0.0; 4]
     }
 }
 

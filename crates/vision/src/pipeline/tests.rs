@@ -112,3 +112,72 @@ fn local_adaptation_gives_each_region_its_own_sensitivity() {
     assert!(left < 0.27, "{left}");
     assert!((right - 0.3127).abs() < 0.01, "{right}");
 }
+
+/// The largest difference between two outputs over the pixels `keep` accepts.
+fn max_difference(a: &Displayed, b: &Displayed, keep: impl Fn(usize) -> bool) -> f32 {
+    (0..W * H)
+        .filter(|&i| keep(i))
+        .flat_map(|i| (0..3).map(move |c| (i, c)))
+        .map(|(i, c)| (a.rgb[i][c] - b.rgb[i][c]).abs())
+        .fold(0.0, f32::max)
+}
+
+#[test]
+fn a_nan_block_leaves_the_other_pixels_as_they_were() {
+    // A 4 × 4 block of NaN (and ∞) in a grey scene with a glaring lamp:
+    // every other pixel is shown as without the block, within half an
+    // 8-bit step, for each tone operator and both adaptations.
+    let clean = scene(20.0, 1.0e4);
+    let in_block = |i: usize| (8..12).contains(&(i % W)) && (8..12).contains(&(i / W));
+    let mut broken = clean.clone();
+    for (i, p) in broken.iter_mut().enumerate() {
+        if in_block(i) {
+            *p = if i % 2 == 0 {
+                [f32::NAN; 4]
+            } else {
+                [1.0, f32::INFINITY, 1.0, 1.0]
+            };
+        }
+    }
+    for tonemap in [
+        ToneOperator::Multiscale,
+        ToneOperator::Reinhard,
+        ToneOperator::Exposure,
+    ] {
+        for adaptation in [Adaptation::Global, Adaptation::Local] {
+            let p = DisplayParams {
+                tonemap,
+                adaptation,
+                ..DisplayParams::default()
+            };
+            let (a, b) = (display(&clean, W, H, &p), display(&broken, W, H, &p));
+            let d = max_difference(&a, &b, |i| !in_block(i));
+            assert!(d <= 0.5 / 255.0, "{tonemap:?} {adaptation:?}: {d}");
+            assert_eq!(b.report.statistics.left_out.non_finite, 16);
+            assert!(b.report.statistics.left_out.note().is_some());
+            assert!(a.report.statistics.left_out.note().is_none());
+            // The block itself is shown black.
+            assert!((0..W * H)
+                .filter(|&i| in_block(i))
+                .all(|i| b.rgb[i] == [0.0; 3]));
+        }
+    }
+}
+
+#[test]
+fn one_absurd_pixel_does_not_blacken_the_rest() {
+    // A single finite pixel of 2e38 (and one of -3e20): left out, shown at
+    // the display's peak; the rest as without them.
+    let clean = scene(20.0, 1.0);
+    let mut broken = clean.clone();
+    broken[100] = [2e38; 4];
+    broken[200] = [-3e20, 1.0, 1.0, 1.0];
+    let p = DisplayParams::default();
+    let (a, b) = (display(&clean, W, H, &p), display(&broken, W, H, &p));
+    let d = max_difference(&a, &b, |i| i != 100 && i != 200);
+    assert!(d <= 0.5 / 255.0, "{d}");
+    // Not black: the grey scene is shown as grey.
+    assert!(b.rgb[0].iter().all(|&v| v > 0.05), "{:?}", b.rgb[0]);
+    assert_eq!(b.rgb[100], [1.0; 3]);
+    assert_eq!(b.report.statistics.left_out.absurd, 2);
+}

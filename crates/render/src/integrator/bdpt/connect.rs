@@ -59,7 +59,7 @@ impl Renderer<'_> {
                 p
             } else {
                 let side = if (towards - p).dot(n) >= 0.0 { n } else { -n };
-                offset_ray_origin(p, side)
+                offset_ray_origin(p, side, self.scene.geometry.offset_unit())
             }
         };
         let o = off(a, na, b);
@@ -265,7 +265,12 @@ impl Renderer<'_> {
                 return None;
             }
             *rays += 1;
-            if self.scene.geometry.occluded(&shadow_ray(z.p, z.ng, &ls)) {
+            if self.scene.geometry.occluded(&shadow_ray(
+                z.p,
+                z.ng,
+                &ls,
+                self.scene.geometry.offset_unit(),
+            )) {
                 return None;
             }
             l = z.beta * f * ls.radiance * (1.0 / (q * ls.pdf)) * initial_only(&mut min_s);

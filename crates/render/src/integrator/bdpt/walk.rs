@@ -109,7 +109,7 @@ impl Renderer<'_> {
         let beta = e.le * (cos / (q * e.pdf_pos * e.pdf_dir));
         let pdf = if y0.at_infinity { e.pdf_pos } else { e.pdf_dir };
         let ray = match e.n {
-            Some(n) => spawn(e.p, n, e.d),
+            Some(n) => spawn(e.p, n, e.d, self.scene.geometry.offset_unit()),
             None => Ray::new(e.p, e.d),
         };
         self.walk(
@@ -232,7 +232,7 @@ impl Renderer<'_> {
             if beta.is_zero() || !beta.max_value().is_finite() {
                 break;
             }
-            ray = spawn(v.p, v.ng, wo);
+            ray = spawn(v.p, v.ng, wo, scene.geometry.offset_unit());
             // Russian roulette from rr_depth on, as the path tracer does.
             if i as i32 + 1 > scene.integrator.rr_depth.max(1) {
                 let q = (beta.max_value() / start).min(0.95);
