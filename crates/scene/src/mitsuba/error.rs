@@ -1,6 +1,7 @@
 //! Scene errors: every one names the file, line and column, and the element.
 
 use std::fmt;
+use std::sync::Arc;
 
 /// Where in which file.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -8,6 +9,26 @@ pub struct Location {
     pub file: String,
     pub line: u32,
     pub column: u32,
+    /// For an element of an included file: the `<include>` that brought
+    /// the file in (itself possibly in an included file).
+    pub via: Option<Arc<Location>>,
+}
+
+impl Location {
+    /// " (included from a.xml:3:5, included from …)", or nothing.
+    pub fn included_from(&self) -> String {
+        let mut out = String::new();
+        let mut at = self.via.as_deref();
+        while let Some(site) = at {
+            out.push_str(&format!(", included from {site}"));
+            at = site.via.as_deref();
+        }
+        if out.is_empty() {
+            out
+        } else {
+            format!(" ({})", &out[2..])
+        }
+    }
 }
 
 impl fmt::Display for Location {
@@ -23,7 +44,7 @@ impl fmt::Display for Location {
 
 /// A scene that cannot be read, or would render wrongly.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{location}: <{element}>: {message}")]
+#[error("{location}: <{element}>: {message}{}", location.included_from())]
 pub struct SceneError {
     pub location: Location,
     pub element: String,

@@ -175,6 +175,7 @@ fn io_error(path: &Path, from: Option<&Location>, e: std::io::Error) -> SceneErr
         file: path.display().to_string(),
         line: 0,
         column: 0,
+        via: None,
     });
     let element = if from.is_some() { "include" } else { "scene" };
     SceneError::new(
@@ -209,6 +210,7 @@ impl Parser {
                 file: path.display().to_string(),
                 line: 0,
                 column: 0,
+                via: None,
             });
             let chain: Vec<String> = self
                 .stack
@@ -227,20 +229,23 @@ impl Parser {
         let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
         self.stack.push(canonical);
         let file = path.display().to_string();
-        let scene = self.text(&text, &file, &dir, from.is_some(), depth);
+        let via = from.cloned().map(Arc::new);
+        let scene = self.text(&text, &file, &dir, via.is_some(), via, depth);
         self.stack.pop();
         scene
     }
 
-    /// XML `text` (called `file` in error locations) whose relative paths
-    /// resolve against `dir`: its root's children (or, when `fragment`,
-    /// a root that is a single object, kept) under a `<scene>` node.
+    /// XML `text` (called `file` in error locations, included at `via`)
+    /// whose relative paths resolve against `dir`: its root's children
+    /// (or, when `fragment`, a root that is a single object, kept) under a
+    /// `<scene>` node.
     fn text(
         &mut self,
         text: &str,
         file: &str,
         dir: &Path,
         fragment: bool,
+        via: Option<Arc<Location>>,
         depth: usize,
     ) -> Result<Node, SceneError> {
         let file = file.to_string();
@@ -251,6 +256,7 @@ impl Parser {
                     file: file.clone(),
                     line: pos.row,
                     column: pos.col,
+                    via: via.clone(),
                 },
                 "xml",
                 e.to_string(),
@@ -271,6 +277,7 @@ impl Parser {
                 file: file.clone(),
                 line: line as u32,
                 column: text[start..at].chars().count() as u32 + 1,
+                via: via.clone(),
             }
         };
         let is_scene = root.tag_name().name() == "scene";
@@ -352,7 +359,7 @@ pub fn parse_str(
         scene_dir: dir.to_path_buf(),
         known: BTreeSet::new(),
     };
-    let mut root = parser.text(text, name, dir, true, 1)?;
+    let mut root = parser.text(text, name, dir, true, None, 1)?;
     let mut cache = HashMap::new();
     set_search(&mut root, &parser, &mut cache);
     Ok(root)
