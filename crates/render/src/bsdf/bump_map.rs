@@ -6,10 +6,8 @@
 //! "Simulation of Wrinkled Surfaces", with Mitsuba's simplification of
 //! dropping the normal's own derivatives).
 
-use scotopia_color::{SampledSpectrum, SampledWavelengths};
-
-use super::perturbed::{self, flip_towards, frame_around, Perturbation};
-use super::{Bsdf, BsdfSample, ShadingPoint, Transport};
+use super::perturbed::{flip_towards, frame_around, Perturbation, Perturbs};
+use super::{Bsdf, ShadingPoint};
 use crate::math::Vec3;
 use crate::texture::FloatTexture;
 
@@ -44,40 +42,14 @@ impl BumpMap {
             shadowing: self.use_shadowing_function,
         }
     }
+}
 
-    pub fn eval<const K: usize>(
-        &self,
-        wl: &SampledWavelengths<K>,
-        at: ShadingPoint,
-        wi: Vec3,
-        wo: Vec3,
-        mode: Transport,
-    ) -> SampledSpectrum<K> {
-        let frame_for = |w| self.perturbation(at, w);
-        perturbed::eval(frame_for, &self.inner, wl, at, wi, wo, mode)
+impl Perturbs for BumpMap {
+    fn perturbation(&self, at: ShadingPoint, w: Vec3) -> Perturbation {
+        self.perturbation(at, w)
     }
 
-    pub fn pdf<const K: usize>(
-        &self,
-        wl: &SampledWavelengths<K>,
-        at: ShadingPoint,
-        wi: Vec3,
-        wo: Vec3,
-    ) -> f32 {
-        let frame_for = |w| self.perturbation(at, w);
-        perturbed::pdf(frame_for, &self.inner, wl, at, wi, wo)
-    }
-
-    pub fn sample<const K: usize>(
-        &self,
-        wl: &SampledWavelengths<K>,
-        at: ShadingPoint,
-        wi: Vec3,
-        u_lobe: f32,
-        u: [f32; 2],
-        mode: Transport,
-    ) -> Option<BsdfSample<K>> {
-        let frame_for = |w| self.perturbation(at, w);
-        perturbed::sample(frame_for, &self.inner, wl, at, wi, u_lobe, u, mode)
+    fn inner(&self) -> &Bsdf {
+        &self.inner
     }
 }

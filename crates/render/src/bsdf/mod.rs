@@ -23,6 +23,7 @@ mod microfacet;
 mod normal_map;
 mod null;
 mod perturbed;
+use perturbed::Perturbs;
 mod plastic;
 mod polarized_plastic;
 mod principled;

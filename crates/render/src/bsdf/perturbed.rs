@@ -72,6 +72,66 @@ pub(super) fn flip_towards(n: Vec3, wi: Vec3) -> Vec3 {
     }
 }
 
+/// A BSDF that perturbs its inner BSDF's shading frame (normal and bump
+/// maps): the frame for a direction and the inner BSDF are all it gives;
+/// eval, pdf and sample follow from them.
+pub(super) trait Perturbs {
+    /// The perturbed frame seen from direction `w` (local coordinates).
+    fn perturbation(&self, at: ShadingPoint, w: Vec3) -> Perturbation;
+    fn inner(&self) -> &Bsdf;
+
+    fn eval<const K: usize>(
+        &self,
+        wl: &SampledWavelengths<K>,
+        at: ShadingPoint,
+        wi: Vec3,
+        wo: Vec3,
+        mode: Transport,
+    ) -> SampledSpectrum<K> {
+        eval(
+            |w| self.perturbation(at, w),
+            self.inner(),
+            wl,
+            at,
+            wi,
+            wo,
+            mode,
+        )
+    }
+
+    fn pdf<const K: usize>(
+        &self,
+        wl: &SampledWavelengths<K>,
+        at: ShadingPoint,
+        wi: Vec3,
+        wo: Vec3,
+    ) -> f32 {
+        pdf(|w| self.perturbation(at, w), self.inner(), wl, at, wi, wo)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn sample<const K: usize>(
+        &self,
+        wl: &SampledWavelengths<K>,
+        at: ShadingPoint,
+        wi: Vec3,
+        u_lobe: f32,
+        u: [f32; 2],
+        mode: Transport,
+    ) -> Option<BsdfSample<K>> {
+        sample(
+            |w| self.perturbation(at, w),
+            self.inner(),
+            wl,
+            at,
+            wi,
+            u_lobe,
+            u,
+            mode,
+        )
+    }
+}
+
 /// eval with the frame `frame_for` gives for the camera-side direction.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn eval<const K: usize>(
