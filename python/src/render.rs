@@ -12,7 +12,7 @@ use pyo3::exceptions::{PyMemoryError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use scotopia_image::Meta;
-use scotopia_render::film::{fingerprint, Checkpoint};
+use scotopia_render::film::Checkpoint;
 use scotopia_render::integrator::{
     render_resumable, time_limit, Checkpointing, RenderError, RenderOptions,
 };
@@ -90,16 +90,8 @@ fn render<'py>(
         integrator,
         only_strategy: None,
     };
-    let key = {
-        let bytes = std::fs::read(&path).map_err(|e| err(format!("{}: {e}", path.display())))?;
-        let mut sorted: Vec<_> = params.iter().collect();
-        sorted.sort();
-        let text = format!(
-            "{sorted:?} {:?} {seed} {wavelengths} {integrator:?} {cluster} {:?}",
-            load.resolution, options.bands
-        );
-        fingerprint(&[&bytes, text.as_bytes()])
-    };
+    let key = scotopia_scene::checkpoint_key(&path, &params, &load, &options)
+        .map_err(|e| err(format!("{}: {e}", path.display())))?;
     let resume_from = match &checkpoint {
         Some(file) if resume && file.exists() => Some(Checkpoint::read(file).map_err(err)?),
         _ => None,

@@ -9,14 +9,14 @@ use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use scotopia_image::{preview_srgb8, write_png_rgb8};
-use scotopia_render::film::{fingerprint, Checkpoint};
+use scotopia_render::film::Checkpoint;
 use scotopia_render::integrator::{
     render_resumable, Checkpointing, RenderError, RenderOptions, CLUSTER_SIZES,
 };
 use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_exr};
 use scotopia_render::scene::IntegratorKind;
 use scotopia_render::wavelength::WavelengthStrategy;
-use scotopia_scene::load_scene_with;
+use scotopia_scene::{checkpoint_key, load_scene_with};
 
 use crate::display::{write_shown, VisionArgs};
 use crate::info::{load_options, parameters};
@@ -126,7 +126,8 @@ pub fn run(args: Args) -> Result<()> {
         bail!("--spp must be positive");
     }
     let load = load_options(args.res.as_deref())?;
-    let scene = load_scene_with(&args.scene, &parameters(&args.define)?, &load)?;
+    let params = parameters(&args.define)?;
+    let scene = load_scene_with(&args.scene, &params, &load)?;
     for w in &scene.warnings {
         eprintln!("scotopia: warning: {w}");
     }
@@ -212,7 +213,8 @@ pub fn run(args: Args) -> Result<()> {
     let save = |c: &Checkpoint| c.write(&ckpt_path);
     let checkpoints = if every.is_some() || resume.is_some() {
         Some(Checkpointing {
-            key: render_key(&args, &load)?,
+            key: checkpoint_key(&args.scene, &params, &load, &options)
+                .with_context(|| format!("{}: cannot read the scene", args.scene.display()))?,
             resume,
             // Resuming without --checkpoint still saves when interrupted.
             every: every.unwrap_or(Duration::MAX),
@@ -297,25 +299,6 @@ fn checkpoint_path(output: &Path) -> PathBuf {
     output.with_file_name(name)
 }
 
-/// A fingerprint of what the sample sequence depends on: the scene file,
-/// its parameters, the film size and the options (not --spp or --time,
-/// which only say how many samples).
-fn render_key(args: &Args, load: &scotopia_scene::LoadOptions) -> Result<u64> {
-    let scene = std::fs::read(&args.scene)
-        .with_context(|| format!("{}: cannot read the scene", args.scene.display()))?;
-    let options = format!(
-        "{:?} {:?} {} {} {:?} {:?} {} {:?}",
-        args.define,
-        load.resolution,
-        args.seed,
-        args.wavelengths,
-        args.integrator,
-        args.bdpt_strategy,
-        args.cluster,
-        args.spectral.as_ref().map(|_| args.bands),
-    );
-    Ok(fingerprint(&[&scene, options.as_bytes()]))
-}
 /// A bar with elapsed time, ETA and throughput on a terminal (hidden
 /// elsewhere, where `run` prints plain lines instead).
 fn progress_bar(total: u64) -> ProgressBar {

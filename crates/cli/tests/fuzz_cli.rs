@@ -1,5 +1,6 @@
 //! Bounded, seeded fuzzing of everything scotopia reads (issue 22): scenes
-//! (XML), meshes (OBJ, PLY), spectra (CSV) and images (EXR) are mutated
+//! (XML), meshes (OBJ, PLY, Mitsuba's serialized), spectra and reradiation
+//! matrices (CSV) and images (EXR) are mutated
 //! — bytes flipped, cut, repeated, extreme numbers and odd tokens spliced
 //! in — and fed to the command line in a child process each. Every run
 //! must end in success or a clean error: no panic, no death by a signal,
@@ -13,6 +14,9 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 mod common;
+// The serialized-mesh writer of the loader's tests.
+#[path = "../../scene/tests/common/mod.rs"]
+mod serialized_writer;
 
 use common::{out_dir, scenes};
 
@@ -151,10 +155,35 @@ fn cases() -> usize {
 /// Mutates `input` `cases()` times (seeded by `seed`), writes each to
 /// `dir/name` and checks `command(path)`; all failures are reported.
 fn fuzz(seed: u64, input: &[u8], dir: &Path, name: &str, command: impl Fn(&Path) -> Vec<String>) {
+    fuzz_with(seed, input, dir, name, |b| b.to_vec(), command)
+}
+
+/// [`fuzz`] with `wrap` applied to each mutation before it is written (to
+/// mutate a compressed format's contents and compress them again).
+fn fuzz_with(
+    seed: u64,
+    input: &[u8],
+    dir: &Path,
+    name: &str,
+    wrap: impl Fn(&[u8]) -> Vec<u8>,
+    command: impl Fn(&Path) -> Vec<String>,
+) {
+    // The input itself must work, or the mutations test nothing.
+    let path = dir.join(name);
+    std::fs::write(&path, wrap(input)).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_scotopia"))
+        .args(command(&path))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{name} unmutated fails: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let mut rng = Rng(seed);
     let mut failures = Vec::new();
     for case in 0..cases() {
-        let bytes = mutate(input, &mut rng);
+        let bytes = wrap(&mutate(input, &mut rng));
         let path = dir.join(name);
         std::fs::write(&path, &bytes).unwrap();
         let args = command(&path);
@@ -237,6 +266,65 @@ fn mutated_meshes_load_or_fail_cleanly() {
             ]
         });
     }
+}
+
+/// A one-shape serialized file holding `payload` (the shape's bytes before
+/// compression), as Mitsuba writes it: format id, version 4, the zlib
+/// stream, the shape's offset and the shape count.
+fn serialized_file(payload: &[u8]) -> Vec<u8> {
+    use std::io::Write;
+    let mut out = vec![0x1C, 0x04, 4, 0];
+    let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::fast());
+    z.write_all(payload).unwrap();
+    out.extend(z.finish().unwrap());
+    out.extend(0u64.to_le_bytes());
+    out.extend(1u32.to_le_bytes());
+    out
+}
+
+#[test]
+fn mutated_serialized_meshes_load_or_fail_cleanly() {
+    let dir = out_dir("fuzz", "serialized");
+    let mut quad = serialized_writer::quad("quad", 0.0);
+    quad.positions.push([0.5, 0.5, 1.0]);
+    quad.normals.as_mut().unwrap().push([0.0, 0.0, 1.0]);
+    quad.uvs.as_mut().unwrap().push([0.5, 0.5]);
+    quad.colors.as_mut().unwrap().push([1.0, 0.0, 0.0]);
+    quad.indices.push([0, 1, 4]);
+    let file = serialized_writer::write(&[quad], 4, false);
+    // The shape's bytes, for mutations that reach the parser through zlib.
+    let mut payload = Vec::new();
+    std::io::Read::read_to_end(&mut flate2::read::ZlibDecoder::new(&file[4..]), &mut payload)
+        .unwrap();
+    assert_eq!(serialized_file(&payload)[..4], file[..4]);
+    let xml = "<scene version=\"3.0.0\"><sensor type=\"perspective\"><film type=\"hdrfilm\"><integer name=\"width\" value=\"4\"/><integer name=\"height\" value=\"4\"/></film></sensor><shape type=\"serialized\"><string name=\"filename\" value=\"case.serialized\"/></shape><emitter type=\"constant\"/></scene>";
+    let scene = dir.join("serialized.xml");
+    std::fs::write(&scene, xml).unwrap();
+    let out = dir.join("out.exr");
+    let render = |_: &Path| {
+        ["render", scene.to_str().unwrap(), "--spp", "1", "-o", out.to_str().unwrap()]
+            .map(String::from)
+            .to_vec()
+    };
+    // The file's bytes (header, dictionary, compressed stream) and the
+    // shape's own bytes compressed again.
+    fuzz(22, &file, &dir, "case.serialized", render);
+    fuzz_with(23, &payload, &dir, "case.serialized", serialized_file, render);
+}
+
+#[test]
+fn mutated_reradiation_matrices_load_or_fail_cleanly() {
+    let dir = out_dir("fuzz", "matrix");
+    let csv = std::fs::read(scenes().join("materials/highlighter-yellow.csv")).unwrap();
+    let xml = "<scene version=\"3.0.0\"><sensor type=\"perspective\"><film type=\"hdrfilm\"><integer name=\"width\" value=\"4\"/><integer name=\"height\" value=\"4\"/></film></sensor><shape type=\"sphere\"><bsdf type=\"fluorescent\"><string name=\"matrix\" value=\"case.csv\"/></bsdf></shape><emitter type=\"constant\"/></scene>";
+    let scene = dir.join("matrix.xml");
+    std::fs::write(&scene, xml).unwrap();
+    let out = dir.join("out.exr");
+    fuzz(31, &csv, &dir, "case.csv", |_| {
+        ["render", scene.to_str().unwrap(), "--spp", "1", "-o", out.to_str().unwrap()]
+            .map(String::from)
+            .to_vec()
+    });
 }
 
 #[test]

@@ -4,8 +4,11 @@
 //! anything is allocated, so an absurd size is an error naming the limit
 //! rather than a "capacity overflow" panic or an abort in the allocator.
 //!
-//! The budget is half of the machine's physical memory (MemTotal in
-//! /proc/meminfo), or 8 GiB where that cannot be read; the environment
+//! The budget is half of the memory this process may use: the machine's
+//! physical memory (MemTotal in /proc/meminfo) or, where smaller, the
+//! limit of its control group (a container's or a batch job's: cgroup v2
+//! `memory.max`, v1 `memory.limit_in_bytes`); 8 GiB where neither can be
+//! read. The environment
 //! variable `SCOTOPIA_MEMORY_LIMIT` (bytes, or with a K/M/G/T suffix) sets it
 //! instead. Independently, one image may have at most 2³¹ pixels.
 
@@ -66,14 +69,48 @@ pub fn memory_limit() -> (u64, &'static str) {
         {
             return (b, "set by SCOTOPIA_MEMORY_LIMIT");
         }
-        match std::fs::read_to_string("/proc/meminfo")
+        let total = std::fs::read_to_string("/proc/meminfo")
             .ok()
-            .and_then(|t| mem_total(&t))
-        {
-            Some(total) => (total / 2, "half of this machine's memory"),
-            None => (FALLBACK_BYTES, "physical memory unknown"),
+            .and_then(|t| mem_total(&t));
+        let group = std::fs::read_to_string("/proc/self/cgroup")
+            .ok()
+            .and_then(|t| cgroup_limit(&t, |p| std::fs::read_to_string(p).ok()));
+        match (total, group) {
+            (Some(t), Some(g)) if g < t => (g / 2, "half of this control group's memory limit"),
+            (Some(t), _) => (t / 2, "half of this machine's memory"),
+            (None, Some(g)) => (g / 2, "half of this control group's memory limit"),
+            (None, None) => (FALLBACK_BYTES, "physical memory unknown"),
         }
     })
+}
+
+/// The smallest memory limit of this process's control groups, from the
+/// text of /proc/self/cgroup; `read` reads a file (a parameter, for tests).
+/// Both the group's own path and the mount's root are looked at, as a
+/// container often sees its group at the root.
+fn cgroup_limit(cgroups: &str, read: impl Fn(&str) -> Option<String>) -> Option<u64> {
+    let mut files = vec![
+        "/sys/fs/cgroup/memory.max".to_string(),
+        "/sys/fs/cgroup/memory/memory.limit_in_bytes".to_string(),
+    ];
+    for line in cgroups.lines() {
+        let mut parts = line.splitn(3, ':');
+        let (_, controllers, path) = (parts.next(), parts.next(), parts.next());
+        let path = path.unwrap_or("").trim_end_matches('/');
+        match controllers {
+            Some("") => files.push(format!("/sys/fs/cgroup{path}/memory.max")),
+            Some(c) if c.split(',').any(|c| c == "memory") => {
+                files.push(format!("/sys/fs/cgroup/memory{path}/memory.limit_in_bytes"))
+            }
+            _ => {}
+        }
+    }
+    files
+        .iter()
+        .filter_map(|f| read(f)?.trim().parse::<u64>().ok())
+        // "max" (v2) does not parse; v1 writes "no limit" as ~2^63.
+        .filter(|&b| b > 0 && b < 1 << 62)
+        .min()
 }
 
 /// MemTotal from the text of /proc/meminfo, in bytes.
@@ -189,5 +226,31 @@ mod tests {
         assert_eq!(parse_bytes("lots"), None);
         let (limit, _) = memory_limit();
         assert!(limit > 0);
+    }
+
+    #[test]
+    fn a_control_group_limit_below_the_machine_is_found_in_v1_and_v2() {
+        let files = |pairs: &'static [(&'static str, &'static str)]| {
+            move |p: &str| {
+                pairs
+                    .iter()
+                    .find(|(f, _)| *f == p)
+                    .map(|(_, v)| v.to_string())
+            }
+        };
+        let v2 = files(&[("/sys/fs/cgroup/job/memory.max", "2147483648\n")]);
+        assert_eq!(cgroup_limit("0::/job\n", v2), Some(2 << 30));
+        let v1 = files(&[
+            ("/sys/fs/cgroup/memory/memory.limit_in_bytes", "9223372036854771712"),
+            ("/sys/fs/cgroup/memory/a/b/memory.limit_in_bytes", "1073741824"),
+        ]);
+        let text = "5:devices:/\n4:memory:/a/b\n0::/\n";
+        assert_eq!(cgroup_limit(text, v1), Some(1 << 30));
+        // No limit ("max", or v1's near-2^63) is none.
+        let none = files(&[
+            ("/sys/fs/cgroup/memory.max", "max"),
+            ("/sys/fs/cgroup/memory/memory.limit_in_bytes", "9223372036854771712"),
+        ]);
+        assert_eq!(cgroup_limit("0::/\n4:memory:/\n", none), None);
     }
 }

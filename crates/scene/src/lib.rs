@@ -3,6 +3,7 @@
 //! metal indices and dispersive glasses.
 
 mod build;
+mod checkpoint_key;
 mod info;
 pub mod materials;
 pub mod mesh;
@@ -10,4 +11,5 @@ pub mod mitsuba;
 
 pub use build::registry;
 pub use build::{bsdf_from_xml, load_scene, load_scene_with, LoadOptions, Resolution};
+pub use checkpoint_key::checkpoint_key;
 pub use info::{LightInfo, SceneInfo};

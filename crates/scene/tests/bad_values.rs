@@ -106,6 +106,18 @@ fn a_reflectance_spike_between_grid_points_is_an_error() {
         e.contains("s.xml:3:") && e.contains("reflectance + excitation is 1.4000"),
         "{e}"
     );
+    // The same with a textured reflectance (checked on a 5 nm grid): the
+    // checkerboard's spectrum spikes to 0.9 at 502.5 nm, between grid
+    // points, where 0.9 + 0.3 of excitation exceeds 1.
+    let e = load(
+        &d,
+        r#"<shape type="sphere"><bsdf type="fluorescent"><texture type="checkerboard" name="reflectance"><spectrum name="color0" value="500:0.5, 502.5:0.9, 505:0.5"/><float name="color1" value="0.1"/></texture><spectrum name="excitation" value="0.3"/><spectrum name="emission" value="520:0, 550:1, 600:0"/></bsdf></shape>"#,
+    )
+    .unwrap_err();
+    assert!(
+        e.contains("s.xml:3:") && e.contains("reflectance + excitation is 1.2000 at 502 nm"),
+        "{e}"
+    );
     // The same curve below 1 loads.
     let ok = load(
         &d,

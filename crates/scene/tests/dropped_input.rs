@@ -120,3 +120,51 @@ fn what_builders_read_is_not_warned_about() {
     );
     assert!(warnings(&f).is_empty(), "{:?}", warnings(&f));
 }
+
+#[test]
+fn a_second_object_where_one_is_read_is_named() {
+    // A second BSDF on a shape is an error naming the first (as Mitsuba's
+    // "only a single BSDF per shape"); a second film or sampler is read
+    // in place of the first, with a warning; a BSDF nested in one that
+    // takes none is warned about.
+    let f = write(
+        "second-bsdf",
+        &scene(
+            "",
+            "<shape type=\"sphere\"><bsdf type=\"diffuse\"/>\n<bsdf type=\"conductor\"/></shape>",
+        ),
+    );
+    let e = load_scene(&f, &Parameters::new()).unwrap_err().to_string();
+    assert!(
+        e.contains("s.xml:4:1: <bsdf>: a shape takes one BSDF, and one is already given at ")
+            && e.contains("s.xml:3:22"),
+        "{e}"
+    );
+    let f = write(
+        "second-film",
+        &scene(
+            "<sampler type=\"independent\"/><sampler type=\"independent\"/>",
+            "<shape type=\"sphere\"><bsdf type=\"diffuse\"><bsdf type=\"conductor\"/></bsdf></shape>\n\
+             <integrator type=\"path\"><integrator type=\"direct\"/></integrator>",
+        ),
+    );
+    let text = std::fs::read_to_string(&f).unwrap();
+    let f2 = write(
+        "second-film",
+        &text.replace("</sensor>", "<film type=\"hdrfilm\"/></sensor>"),
+    );
+    let w = warnings(&f2);
+    let expected = [
+        "<sampler>: a <sensor> takes one <sampler>: this one replaces the one at ",
+        "<film>: a <sensor> takes one <film>: this one replaces the one at ",
+        "a <bsdf> in a <bsdf> is not read by scotopia",
+    ];
+    for e in expected {
+        assert!(w.iter().any(|w| w.contains(e)), "{e} not in {w:?}");
+    }
+    assert!(
+        w.iter()
+            .any(|w| w.contains("a <integrator> in a <integrator> is not read")),
+        "{w:?}"
+    );
+}

@@ -89,8 +89,9 @@ impl Film {
         Ok(())
     }
 
-    /// A film of a size already checked (see `try_new`).
-    pub fn new(width: u32, height: u32, bands: Option<Bands>) -> Self {
+    /// A film of a size already checked (see `try_new`, the only way in
+    /// from outside, so no size from input reaches the allocator unchecked).
+    pub(crate) fn new(width: u32, height: u32, bands: Option<Bands>) -> Self {
         let mut film = Self {
             width,
             height,

@@ -123,7 +123,7 @@ impl Texture {
     }
 
     /// Appends the tabulated wavelengths of the spectra the texture holds.
-    fn breakpoints(&self, out: &mut Vec<f32>) {
+    pub fn breakpoints(&self, out: &mut Vec<f32>) {
         match self {
             Texture::Constant(s) => out.extend(s.breakpoints()),
             // Upsampled RGB: smooth, no tabulated wavelengths.

@@ -374,8 +374,9 @@ fn fluorescent_matrix(
 
 /// Refuses a material that sends back more light than arrives: the
 /// largest reflectance over the surface plus `taken(λ)` must not exceed 1
-/// (checked every nm; every 5 nm over a texture's texels, whose spectra
-/// are smooth).
+/// (checked every nm; every 5 nm over a texture's texels, whose upsampled
+/// spectra are smooth; and at the samples of every tabulated spectrum
+/// involved, where a spike between grid points has its maximum).
 fn check_energy(
     reflectance: &Texture,
     breakpoints: &[f32],
@@ -383,10 +384,10 @@ fn check_energy(
     error: impl Fn(u32, f32) -> SceneError,
 ) -> Result<(), SceneError> {
     let step = if reflectance.is_varying() { 5 } else { 1 };
-    // The grid, and the taken spectrum's own samples (a spike between
-    // grid points is its maximum there).
     let mut lambdas: Vec<f32> = (360..=830).step_by(step).map(|l| l as f32).collect();
-    lambdas.extend(breakpoints.iter().filter(|l| (360.0..=830.0).contains(*l)));
+    lambdas.extend(breakpoints);
+    reflectance.breakpoints(&mut lambdas);
+    lambdas.retain(|l| (360.0..=830.0).contains(l));
     let rho = reflectance.max_over_surface(&lambdas);
     for (&l, r) in lambdas.iter().zip(rho) {
         let total = r + taken(l);

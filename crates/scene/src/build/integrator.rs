@@ -16,7 +16,7 @@ pub const DEFAULT: IntegratorSettings = IntegratorSettings {
 };
 
 /// Integrators that only add outputs around the one they hold.
-const WRAPPERS: [&str; 3] = ["moment", "aov", "stokes"];
+pub(crate) const WRAPPERS: [&str; 3] = ["moment", "aov", "stokes"];
 
 pub fn build_integrator(b: &mut Builder, node: &Node) -> Result<IntegratorSettings, SceneError> {
     let name = node.require("type")?;

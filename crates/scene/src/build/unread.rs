@@ -37,6 +37,9 @@ const HOLDS: [(&str, &[&str]); 8] = [
     ("rfilter", &[]),
 ];
 
+/// Objects of which a holder reads one (the last given).
+const ONE_EACH: [(&str, &[&str]); 2] = [("sensor", &["film", "sampler"]), ("film", &["rfilter"])];
+
 /// Mitsuba's object tags scotopia never reads nested (phase functions and
 /// volumes belong to media), so they are named as objects, not unknown.
 const OTHER_OBJECTS: [&str; 2] = ["phase", "volume"];
@@ -49,6 +52,18 @@ pub fn warn_unread(b: &mut Builder, root: &Node) {
     }
 }
 
+/// Whether a BSDF or integrator of this type reads the nested one of its
+/// own kind (a `diffuse` holding a `<bsdf>` does not: the inner one would
+/// be dropped without a word).
+fn takes_nested(node: &Node) -> bool {
+    let kind = node.attr("type").unwrap_or("");
+    match node.tag.as_str() {
+        "bsdf" => ["twosided", "mask", "blendbsdf", "normalmap", "bumpmap"].contains(&kind),
+        "integrator" => super::integrator::WRAPPERS.contains(&kind),
+        _ => true,
+    }
+}
+
 fn walk(b: &mut Builder, node: &Node) {
     // A transform's operations are read (or refused) by `read_transform`;
     // a medium's contents are warned about with the medium.
@@ -58,9 +73,26 @@ fn walk(b: &mut Builder, node: &Node) {
     let holds = HOLDS
         .iter()
         .find(|(tag, _)| *tag == node.tag)
-        .map(|(_, h)| *h);
+        .map(|(_, h)| *h)
+        .map(|h| if takes_nested(node) { h } else { &[][..] });
+    let mut seen: Vec<&Node> = Vec::new();
     for c in &node.children {
         let tag = c.tag.as_str();
+        if ONE_EACH
+            .iter()
+            .any(|(holder, kinds)| *holder == node.tag && kinds.contains(&tag))
+        {
+            if let Some(first) = seen.iter().find(|f| f.tag == tag) {
+                b.warn(
+                    c,
+                    format!(
+                        "a <{}> takes one <{tag}>: this one replaces the one at {}",
+                        node.tag, first.location
+                    ),
+                );
+            }
+            seen.push(c);
+        }
         let is_object = HOLDS.iter().any(|(t, _)| *t == tag) || OTHER_OBJECTS.contains(&tag);
         let named = c
             .attr("name")

@@ -150,11 +150,11 @@ impl World {
             return Ok(Vec::new());
         }
         let shape = shape::build_shape(b, n)?;
-        let mut bsdf = None;
+        let mut bsdf: Option<(&Node, Option<String>)> = None;
         let mut emitters = Vec::new();
         for c in &n.children {
             match c.tag.as_str() {
-                "bsdf" => bsdf = Some((c, None)),
+                "bsdf" => set_bsdf(&mut bsdf, c, None)?,
                 "emitter" => emitters.push(c.clone()),
                 // An unnamed reference (or Mitsuba's name="bsdf") is an
                 // object the shape holds: a BSDF or an emitter.
@@ -163,7 +163,7 @@ impl World {
                     match b.named.get(id).map(|t| t.tag.as_str()) {
                         Some("emitter") => emitters.push(b.named(c, "emitter", id)?),
                         Some("medium") => {}
-                        _ => bsdf = Some((c, Some(id.to_string()))),
+                        _ => set_bsdf(&mut bsdf, c, Some(id.to_string()))?,
                     }
                 }
                 _ => {}
@@ -320,6 +320,22 @@ impl World {
             lights: self.lights,
             warnings,
         }
+    }
+}
+
+/// Sets a shape's BSDF; as Mitsuba, a shape takes one (a second would be
+/// dropped without a word).
+fn set_bsdf<'n>(
+    slot: &mut Option<(&'n Node, Option<String>)>,
+    c: &'n Node,
+    id: Option<String>,
+) -> Result<(), SceneError> {
+    match slot.replace((c, id)) {
+        Some((first, _)) => Err(c.error(format!(
+            "a shape takes one BSDF, and one is already given at {}",
+            first.location
+        ))),
+        None => Ok(()),
     }
 }
 

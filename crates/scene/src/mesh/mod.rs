@@ -22,9 +22,14 @@ use scotopia_render::math::Vec3;
 /// over many files), and stops `/dev/zero` or an endless pipe.
 pub const MESH_LIMIT: u64 = 4096 * scotopia_color::io::MIB;
 
-/// A mesh file's bytes, read up to [`MESH_LIMIT`].
+/// A mesh file's bytes, read up to [`MESH_LIMIT`] or a quarter of the
+/// memory budget (`scotopia_image::limits`), whichever is smaller: the
+/// file's bytes and the arrays parsed from them live together, so a file
+/// that cannot be read on this machine stops early instead of after
+/// gigabytes.
 fn read_mesh_file(path: &Path) -> Result<Vec<u8>, MeshError> {
-    scotopia_color::io::read_limited(path, MESH_LIMIT).map_err(|e| MeshError {
+    let limit = MESH_LIMIT.min(scotopia_image::limits::memory_limit().0 / 2);
+    scotopia_color::io::read_limited(path, limit).map_err(|e| MeshError {
         file: path.display().to_string(),
         line: 0,
         message: e.to_string(),
