@@ -41,10 +41,12 @@ python: $(STAMP)
 pytest: python
 	$(PY) -m pytest -q python/tests
 
-## The seeded fuzz test of every input format at length (make test runs
-## 40 mutations per input; this runs 5000).
-fuzz:
+## The seeded fuzz tests at length: every input format through the CLI
+## (make test runs 40 mutations per input; this runs 5000) and every
+## Python entry point (make test: 25 calls each; this: 2000).
+fuzz: python
 	SCOTOPIA_FUZZ_CASES=5000 $(CARGO) test -p scotopia --test fuzz_cli -- --nocapture
+	SCOTOPIA_FUZZ_CASES=2000 $(PY) -m pytest -q python/tests/test_fuzz.py
 
 ## Everything CI checks.
 test: fmt lint cargo-test pytest

@@ -96,7 +96,6 @@ def spectrum(
     return colorimetry(s, plot=None if plot is None else str(plot))
 
 
-__all__ = [name for name in dir() if not name.startswith("_")]
 
 
 def display(
@@ -155,3 +154,10 @@ def display(
     if report.get("left_out"):
         warnings.warn(report["left_out"], stacklevel=2)
     return rgb, report
+
+
+__all__ = [
+    name
+    for name in dir()
+    if not name.startswith("_") and name not in ("os", "warnings")
+]

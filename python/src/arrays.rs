@@ -1,14 +1,18 @@
 //! Applying per-colour functions over numpy arrays of shape (..., 3).
 
 use numpy::ndarray::{ArrayD, Axis};
-use numpy::{IntoPyArray, PyArrayDyn, PyReadonlyArrayDyn};
+use numpy::{AllowTypeChange, IntoPyArray, PyArrayDyn, PyArrayLikeDyn};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+
+/// An array of numbers as the functions take it: any numeric dtype, a
+/// list or a scalar, converted to float64 (a float32 image works as is).
+pub type Numbers<'py> = PyArrayLikeDyn<'py, f64, AllowTypeChange>;
 
 /// Calls `f` on each length-3 vector along the last axis of `a`.
 pub fn map3<'py>(
     py: Python<'py>,
-    a: PyReadonlyArrayDyn<'py, f64>,
+    a: Numbers<'py>,
     f: impl Fn([f64; 3]) -> [f64; 3],
 ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     let a = a.as_array();
@@ -33,8 +37,8 @@ pub fn map3<'py>(
 /// (same shape), giving one value per pair.
 pub fn map3_pair<'py>(
     py: Python<'py>,
-    a: PyReadonlyArrayDyn<'py, f64>,
-    b: PyReadonlyArrayDyn<'py, f64>,
+    a: Numbers<'py>,
+    b: Numbers<'py>,
     f: impl Fn([f64; 3], [f64; 3]) -> f64,
 ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     let (a, b) = (a.as_array(), b.as_array());
@@ -61,7 +65,7 @@ pub fn map3_pair<'py>(
 /// Calls `f` on every element of `a`.
 pub fn map1<'py>(
     py: Python<'py>,
-    a: PyReadonlyArrayDyn<'py, f64>,
+    a: Numbers<'py>,
     f: impl Fn(f64) -> f64,
 ) -> Bound<'py, PyArrayDyn<f64>> {
     a.as_array().mapv(f).into_pyarray(py)

@@ -1,11 +1,11 @@
 //! Colour spaces, adaptation, CIELAB, CIEDE2000, Oklab and CCT for Python.
 
-use numpy::{PyArrayDyn, PyReadonlyArrayDyn};
+use numpy::PyArrayDyn;
 use pyo3::prelude::*;
 use scotopia_color::space::{self, Cat};
 use scotopia_color::{cct, RgbSpace};
 
-use crate::arrays::{map3, map3_pair};
+use crate::arrays::{map3, map3_pair, Numbers};
 use crate::to_py;
 
 fn space_def(name: &str) -> PyResult<&'static scotopia_color::RgbColorSpace> {
@@ -17,7 +17,7 @@ fn space_def(name: &str) -> PyResult<&'static scotopia_color::RgbColorSpace> {
 #[pyo3(signature = (rgb, space = "srgb"))]
 fn rgb_to_xyz<'py>(
     py: Python<'py>,
-    rgb: PyReadonlyArrayDyn<'py, f64>,
+    rgb: Numbers<'py>,
     space: &str,
 ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     let d = space_def(space)?;
@@ -29,7 +29,7 @@ fn rgb_to_xyz<'py>(
 #[pyo3(signature = (xyz, space = "srgb"))]
 fn xyz_to_rgb<'py>(
     py: Python<'py>,
-    xyz: PyReadonlyArrayDyn<'py, f64>,
+    xyz: Numbers<'py>,
     space: &str,
 ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     let d = space_def(space)?;
@@ -56,7 +56,7 @@ fn white_point(space: &str) -> PyResult<[f64; 2]> {
 #[pyo3(signature = (xyz, src, dst, method = "bradford"))]
 fn chromatic_adaptation<'py>(
     py: Python<'py>,
-    xyz: PyReadonlyArrayDyn<'py, f64>,
+    xyz: Numbers<'py>,
     src: [f64; 3],
     dst: [f64; 3],
     method: &str,
@@ -70,7 +70,7 @@ fn chromatic_adaptation<'py>(
 #[pyo3(signature = (xyz, white = [0.3127 / 0.3290, 1.0, (1.0 - 0.3127 - 0.3290) / 0.3290]))]
 fn xyz_to_lab<'py>(
     py: Python<'py>,
-    xyz: PyReadonlyArrayDyn<'py, f64>,
+    xyz: Numbers<'py>,
     white: [f64; 3],
 ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     map3(py, xyz, |v| space::xyz_to_lab(v, white))
@@ -81,7 +81,7 @@ fn xyz_to_lab<'py>(
 #[pyo3(signature = (lab, white = [0.3127 / 0.3290, 1.0, (1.0 - 0.3127 - 0.3290) / 0.3290]))]
 fn lab_to_xyz<'py>(
     py: Python<'py>,
-    lab: PyReadonlyArrayDyn<'py, f64>,
+    lab: Numbers<'py>,
     white: [f64; 3],
 ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     map3(py, lab, |v| space::lab_to_xyz(v, white))
@@ -91,18 +91,15 @@ fn lab_to_xyz<'py>(
 #[pyfunction]
 fn delta_e_2000<'py>(
     py: Python<'py>,
-    lab1: PyReadonlyArrayDyn<'py, f64>,
-    lab2: PyReadonlyArrayDyn<'py, f64>,
+    lab1: Numbers<'py>,
+    lab2: Numbers<'py>,
 ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     map3_pair(py, lab1, lab2, space::delta_e_2000)
 }
 
 /// XYZ → xyY (black keeps the D65 chromaticity).
 #[pyfunction]
-fn xyz_to_xyy<'py>(
-    py: Python<'py>,
-    xyz: PyReadonlyArrayDyn<'py, f64>,
-) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+fn xyz_to_xyy<'py>(py: Python<'py>, xyz: Numbers<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     map3(py, xyz, |v| space::xyz_to_xyy(v, [0.3127, 0.3290]))
 }
 
@@ -111,7 +108,7 @@ macro_rules! unary3 {
     ($(#[doc = $doc:literal] $name:ident => $f:expr;)*) => {$(
         #[doc = $doc]
         #[pyfunction]
-        fn $name<'py>(py: Python<'py>, v: PyReadonlyArrayDyn<'py, f64>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        fn $name<'py>(py: Python<'py>, v: Numbers<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
             map3(py, v, $f)
         }
     )*};

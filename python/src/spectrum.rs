@@ -3,13 +3,13 @@
 use std::path::PathBuf;
 
 use numpy::ndarray::ArrayD;
-use numpy::{IntoPyArray, PyArrayDyn, PyReadonlyArray1, PyReadonlyArrayDyn};
+use numpy::{IntoPyArray, PyArrayDyn, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use scotopia_color as color;
 use scotopia_color::{cie, SpectrumKind, UpsampleMethod};
 
-use crate::arrays::map1;
+use crate::arrays::{map1, Numbers};
 use crate::to_py;
 
 /// A spectral function of wavelength in nm. Emission is spectral radiance in
@@ -92,7 +92,7 @@ impl Spectrum {
     fn __call__<'py>(
         &self,
         py: Python<'py>,
-        wavelengths: PyReadonlyArrayDyn<'py, f64>,
+        wavelengths: Numbers<'py>,
     ) -> Bound<'py, PyArrayDyn<f64>> {
         map1(py, wavelengths, |l| self.inner.eval(l as f32) as f64)
     }
@@ -124,10 +124,7 @@ impl Spectrum {
 
 /// CIE 1931 2° x̄, ȳ, z̄ at `wavelengths`: an array of shape (..., 3).
 #[pyfunction]
-fn cmfs<'py>(
-    py: Python<'py>,
-    wavelengths: PyReadonlyArrayDyn<'py, f64>,
-) -> Bound<'py, PyArrayDyn<f64>> {
+fn cmfs<'py>(py: Python<'py>, wavelengths: Numbers<'py>) -> Bound<'py, PyArrayDyn<f64>> {
     let w = wavelengths.as_array();
     let mut shape = w.shape().to_vec();
     shape.push(3);
@@ -143,10 +140,7 @@ fn cmfs<'py>(
 
 /// CIE 1951 scotopic V′ at `wavelengths`.
 #[pyfunction]
-fn vprime<'py>(
-    py: Python<'py>,
-    wavelengths: PyReadonlyArrayDyn<'py, f64>,
-) -> Bound<'py, PyArrayDyn<f64>> {
+fn vprime<'py>(py: Python<'py>, wavelengths: Numbers<'py>) -> Bound<'py, PyArrayDyn<f64>> {
     map1(py, wavelengths, |l| cie::v_prime(l as f32) as f64)
 }
 
@@ -154,7 +148,7 @@ fn vprime<'py>(
 #[pyfunction]
 fn planck<'py>(
     py: Python<'py>,
-    wavelengths: PyReadonlyArrayDyn<'py, f64>,
+    wavelengths: Numbers<'py>,
     kelvin: f64,
 ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     if !(kelvin.is_finite() && kelvin > 0.0) {
