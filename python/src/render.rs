@@ -14,7 +14,7 @@ use pyo3::types::PyDict;
 use scotopia_image::Meta;
 use scotopia_render::film::Checkpoint;
 use scotopia_render::integrator::{
-    render_resumable, time_limit, Checkpointing, RenderError, RenderOptions,
+    render_resumable, time_limit, Checkpointing, RenderError, RenderOptions, Tracer,
 };
 use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_exr};
 use scotopia_render::scene::IntegratorKind;
@@ -35,7 +35,7 @@ use crate::scene::load_options;
 /// options; `spp` may grow), bit-identical to an uninterrupted render.
 /// The GIL is released while rendering.
 #[pyfunction]
-#[pyo3(signature = (path, spp = None, time = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, output = None, spectral = None, bands = 47, integrator = None, res = None, checkpoint = None, checkpoint_every = 60.0, resume = false))]
+#[pyo3(signature = (path, spp = None, time = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, output = None, spectral = None, bands = 47, integrator = None, res = None, checkpoint = None, checkpoint_every = 60.0, resume = false, tracer = "wavefront"))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
@@ -54,6 +54,7 @@ fn render<'py>(
     checkpoint: Option<PathBuf>,
     checkpoint_every: f64,
     resume: bool,
+    tracer: &str,
 ) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
     let err = |e: String| PyValueError::new_err(e);
     let strategy = WavelengthStrategy::from_name(wavelengths).ok_or_else(|| {
@@ -68,6 +69,8 @@ fn render<'py>(
         ),
         None => None,
     };
+    let tracer = Tracer::from_name(tracer)
+        .ok_or_else(|| err(format!("tracer '{tracer}': use wavefront or scalar")))?;
     let time_limit = match time {
         Some(t) => Some(time_limit(t).map_err(|e| err(format!("time {e}")))?),
         None => None,
@@ -89,6 +92,7 @@ fn render<'py>(
         bands: spectral.is_some().then_some(bands),
         integrator,
         only_strategy: None,
+        tracer,
     };
     let key = scotopia_scene::checkpoint_key(&path, &params, &load, &options)
         .map_err(|e| err(format!("{}: {e}", path.display())))?;

@@ -43,6 +43,15 @@ def test_render_rejects_bad_options():
         scotopia.render(str(SCENES / "cornell-box.xml"), wavelengths="rgb")
     with pytest.raises(ValueError, match="cluster size 3"):
         scotopia.render(str(SCENES / "cornell-box.xml"), spp=1, cluster=3, params={"res": "4"})
+    with pytest.raises(ValueError, match="wavefront or scalar"):
+        scotopia.render(str(SCENES / "cornell-box.xml"), spp=1, res=4, tracer="gpu")
+
+
+def test_the_two_path_tracers_give_the_same_bits():
+    scene = str(SCENES / "prism.xml")
+    a, _ = scotopia.render(scene, spp=2, res=16, tracer="wavefront")
+    b, _ = scotopia.render(scene, spp=2, res=16, tracer="scalar")
+    assert np.array_equal(a, b)
 
 
 def test_render_with_the_bidirectional_tracer():

@@ -29,7 +29,7 @@ enum Command {
     Info(info::Args),
     /// Render a scene to an OpenEXR of absolute X, Y, Z (cd/m²) and V′
     /// (scotopic cd/m²), with a spectral path tracer.
-    Render(render::Args),
+    Render(Box<render::Args>),
     /// Show an X, Y, Z, V′ image as a person would see it on a display:
     /// visual mode, glare, multiscale adaptation, night shift, gamut mapping.
     Display(display::Args),
@@ -49,7 +49,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Spectrum(args) => spectrum::run(args),
         Command::Info(args) => info::run(args),
-        Command::Render(args) => render::run(args),
+        Command::Render(args) => render::run(*args),
         Command::Display(args) => display::run(args),
     };
     match result {

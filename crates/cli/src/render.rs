@@ -11,7 +11,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use scotopia_image::{preview_srgb8, write_png_rgb8};
 use scotopia_render::film::Checkpoint;
 use scotopia_render::integrator::{
-    render_resumable, Checkpointing, RenderError, RenderOptions, CLUSTER_SIZES,
+    render_resumable, Checkpointing, RenderError, RenderOptions, Tracer, CLUSTER_SIZES,
 };
 use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_exr};
 use scotopia_render::scene::IntegratorKind;
@@ -72,6 +72,11 @@ pub struct Args {
     /// and T camera vertices; T=1 is light tracing), to inspect it.
     #[arg(long, value_name = "S,T")]
     bdpt_strategy: Option<String>,
+    /// The path integrator's form: wavefront (batches of paths, stage by
+    /// stage) or scalar (one path at a time, the reference). Both give
+    /// the same image, bit for bit.
+    #[arg(long, default_value = "wavefront", value_name = "wavefront|scalar")]
+    tracer: String,
     /// Wavelengths per path: 1, 2, 4, 8 or 16.
     #[arg(long, default_value_t = 4, value_name = "K")]
     cluster: usize,
@@ -110,6 +115,8 @@ pub fn run(args: Args) -> Result<()> {
         ),
         None => None,
     };
+    let tracer = Tracer::from_name(&args.tracer)
+        .with_context(|| format!("--tracer {}: use wavefront or scalar", args.tracer))?;
     let only_strategy = match &args.bdpt_strategy {
         Some(text) => {
             let parsed: Option<Vec<usize>> =
@@ -152,6 +159,7 @@ pub fn run(args: Args) -> Result<()> {
         bands: args.spectral.is_some().then_some(args.bands),
         integrator,
         only_strategy,
+        tracer,
     };
 
     // Ctrl-C or SIGTERM: finish the current pass, write, exit non-zero.

@@ -4,6 +4,7 @@
 
 mod bdpt;
 mod path;
+mod wavefront;
 
 pub use bdpt::Splat;
 pub use path::CameraSample;
@@ -45,6 +46,29 @@ pub struct RenderOptions {
     /// Bidirectional only: render strategy [s, t] alone, without MIS (a
     /// check that each strategy converges to the same image).
     pub only_strategy: Option<[usize; 2]>,
+    /// Which tracer runs the path integrator.
+    pub tracer: Tracer,
+}
+
+/// The two forms of the path tracer: one path at a time (the reference)
+/// or batches of paths run stage by stage (`wavefront`). They give the
+/// same image, bit for bit; the bidirectional tracer has one form.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Tracer {
+    #[default]
+    Wavefront,
+    Scalar,
+}
+
+impl Tracer {
+    /// `wavefront` or `scalar`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "wavefront" => Some(Self::Wavefront),
+            "scalar" => Some(Self::Scalar),
+            _ => None,
+        }
+    }
 }
 
 impl Default for RenderOptions {
@@ -58,6 +82,7 @@ impl Default for RenderOptions {
             bands: None,
             integrator: None,
             only_strategy: None,
+            tracer: Tracer::default(),
         }
     }
 }
@@ -167,6 +192,7 @@ pub struct Renderer<'a> {
     /// Bidirectional: the lights' spectra, to choose a light by cluster.
     light_spectra: Option<bdpt::LightSpectra>,
     only_strategy: Option<[usize; 2]>,
+    tracer: Tracer,
 }
 
 impl<'a> Renderer<'a> {
@@ -223,6 +249,7 @@ impl<'a> Renderer<'a> {
             integrator,
             light_spectra,
             only_strategy: None,
+            tracer: Tracer::default(),
             filter: FilterSampler::new(scene.filter),
             infinite: (0..scene.lights.len())
                 .filter(|&i| scene.lights[i].is_infinite())
@@ -294,14 +321,28 @@ impl<'a> Renderer<'a> {
                 let mut counts = PassCounts::default();
                 let mut scratch = bdpt::Scratch::<K>::default();
                 let mut splats = Vec::new();
+                let mut batch = (self.integrator == IntegratorKind::Path
+                    && self.tracer == Tracer::Wavefront)
+                    .then(|| {
+                        wavefront::trace_row::<K>(
+                            self,
+                            seed,
+                            y as u32,
+                            width as u32,
+                            (first, count),
+                            &mut counts.rays,
+                        )
+                        .into_iter()
+                    });
                 for (x, px) in row.iter_mut().enumerate() {
                     for i in first..first + count {
                         let pixel = [x as u32, y as u32];
-                        let sample = match self.integrator {
-                            IntegratorKind::Path => {
+                        let sample = match (&mut batch, self.integrator) {
+                            (Some(done), _) => done.next().flatten(),
+                            (None, IntegratorKind::Path) => {
                                 self.sample_pixel::<K>(&mut sampler, pixel, i, &mut counts.rays)
                             }
-                            IntegratorKind::Bdpt => {
+                            (None, IntegratorKind::Bdpt) => {
                                 let mut c = bdpt::SampleCounts::default();
                                 let s = self.sample_pixel_bdpt::<K>(
                                     &mut sampler,
@@ -426,6 +467,7 @@ fn render_k<const K: usize>(
         }
         renderer.only_strategy = Some([s, t]);
     }
+    renderer.tracer = options.tracer;
     let bands = match options.bands {
         Some(n) if (1..=471).contains(&n) => Some(Bands(n)),
         Some(_) => return Err(RenderError::Bands),

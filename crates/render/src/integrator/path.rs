@@ -9,6 +9,7 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::Renderer;
 use crate::bsdf::{ShadingPoint, Transport};
+use crate::geometry::Hit;
 use crate::light::{Light, LightSample};
 use crate::math::{offset_ray_origin, Ray, Vec3};
 use crate::sampling::sobol::Sampler;
@@ -63,6 +64,40 @@ pub(super) fn shadow_ray<const K: usize>(p: Vec3, n: Vec3, ls: &LightSample<K>, 
 /// Relative margin a shadow ray stops short of the light's surface.
 const SHADOW_EPSILON: f32 = 1e-4;
 
+/// One path in flight: everything the next bounce needs. The scalar
+/// tracer keeps one on its stack; the wavefront tracer keeps a batch.
+#[derive(Clone, Copy)]
+pub struct PathState<const K: usize> {
+    /// The ray to trace next.
+    pub ray: Ray,
+    /// Radiance gathered so far, and the throughput.
+    pub l: SampledSpectrum<K>,
+    pub beta: SampledSpectrum<K>,
+    /// The wavelengths the estimate is of (a dispersive refraction may
+    /// collapse them to one).
+    pub wl: SampledWavelengths<K>,
+    /// The wavelengths the path carries now. Fluorescence moves members
+    /// away from `wl` (the light absorbed at one wavelength reaches the
+    /// eye at another).
+    pub now: SampledWavelengths<K>,
+    /// The previous bounce: whether it was a delta lobe, its direction
+    /// density, and where it left from (for MIS on emitters hit).
+    pub delta: bool,
+    pub bsdf_pdf: f32,
+    pub prev: Vec3,
+    /// Segments so far, counting the one being traced.
+    pub depth: i32,
+    /// Whether the cluster had several wavelengths at the start.
+    pub whole: bool,
+}
+
+/// What a bounce leaves to do: a shadow ray whose contribution counts if
+/// it is not occluded, and whether the path goes on (along `ray`).
+pub struct Bounce<const K: usize> {
+    pub shadow: Option<(Ray, SampledSpectrum<K>)>,
+    pub goes_on: bool,
+}
+
 impl Renderer<'_> {
     /// One camera sample of `pixel`: its X, Y, Z, V′ estimate and the
     /// cluster's radiance, or `None` when the estimate is not finite
@@ -74,172 +109,217 @@ impl Renderer<'_> {
         index: u32,
         rays: &mut u64,
     ) -> Option<CameraSample<K>> {
-        let (film, lens, mut wl, _) = self.start_sample::<K>(sampler, pixel, index);
-        let whole = !wl.secondary_terminated();
-        let ray = self.scene.camera.generate_ray(film, lens);
-        let radiance = self.trace(sampler, &mut wl, ray, rays);
-        let xyzv = estimate_xyzv(&radiance, &wl);
-        let finite = xyzv.iter().all(|v| v.is_finite()) && radiance.0.iter().all(|v| v.is_finite());
-        let collapsed = whole && wl.secondary_terminated();
+        let mut path = self.start_path::<K>(sampler, pixel, index);
+        let geometry = &self.scene.geometry;
+        loop {
+            *rays += 1;
+            let Some(hit) = geometry.intersect(&path.ray) else {
+                self.escape(&mut path);
+                break;
+            };
+            let b = self.bounce(&mut path, sampler, &hit);
+            if let Some((shadow, contribution)) = b.shadow {
+                *rays += 1;
+                if !geometry.occluded(&shadow) {
+                    path.l += contribution;
+                }
+            }
+            if !b.goes_on {
+                break;
+            }
+        }
+        Self::finish(&path)
+    }
+
+    /// A camera sample's path before its first segment.
+    pub(super) fn start_path<const K: usize>(
+        &self,
+        sampler: &mut Sampler,
+        pixel: [u32; 2],
+        index: u32,
+    ) -> PathState<K> {
+        let (film, lens, wl, _) = self.start_sample::<K>(sampler, pixel, index);
+        PathState {
+            ray: self.scene.camera.generate_ray(film, lens),
+            l: SampledSpectrum::splat(0.0),
+            beta: SampledSpectrum::splat(1.0),
+            wl,
+            now: wl,
+            delta: true,
+            bsdf_pdf: 0.0,
+            prev: Vec3::ZERO,
+            depth: 1,
+            whole: !wl.secondary_terminated(),
+        }
+        .with_prev()
+    }
+
+    /// The estimate of a finished path, or `None` when it is not finite.
+    pub(super) fn finish<const K: usize>(path: &PathState<K>) -> Option<CameraSample<K>> {
+        let xyzv = estimate_xyzv(&path.l, &path.wl);
+        let finite = xyzv.iter().all(|v| v.is_finite()) && path.l.0.iter().all(|v| v.is_finite());
         finite.then_some(CameraSample {
             xyzv,
-            radiance,
-            wl,
-            collapsed,
+            radiance: path.l,
+            wl: path.wl,
+            collapsed: path.whole && path.wl.secondary_terminated(),
         })
     }
 
-    /// Radiance arriving along `ray` on the cluster `wl` (which a
-    /// dispersive refraction may collapse), counting rays traced.
-    fn trace<const K: usize>(
+    /// The path escaped the scene along its ray: lights at infinity.
+    pub(super) fn escape<const K: usize>(&self, path: &mut PathState<K>) {
+        let d = path.ray.d;
+        for (i, light) in self.infinite_lights() {
+            let le = light.radiance_at_infinity(&path.now, d);
+            if le.is_zero() {
+                continue;
+            }
+            let w = if path.delta {
+                1.0
+            } else {
+                let p_light = self.light_choice.probability(i) * light.pdf_li_at_infinity(d);
+                power_heuristic(path.bsdf_pdf, p_light)
+            };
+            path.l += path.beta * le * w;
+        }
+    }
+
+    /// The path's ray hit `hit`: emission there, next-event estimation
+    /// (a shadow ray left to the caller), and the next direction by
+    /// sampling the BSDF, with Russian roulette.
+    pub(super) fn bounce<const K: usize>(
         &self,
+        path: &mut PathState<K>,
         sampler: &mut Sampler,
-        wl: &mut SampledWavelengths<K>,
-        mut ray: Ray,
-        rays: &mut u64,
-    ) -> SampledSpectrum<K> {
+        hit: &Hit,
+    ) -> Bounce<K> {
         let scene = self.scene;
+        let stop = Bounce {
+            shadow: None,
+            goes_on: false,
+        };
         let max_depth = scene.integrator.max_depth;
         let within = |depth: i32| max_depth < 0 || depth <= max_depth;
-        let mut l = SampledSpectrum::<K>::splat(0.0);
-        let mut beta = SampledSpectrum::<K>::splat(1.0);
-        // The previous bounce: whether it was a delta lobe, its direction
-        // density, and where it left from (for MIS on emitters hit).
-        let mut delta = true;
-        let mut bsdf_pdf = 0.0f32;
-        let mut prev = ray.o;
-        let mut depth = 1;
-        // The wavelengths the path carries now. Fluorescence moves members
-        // away from `wl`, the wavelengths the estimate is of (the light
-        // absorbed at one wavelength reaches the eye at another).
-        let mut now = *wl;
-        loop {
-            *rays += 1;
-            let Some(hit) = scene.geometry.intersect(&ray) else {
-                // Escaped: lights at infinity.
-                for (i, light) in self.infinite_lights() {
-                    let le = light.radiance_at_infinity(&now, ray.d);
-                    if le.is_zero() {
-                        continue;
-                    }
-                    let w = if delta {
+        let ray = path.ray;
+        let surface = scene.geometry.surface(hit, &ray);
+        let wo_world = -ray.d;
+        // Emission of an area light we landed on.
+        if let Some(li) = scene.shape_light[hit.shape as usize] {
+            if let Light::Area(area) = &scene.lights[li as usize] {
+                let le = area.radiance(&path.now, surface.uv, surface.n_geometric, wo_world);
+                if !le.is_zero() {
+                    let w = if path.delta {
                         1.0
                     } else {
-                        let p_light =
-                            self.light_choice.probability(i) * light.pdf_li_at_infinity(ray.d);
-                        power_heuristic(bsdf_pdf, p_light)
+                        let p_light = self.light_choice.probability(li as usize)
+                            * area.pdf_li(path.prev, surface.p, surface.n_geometric);
+                        power_heuristic(path.bsdf_pdf, p_light)
                     };
-                    l += beta * le * w;
+                    path.l += path.beta * le * w;
                 }
-                break;
-            };
-            let surface = scene.geometry.surface(&hit, &ray);
-            let wo_world = -ray.d;
-            // Emission of an area light we landed on.
-            if let Some(li) = scene.shape_light[hit.shape as usize] {
-                if let Light::Area(area) = &scene.lights[li as usize] {
-                    let le = area.radiance(&now, surface.uv, surface.n_geometric, wo_world);
-                    if !le.is_zero() {
-                        let w = if delta {
-                            1.0
-                        } else {
-                            let p_light = self.light_choice.probability(li as usize)
-                                * area.pdf_li(prev, surface.p, surface.n_geometric);
-                            power_heuristic(bsdf_pdf, p_light)
-                        };
-                        l += beta * le * w;
-                    }
-                }
-            }
-            if !within(depth + 1) {
-                break;
-            }
-            let bsdf = &scene.materials[scene.shape_material[hit.shape as usize] as usize];
-            let (frame, at) = ShadingPoint::at(
-                surface.tex(&hit),
-                surface.n_shading,
-                surface.n_geometric,
-                surface.dpdu,
-                surface.dpdv,
-            );
-            let wi = frame.to_local(wo_world);
-            let uv = at.tex();
-            let [u_light, u_select, u_l0, u_l1] = sampler.get_4d();
-            let [u_lobe, u_rr, u_b0, u_b1] = sampler.get_4d();
-            // Fluorescence: members move to their excitation wavelengths
-            // before light is sampled there.
-            if let Some(f) = bsdf.reradiate(&mut now, uv, u_lobe) {
-                beta *= f;
-                if beta.is_zero() {
-                    break;
-                }
-            }
-
-            // Next-event estimation: one light chosen by power.
-            if !bsdf.is_delta() {
-                if let Some((i, p_choice, _)) = self.light_choice.sample_discrete(u_light) {
-                    let light = &scene.lights[i];
-                    if let Some(ls) =
-                        light.sample_li(&self.extent(), &now, surface.p, u_select, [u_l0, u_l1])
-                    {
-                        let wo = frame.to_local(ls.wi);
-                        let f = bsdf.eval(&now, at, wi, wo, Transport::Radiance);
-                        if ls.pdf > 0.0 && !f.is_zero() && !ls.radiance.is_zero() {
-                            let shadow = shadow_ray(
-                                surface.p,
-                                surface.n_geometric,
-                                &ls,
-                                scene.geometry.offset_unit(),
-                            );
-                            *rays += 1;
-                            if !scene.geometry.occluded(&shadow) {
-                                let p_light = p_choice * ls.pdf;
-                                let w = if ls.delta {
-                                    1.0
-                                } else {
-                                    power_heuristic(p_light, bsdf.pdf_at(&now, at, wi, wo))
-                                };
-                                l += beta * f * ls.radiance * (w / p_light);
-                            }
-                        }
-                    }
-                }
-            }
-
-            // Continue by sampling the BSDF.
-            let Some(bs) = bsdf.sample(&now, at, wi, u_lobe, [u_b0, u_b1], Transport::Radiance)
-            else {
-                break;
-            };
-            if bs.collapse {
-                wl.terminate_secondary();
-                now.terminate_secondary();
-            }
-            beta *= bs.weight;
-            if beta.is_zero() || !beta.max_value().is_finite() {
-                break;
-            }
-            delta = bs.delta;
-            bsdf_pdf = bs.pdf;
-            prev = surface.p;
-            let d = frame.to_world(bs.wo);
-            ray = spawn(
-                surface.p,
-                surface.n_geometric,
-                d,
-                scene.geometry.offset_unit(),
-            );
-            depth += 1;
-            // Russian roulette from rr_depth on (Mitsuba's rule: survive
-            // with the throughput's largest value, at most 0.95).
-            if depth > scene.integrator.rr_depth.max(1) {
-                let q = beta.max_value().min(0.95);
-                if u_rr >= q {
-                    break;
-                }
-                beta /= q;
             }
         }
-        l
+        if !within(path.depth + 1) {
+            return stop;
+        }
+        let bsdf = &scene.materials[scene.shape_material[hit.shape as usize] as usize];
+        let (frame, at) = ShadingPoint::at(
+            surface.tex(hit),
+            surface.n_shading,
+            surface.n_geometric,
+            surface.dpdu,
+            surface.dpdv,
+        );
+        let wi = frame.to_local(wo_world);
+        let uv = at.tex();
+        let [u_light, u_select, u_l0, u_l1] = sampler.get_4d();
+        let [u_lobe, u_rr, u_b0, u_b1] = sampler.get_4d();
+        // Fluorescence: members move to their excitation wavelengths
+        // before light is sampled there.
+        if let Some(f) = bsdf.reradiate(&mut path.now, uv, u_lobe) {
+            path.beta *= f;
+            if path.beta.is_zero() {
+                return stop;
+            }
+        }
+        let now = path.now;
+
+        // Next-event estimation: one light chosen by power.
+        let mut shadow = None;
+        if !bsdf.is_delta() {
+            if let Some((i, p_choice, _)) = self.light_choice.sample_discrete(u_light) {
+                let light = &scene.lights[i];
+                if let Some(ls) =
+                    light.sample_li(&self.extent(), &now, surface.p, u_select, [u_l0, u_l1])
+                {
+                    let wo = frame.to_local(ls.wi);
+                    let f = bsdf.eval(&now, at, wi, wo, Transport::Radiance);
+                    if ls.pdf > 0.0 && !f.is_zero() && !ls.radiance.is_zero() {
+                        let ray = shadow_ray(
+                            surface.p,
+                            surface.n_geometric,
+                            &ls,
+                            scene.geometry.offset_unit(),
+                        );
+                        let p_light = p_choice * ls.pdf;
+                        let w = if ls.delta {
+                            1.0
+                        } else {
+                            power_heuristic(p_light, bsdf.pdf_at(&now, at, wi, wo))
+                        };
+                        shadow = Some((ray, path.beta * f * ls.radiance * (w / p_light)));
+                    }
+                }
+            }
+        }
+        let stop = Bounce {
+            shadow,
+            goes_on: false,
+        };
+
+        // Continue by sampling the BSDF.
+        let Some(bs) = bsdf.sample(&now, at, wi, u_lobe, [u_b0, u_b1], Transport::Radiance) else {
+            return stop;
+        };
+        if bs.collapse {
+            path.wl.terminate_secondary();
+            path.now.terminate_secondary();
+        }
+        path.beta *= bs.weight;
+        if path.beta.is_zero() || !path.beta.max_value().is_finite() {
+            return stop;
+        }
+        path.delta = bs.delta;
+        path.bsdf_pdf = bs.pdf;
+        path.prev = surface.p;
+        let d = frame.to_world(bs.wo);
+        path.ray = spawn(
+            surface.p,
+            surface.n_geometric,
+            d,
+            scene.geometry.offset_unit(),
+        );
+        path.depth += 1;
+        // Russian roulette from rr_depth on (Mitsuba's rule: survive
+        // with the throughput's largest value, at most 0.95).
+        if path.depth > scene.integrator.rr_depth.max(1) {
+            let q = path.beta.max_value().min(0.95);
+            if u_rr >= q {
+                return stop;
+            }
+            path.beta /= q;
+        }
+        Bounce {
+            shadow: stop.shadow,
+            goes_on: true,
+        }
+    }
+}
+
+impl<const K: usize> PathState<K> {
+    /// `prev` starts at the camera ray's origin.
+    fn with_prev(mut self) -> Self {
+        self.prev = self.ray.o;
+        self
     }
 }

@@ -1,0 +1,85 @@
+//! The wavefront tracer gives the scalar tracer's image bit for bit: every
+//! bundled scene (dispersion and its cluster collapse, fluorescence,
+//! textures, every light kind the scenes use), cluster sizes 1, 4 and 8,
+//! the three wavelength strategies, spectral bands, and on 1 and 2 threads.
+
+use std::path::Path;
+use std::sync::atomic::AtomicBool;
+
+use scotopia_render::integrator::{render, RenderOptions, Rendered, Tracer};
+use scotopia_render::wavelength::WavelengthStrategy;
+use scotopia_scene::mitsuba::Parameters;
+use scotopia_scene::{load_scene_with, LoadOptions, Resolution};
+
+fn scene(name: &str) -> scotopia_render::scene::Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenes")
+        .join(name);
+    let load = LoadOptions {
+        resolution: Some(Resolution::parse("20").unwrap()),
+    };
+    load_scene_with(&path, &Parameters::new(), &load).unwrap()
+}
+
+fn run(scene: &scotopia_render::scene::Scene, o: &RenderOptions, threads: usize) -> Rendered {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(|| render(scene, o, &AtomicBool::new(false), &|_, _| {}).unwrap())
+}
+
+fn same(a: &Rendered, b: &Rendered, what: &str) {
+    // (Not assert_eq: the films' Debug text would flood the report.)
+    assert!(a.film == b.film, "{what}: films differ");
+    assert_eq!(
+        (a.spp, a.nonfinite, a.rays, a.collapsed),
+        (b.spp, b.nonfinite, b.rays, b.collapsed),
+        "{what}: counts differ"
+    );
+}
+
+#[test]
+fn every_bundled_scene_renders_the_scalar_tracers_image() {
+    for name in [
+        "cornell-box.xml",
+        "prism.xml",
+        "diamond.xml",
+        "black-light-poster.xml",
+        "paper.xml",
+        "material-showcase.xml",
+        "night-street.xml",
+        "lamp-shade.xml",
+        "caustic-sphere.xml",
+    ] {
+        let s = scene(name);
+        for (cluster, strategy) in [
+            (4, WavelengthStrategy::Swc),
+            (1, WavelengthStrategy::Swc),
+            (8, WavelengthStrategy::Hero),
+            (4, WavelengthStrategy::Single),
+        ] {
+            let o = RenderOptions {
+                spp: Some(3),
+                seed: 7,
+                cluster,
+                strategy,
+                bands: Some(5),
+                integrator: Some(scotopia_render::scene::IntegratorKind::Path),
+                ..RenderOptions::default()
+            };
+            let scalar = run(
+                &s,
+                &RenderOptions {
+                    tracer: Tracer::Scalar,
+                    ..o.clone()
+                },
+                1,
+            );
+            let what = format!("{name}, K = {cluster}, {strategy:?}");
+            assert!(scalar.rays > 0, "{what}");
+            same(&run(&s, &o, 1), &scalar, &format!("{what}, 1 thread"));
+            same(&run(&s, &o, 2), &scalar, &format!("{what}, 2 threads"));
+        }
+    }
+}
