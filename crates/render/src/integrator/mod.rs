@@ -324,15 +324,14 @@ impl<'a> Renderer<'a> {
                 let mut batch = (self.integrator == IntegratorKind::Path
                     && self.tracer == Tracer::Wavefront)
                     .then(|| {
-                        wavefront::trace_row::<K>(
-                            self,
+                        let work = wavefront::RowWork {
                             seed,
-                            y as u32,
-                            width as u32,
-                            (first, count),
-                            &mut counts.rays,
-                        )
-                        .into_iter()
+                            y: y as u32,
+                            width: width as u32,
+                            first,
+                            count,
+                        };
+                        wavefront::trace_row::<K>(self, work, &mut counts.rays).into_iter()
                     });
                 for (x, px) in row.iter_mut().enumerate() {
                     for i in first..first + count {

@@ -17,6 +17,39 @@
 //! one at a time, each checked against this reference; their boundaries
 //! and the batch's layout are what a GPU back end would keep.
 
-mod batch;
+mod generate;
+mod intersect;
+mod lanes;
+mod retire;
+mod shade;
+mod shadow;
 
-pub(super) use batch::trace_row;
+use super::path::CameraSample;
+use super::Renderer;
+pub(super) use generate::RowWork;
+use lanes::BATCH;
+
+/// The estimates of the row's work items, in item order (`None`: not
+/// finite). Adds the rays traced to `rays`.
+pub(super) fn trace_row<const K: usize>(
+    r: &Renderer,
+    work: RowWork,
+    rays: &mut u64,
+) -> Vec<Option<CameraSample<K>>> {
+    let total = work.items();
+    let mut results: Vec<Option<CameraSample<K>>> = (0..total).map(|_| None).collect();
+    let mut lanes: Vec<_> = (0..total.min(BATCH))
+        .map(|i| generate::start::<K>(r, &work, i))
+        .collect();
+    let mut next = lanes.len();
+    let mut order = Vec::with_capacity(BATCH);
+    let mut by_material = shade::MaterialOrder::new(r.scene.materials.len());
+    let geometry = &r.scene.geometry;
+    while !lanes.is_empty() {
+        *rays += intersect::intersect(geometry, &mut lanes);
+        shade::shade(r, &mut lanes, &mut by_material, &mut order);
+        *rays += shadow::shadow(geometry, &mut lanes);
+        retire::retire(r, &work, &mut lanes, &mut next, &mut results);
+    }
+    results
+}

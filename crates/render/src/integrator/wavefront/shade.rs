@@ -1,0 +1,66 @@
+//! Stage: what every path does where its ray ended — lights at infinity
+//! for escaped paths; emission, next-event estimation (a shadow ray left
+//! for the next stage) and the next direction for hits. Lanes are taken
+//! grouped by material, so one BSDF's code runs over consecutive paths.
+
+use super::super::Renderer;
+use super::lanes::Lane;
+
+/// Shades every lane, in the order `order` fills in.
+pub fn shade<const K: usize>(
+    r: &Renderer,
+    lanes: &mut [Lane<K>],
+    by_material: &mut MaterialOrder,
+    order: &mut Vec<u32>,
+) {
+    by_material.order(lanes, r, order);
+    for &i in order.iter() {
+        let lane = &mut lanes[i as usize];
+        match &lane.hit {
+            None => {
+                r.escape(&mut lane.path);
+                lane.alive = false;
+            }
+            Some(hit) => {
+                let b = r.bounce(&mut lane.path, &mut lane.sampler, hit);
+                lane.shadow = b.shadow;
+                lane.alive = b.goes_on;
+            }
+        }
+    }
+}
+
+/// A counting sort of the lanes by the material they hit.
+pub struct MaterialOrder {
+    counts: Vec<u32>,
+}
+
+impl MaterialOrder {
+    pub fn new(materials: usize) -> Self {
+        Self {
+            counts: vec![0; materials + 2],
+        }
+    }
+
+    /// Lane indices into `order`: escaped paths, then by material.
+    fn order<const K: usize>(&mut self, lanes: &[Lane<K>], r: &Renderer, order: &mut Vec<u32>) {
+        let key = |lane: &Lane<K>| match &lane.hit {
+            None => 0,
+            Some(h) => 1 + r.scene.shape_material[h.shape as usize] as usize,
+        };
+        self.counts.iter_mut().for_each(|c| *c = 0);
+        for lane in lanes {
+            self.counts[key(lane) + 1] += 1;
+        }
+        for k in 1..self.counts.len() {
+            self.counts[k] += self.counts[k - 1];
+        }
+        order.clear();
+        order.resize(lanes.len(), 0);
+        for (i, lane) in lanes.iter().enumerate() {
+            let at = &mut self.counts[key(lane)];
+            order[*at as usize] = i as u32;
+            *at += 1;
+        }
+    }
+}
