@@ -294,22 +294,39 @@ fn mutated_serialized_meshes_load_or_fail_cleanly() {
     let file = serialized_writer::write(&[quad], 4, false);
     // The shape's bytes, for mutations that reach the parser through zlib.
     let mut payload = Vec::new();
-    std::io::Read::read_to_end(&mut flate2::read::ZlibDecoder::new(&file[4..]), &mut payload)
-        .unwrap();
+    std::io::Read::read_to_end(
+        &mut flate2::read::ZlibDecoder::new(&file[4..]),
+        &mut payload,
+    )
+    .unwrap();
     assert_eq!(serialized_file(&payload)[..4], file[..4]);
     let xml = "<scene version=\"3.0.0\"><sensor type=\"perspective\"><film type=\"hdrfilm\"><integer name=\"width\" value=\"4\"/><integer name=\"height\" value=\"4\"/></film></sensor><shape type=\"serialized\"><string name=\"filename\" value=\"case.serialized\"/></shape><emitter type=\"constant\"/></scene>";
     let scene = dir.join("serialized.xml");
     std::fs::write(&scene, xml).unwrap();
     let out = dir.join("out.exr");
     let render = |_: &Path| {
-        ["render", scene.to_str().unwrap(), "--spp", "1", "-o", out.to_str().unwrap()]
-            .map(String::from)
-            .to_vec()
+        [
+            "render",
+            scene.to_str().unwrap(),
+            "--spp",
+            "1",
+            "-o",
+            out.to_str().unwrap(),
+        ]
+        .map(String::from)
+        .to_vec()
     };
     // The file's bytes (header, dictionary, compressed stream) and the
     // shape's own bytes compressed again.
     fuzz(22, &file, &dir, "case.serialized", render);
-    fuzz_with(23, &payload, &dir, "case.serialized", serialized_file, render);
+    fuzz_with(
+        23,
+        &payload,
+        &dir,
+        "case.serialized",
+        serialized_file,
+        render,
+    );
 }
 
 #[test]
@@ -321,9 +338,16 @@ fn mutated_reradiation_matrices_load_or_fail_cleanly() {
     std::fs::write(&scene, xml).unwrap();
     let out = dir.join("out.exr");
     fuzz(31, &csv, &dir, "case.csv", |_| {
-        ["render", scene.to_str().unwrap(), "--spp", "1", "-o", out.to_str().unwrap()]
-            .map(String::from)
-            .to_vec()
+        [
+            "render",
+            scene.to_str().unwrap(),
+            "--spp",
+            "1",
+            "-o",
+            out.to_str().unwrap(),
+        ]
+        .map(String::from)
+        .to_vec()
     });
 }
 

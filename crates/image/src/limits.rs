@@ -241,15 +241,24 @@ mod tests {
         let v2 = files(&[("/sys/fs/cgroup/job/memory.max", "2147483648\n")]);
         assert_eq!(cgroup_limit("0::/job\n", v2), Some(2 << 30));
         let v1 = files(&[
-            ("/sys/fs/cgroup/memory/memory.limit_in_bytes", "9223372036854771712"),
-            ("/sys/fs/cgroup/memory/a/b/memory.limit_in_bytes", "1073741824"),
+            (
+                "/sys/fs/cgroup/memory/memory.limit_in_bytes",
+                "9223372036854771712",
+            ),
+            (
+                "/sys/fs/cgroup/memory/a/b/memory.limit_in_bytes",
+                "1073741824",
+            ),
         ]);
         let text = "5:devices:/\n4:memory:/a/b\n0::/\n";
         assert_eq!(cgroup_limit(text, v1), Some(1 << 30));
         // No limit ("max", or v1's near-2^63) is none.
         let none = files(&[
             ("/sys/fs/cgroup/memory.max", "max"),
-            ("/sys/fs/cgroup/memory/memory.limit_in_bytes", "9223372036854771712"),
+            (
+                "/sys/fs/cgroup/memory/memory.limit_in_bytes",
+                "9223372036854771712",
+            ),
         ]);
         assert_eq!(cgroup_limit("0::/\n4:memory:/\n", none), None);
     }

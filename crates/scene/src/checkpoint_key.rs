@@ -65,8 +65,14 @@ mod tests {
         };
         assert_eq!(key(&b, &more), k);
         // Another seed, cluster size or parameter value: another key.
-        let seed = RenderOptions { seed: 1, ..base.clone() };
-        let cluster = RenderOptions { cluster: 8, ..base.clone() };
+        let seed = RenderOptions {
+            seed: 1,
+            ..base.clone()
+        };
+        let cluster = RenderOptions {
+            cluster: 8,
+            ..base.clone()
+        };
         assert_ne!(key(&a, &seed), k);
         assert_ne!(key(&a, &cluster), k);
         b.insert("x".into(), "3".into());
