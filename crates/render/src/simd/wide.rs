@@ -55,8 +55,25 @@ const fn nibble_table(shift: u32) -> [u8; 16] {
 /// A 16-byte table repeated over `N` bytes (byte shuffles index within
 /// each 128-bit block).
 #[cfg(target_arch = "x86_64")]
-fn repeat<const N: usize>(t: [u8; 16]) -> [u8; N] {
-    std::array::from_fn(|i| t[i % 16])
+const fn repeat<const N: usize>(t: [u8; 16]) -> [u8; N] {
+    let mut out = [0u8; N];
+    let mut i = 0;
+    while i < N {
+        out[i] = t[i % 16];
+        i += 1;
+    }
+    out
+}
+
+/// The three tables of [`reverse_by_shuffles`] for registers of `N` bytes.
+#[cfg(target_arch = "x86_64")]
+struct ReverseTables<const N: usize>;
+
+#[cfg(target_arch = "x86_64")]
+impl<const N: usize> ReverseTables<N> {
+    const HI: [u8; N] = repeat(REV_NIBBLE_HI);
+    const LO: [u8; N] = repeat(REV_NIBBLE_LO);
+    const SWAP: [u8; N] = repeat(BYTE_SWAP);
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -69,18 +86,30 @@ mod x86 {
     /// each nibble through a reversal table (into the other half of its
     /// byte), then the bytes of each lane in reverse order.
     macro_rules! reverse_by_shuffles {
-        ($s:expr, $a:expr, $u32s:ident, $shuffle:expr, $bytes:literal) => {{
+        ($s:expr, $a:expr, $u32s:ident, $bytes:literal, $shuffle:ident) => {{
             let s = $s;
             let low = s.splat_u32s(0x0f0f_0f0f);
             let lo = s.and_u32s($a, low);
             let hi = s.and_u32s(s.shr_u32s::<4>($a), low);
-            let t_hi: $u32s = cast(repeat::<$bytes>(REV_NIBBLE_HI));
-            let t_lo: $u32s = cast(repeat::<$bytes>(REV_NIBBLE_LO));
-            let swap: $u32s = cast(repeat::<$bytes>(BYTE_SWAP));
-            let shuffle = $shuffle;
-            let bytes = s.or_u32s(shuffle(t_hi, lo), shuffle(t_lo, hi));
-            shuffle(bytes, swap)
+            let t_hi: $u32s = cast(ReverseTables::<$bytes>::HI);
+            let t_lo: $u32s = cast(ReverseTables::<$bytes>::LO);
+            let swap: $u32s = cast(ReverseTables::<$bytes>::SWAP);
+            let bytes = s.or_u32s($shuffle(s, t_hi, lo), $shuffle(s, t_lo, hi));
+            $shuffle(s, bytes, swap)
         }};
+    }
+
+    #[inline(always)]
+    fn shuffle_v2(s: V2, t: u32x4, i: u32x4) -> u32x4 {
+        cast(s.ssse3._mm_shuffle_epi8(cast(t), cast(i)))
+    }
+    #[inline(always)]
+    fn shuffle_v3(s: V3, t: u32x8, i: u32x8) -> u32x8 {
+        cast(s.avx2._mm256_shuffle_epi8(cast(t), cast(i)))
+    }
+    #[inline(always)]
+    fn shuffle_v4(s: V4, t: u32x16, i: u32x16) -> u32x16 {
+        cast(s.avx512bw._mm512_shuffle_epi8(cast(t), cast(i)))
     }
 
     impl Wide for V2 {
@@ -115,15 +144,7 @@ mod x86 {
         }
         #[inline(always)]
         fn reverse_bits_u32s(self, a: u32x4) -> u32x4 {
-            reverse_by_shuffles!(
-                self,
-                a,
-                u32x4,
-                |t: u32x4, i: u32x4| -> u32x4 {
-                    cast(self.ssse3._mm_shuffle_epi8(cast(t), cast(i)))
-                },
-                16
-            )
+            reverse_by_shuffles!(self, a, u32x4, 16, shuffle_v2)
         }
     }
 
@@ -155,15 +176,7 @@ mod x86 {
         }
         #[inline(always)]
         fn reverse_bits_u32s(self, a: u32x8) -> u32x8 {
-            reverse_by_shuffles!(
-                self,
-                a,
-                u32x8,
-                |t: u32x8, i: u32x8| -> u32x8 {
-                    cast(self.avx2._mm256_shuffle_epi8(cast(t), cast(i)))
-                },
-                32
-            )
+            reverse_by_shuffles!(self, a, u32x8, 32, shuffle_v3)
         }
     }
 
@@ -197,15 +210,7 @@ mod x86 {
         }
         #[inline(always)]
         fn reverse_bits_u32s(self, a: u32x16) -> u32x16 {
-            reverse_by_shuffles!(
-                self,
-                a,
-                u32x16,
-                |t: u32x16, i: u32x16| -> u32x16 {
-                    cast(self.avx512bw._mm512_shuffle_epi8(cast(t), cast(i)))
-                },
-                64
-            )
+            reverse_by_shuffles!(self, a, u32x16, 64, shuffle_v4)
         }
     }
 }
