@@ -13,5 +13,6 @@ pub mod math;
 pub mod output;
 pub mod sampling;
 pub mod scene;
+pub mod simd;
 pub mod texture;
 pub mod wavelength;

@@ -2,4 +2,5 @@
 
 pub mod distribution;
 pub mod sobol;
+pub mod sobol_batch;
 pub mod warp;

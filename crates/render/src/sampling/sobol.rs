@@ -45,7 +45,7 @@ const fn directions() -> [[u32; 32]; 4] {
     v
 }
 
-const DIRECTIONS: [[u32; 32]; 4] = directions();
+pub(super) const DIRECTIONS: [[u32; 32]; 4] = directions();
 
 /// Per dimension and index byte, the XOR of the direction numbers of every
 /// 8-bit pattern: a coordinate is then four lookups, not a loop over bits
@@ -108,15 +108,17 @@ pub fn sobol(index: u32, dim: usize) -> u32 {
     lookup(&BYTE_TABLES[dim], index)
 }
 
+/// The multipliers of [`laine_karras`] (Burley 2020, listing 3).
+pub(super) const LK_MULS: [u32; 4] = [0x6c50_b47c, 0xb82f_1e52, 0xc7af_e638, 0x8d22_f6e6];
+
 /// Laine & Karras's hash permutation as Burley 2020 (listing 3) improves it:
 /// each bit is flipped depending only on the bits below it.
 #[inline]
 fn laine_karras(mut x: u32, seed: u32) -> u32 {
     x = x.wrapping_add(seed);
-    x ^= x.wrapping_mul(0x6c50_b47c);
-    x ^= x.wrapping_mul(0xb82f_1e52);
-    x ^= x.wrapping_mul(0xc7af_e638);
-    x ^= x.wrapping_mul(0x8d22_f6e6);
+    for m in LK_MULS {
+        x ^= x.wrapping_mul(m);
+    }
     x
 }
 
@@ -127,38 +129,82 @@ pub fn owen_scramble(x: u32, seed: u32) -> u32 {
     laine_karras(x.reverse_bits(), seed).reverse_bits()
 }
 
+/// The constants of [`hash`] (murmur3's: Appleby 2011).
+pub(super) mod murmur {
+    pub const INIT: u32 = 0x9e37_79b9;
+    pub const C1: u32 = 0xcc9e_2d51;
+    pub const C2: u32 = 0x1b87_3593;
+    pub const N: u32 = 0xe654_6b64;
+    pub const F1: u32 = 0x85eb_ca6b;
+    pub const F2: u32 = 0xc2b2_ae35;
+}
+
 /// A 32-bit hash of several words (a murmur3-style finaliser per word).
 #[inline]
 pub fn hash(words: &[u32]) -> u32 {
-    let mut h: u32 = 0x9e37_79b9;
+    let mut h: u32 = murmur::INIT;
     for &w in words {
-        let mut k = w.wrapping_mul(0xcc9e_2d51);
-        k = k.rotate_left(15).wrapping_mul(0x1b87_3593);
+        let mut k = w.wrapping_mul(murmur::C1);
+        k = k.rotate_left(15).wrapping_mul(murmur::C2);
         h ^= k;
-        h = h.rotate_left(13).wrapping_mul(5).wrapping_add(0xe654_6b64);
+        h = h.rotate_left(13).wrapping_mul(5).wrapping_add(murmur::N);
     }
     h ^= h >> 16;
-    h = h.wrapping_mul(0x85eb_ca6b);
+    h = h.wrapping_mul(murmur::F1);
     h ^= h >> 13;
-    h = h.wrapping_mul(0xc2b2_ae35);
+    h = h.wrapping_mul(murmur::F2);
     h ^ (h >> 16)
 }
+
+/// The multipliers of [`mix`] (Wellons's lowbias32).
+pub(super) const MIX_MULS: [u32; 2] = [0x7feb_352d, 0x846c_a68b];
 
 /// A fast 32-bit integer mix (Wellons's "lowbias32", from his hash
 /// prospector search), for per-set and per-dimension scramble seeds.
 #[inline]
 fn mix(mut x: u32) -> u32 {
     x ^= x >> 16;
-    x = x.wrapping_mul(0x7feb_352d);
+    x = x.wrapping_mul(MIX_MULS[0]);
     x ^= x >> 15;
-    x = x.wrapping_mul(0x846c_a68b);
+    x = x.wrapping_mul(MIX_MULS[1]);
     x ^ (x >> 16)
 }
+
+/// What a set's number is multiplied by before it is mixed into the pixel
+/// key, and what a dimension's number (from 1) is multiplied by before it
+/// is added to the set's key.
+pub(super) const SET_MUL: u32 = 0x9e37_79b9;
+pub(super) const DIM_MUL: u32 = 0x85eb_ca6b;
 
 /// 32 bits to [0, 1), never rounding up to 1.
 #[inline]
 fn to_unit(x: u32) -> f32 {
-    ((x >> 8) as f32) * (1.0 / (1u32 << 24) as f32)
+    ((x >> 8) as f32) * UNIT
+}
+
+/// 2⁻²⁴: the top 24 bits of a word, as a fraction.
+pub(super) const UNIT: f32 = 1.0 / (1u32 << 24) as f32;
+
+/// The root of every scramble seed of `pixel`'s samples under `seed`.
+#[inline]
+pub fn pixel_key(seed: u32, pixel: [u32; 2]) -> u32 {
+    hash(&[seed, pixel[0], pixel[1]])
+}
+
+/// The 4 coordinates of 4-dimensional set `set` of the sample whose index,
+/// bit-reversed, is `index_rev`, in the pixel with key `pixel_key`: what
+/// [`Sampler`] draws, and the reference of the batched form
+/// ([`super::sobol_batch`]).
+#[inline]
+pub fn set_point(pixel_key: u32, index_rev: u32, set: u32) -> [f32; 4] {
+    let key = mix(pixel_key ^ set.wrapping_mul(SET_MUL));
+    // owen_scramble(index, key), reversed; then each coordinate's own
+    // scramble, reversed back once.
+    let index_rev = laine_karras(index_rev, key);
+    std::array::from_fn(|d| {
+        let seed = mix(key.wrapping_add((d as u32 + 1).wrapping_mul(DIM_MUL)));
+        to_unit(laine_karras(sobol_reversed(index_rev, d), seed).reverse_bits())
+    })
 }
 
 /// Random numbers for one sample of one pixel, drawn dimension by dimension.
@@ -176,7 +222,7 @@ impl Sampler {
     pub fn new(seed: u32) -> Self {
         Self {
             seed,
-            pixel_key: hash(&[seed, 0, 0]),
+            pixel_key: pixel_key(seed, [0, 0]),
             index_rev: 0,
             dimension: 0,
         }
@@ -184,9 +230,26 @@ impl Sampler {
 
     /// Starts sample `index` of `pixel`, from dimension 0.
     pub fn start(&mut self, pixel: [u32; 2], index: u32) {
-        self.pixel_key = hash(&[self.seed, pixel[0], pixel[1]]);
+        self.pixel_key = pixel_key(self.seed, pixel);
         self.index_rev = index.reverse_bits();
         self.dimension = 0;
+    }
+
+    /// The key of the current pixel ([`pixel_key`]).
+    pub fn pixel_key(&self) -> u32 {
+        self.pixel_key
+    }
+
+    /// The current sample index.
+    pub fn index(&self) -> u32 {
+        self.index_rev.reverse_bits()
+    }
+
+    /// The 4-dimensional set the next draw uses: a batch
+    /// ([`super::sobol_batch::sobol_sets`]) drawing it for this sample gives
+    /// what this sampler would.
+    pub fn next_set(&self) -> u32 {
+        self.dimension / 4
     }
 
     /// The 4 coordinates of the current 4-dimensional set, then moves on.
@@ -194,14 +257,7 @@ impl Sampler {
     fn set(&mut self) -> [f32; 4] {
         let set = self.dimension / 4;
         self.dimension = (set + 1) * 4;
-        let key = mix(self.pixel_key ^ set.wrapping_mul(0x9e37_79b9));
-        // owen_scramble(index, key), reversed; then each coordinate's own
-        // scramble, reversed back once.
-        let index_rev = laine_karras(self.index_rev, key);
-        std::array::from_fn(|d| {
-            let seed = mix(key.wrapping_add((d as u32 + 1).wrapping_mul(0x85eb_ca6b)));
-            to_unit(laine_karras(sobol_reversed(index_rev, d), seed).reverse_bits())
-        })
+        set_point(self.pixel_key, self.index_rev, set)
     }
 
     /// One number in [0, 1) (uses a whole 4-dimensional set).
