@@ -281,8 +281,17 @@ impl<'a> Renderer<'a> {
         index: u32,
     ) -> ([f32; 2], [f32; 2], SampledWavelengths<K>, f32) {
         sampler.start(pixel, index);
-        let [fx, fy, u_choice, u_wl] = sampler.get_4d();
-        let [lx, ly, u_first, spare] = sampler.get_4d();
+        let sets = [sampler.get_4d(), sampler.get_4d()];
+        self.start_sample_with(pixel, sets)
+    }
+
+    /// [`Self::start_sample`] from the sample's first two sets, drawn
+    /// already (the wavefront tracer draws them for many samples at once).
+    fn start_sample_with<const K: usize>(
+        &self,
+        pixel: [u32; 2],
+        [[fx, fy, u_choice, u_wl], [lx, ly, u_first, spare]]: [[f32; 4]; 2],
+    ) -> ([f32; 2], [f32; 2], SampledWavelengths<K>, f32) {
         let offset = self.filter.sample([fx, fy]);
         let film = [
             pixel[0] as f32 + 0.5 + offset[0],

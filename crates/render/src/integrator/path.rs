@@ -117,7 +117,7 @@ impl Renderer<'_> {
                 self.escape(&mut path);
                 break;
             };
-            let b = self.bounce(&mut path, sampler, &hit);
+            let b = self.bounce(&mut path, [sampler.get_4d(), sampler.get_4d()], &hit);
             if let Some((shadow, contribution)) = b.shadow {
                 *rays += 1;
                 if !geometry.occluded(&shadow) {
@@ -138,7 +138,18 @@ impl Renderer<'_> {
         pixel: [u32; 2],
         index: u32,
     ) -> PathState<K> {
-        let (film, lens, wl, _) = self.start_sample::<K>(sampler, pixel, index);
+        sampler.start(pixel, index);
+        let sets = [sampler.get_4d(), sampler.get_4d()];
+        self.start_path_with(pixel, sets)
+    }
+
+    /// [`Self::start_path`] from the sample's first two sets.
+    pub(super) fn start_path_with<const K: usize>(
+        &self,
+        pixel: [u32; 2],
+        sets: [[f32; 4]; 2],
+    ) -> PathState<K> {
+        let (film, lens, wl, _) = self.start_sample_with::<K>(pixel, sets);
         PathState {
             ray: self.scene.camera.generate_ray(film, lens),
             l: SampledSpectrum::splat(0.0),
@@ -186,11 +197,12 @@ impl Renderer<'_> {
 
     /// The path's ray hit `hit`: emission there, next-event estimation
     /// (a shadow ray left to the caller), and the next direction by
-    /// sampling the BSDF, with Russian roulette.
+    /// sampling the BSDF, with Russian roulette. `u`: the path's next two
+    /// 4-dimensional sets of its sampler.
     pub(super) fn bounce<const K: usize>(
         &self,
         path: &mut PathState<K>,
-        sampler: &mut Sampler,
+        u: [[f32; 4]; 2],
         hit: &Hit,
     ) -> Bounce<K> {
         let scene = self.scene;
@@ -232,8 +244,7 @@ impl Renderer<'_> {
         );
         let wi = frame.to_local(wo_world);
         let uv = at.tex();
-        let [u_light, u_select, u_l0, u_l1] = sampler.get_4d();
-        let [u_lobe, u_rr, u_b0, u_b1] = sampler.get_4d();
+        let [[u_light, u_select, u_l0, u_l1], [u_lobe, u_rr, u_b0, u_b1]] = u;
         // Fluorescence: members move to their excitation wavelengths
         // before light is sampled there.
         if let Some(f) = bsdf.reradiate(&mut path.now, uv, u_lobe) {

@@ -245,6 +245,22 @@ impl Sampler {
         self.index_rev.reverse_bits()
     }
 
+    /// The sampler of sample `index` of the pixel with key `pixel_key`,
+    /// about to draw set `set` (a batch drew the sets before it).
+    pub fn resume(seed: u32, pixel_key: u32, index: u32, set: u32) -> Self {
+        Self {
+            seed,
+            pixel_key,
+            index_rev: index.reverse_bits(),
+            dimension: set * 4,
+        }
+    }
+
+    /// Moves on past `n` sets, drawn elsewhere (by a batch).
+    pub fn skip_sets(&mut self, n: u32) {
+        self.dimension = (self.dimension / 4 + n) * 4;
+    }
+
     /// The 4-dimensional set the next draw uses: a batch
     /// ([`super::sobol_batch::sobol_sets`]) drawing it for this sample gives
     /// what this sampler would.

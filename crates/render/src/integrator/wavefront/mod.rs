@@ -26,8 +26,9 @@ mod shadow;
 
 use super::path::CameraSample;
 use super::Renderer;
+use crate::simd::Level;
 pub(super) use generate::RowWork;
-use lanes::BATCH;
+use lanes::{Scratch, BATCH};
 
 /// The estimates of the row's work items, in item order (`None`: not
 /// finite). Adds the rays traced to `rays`.
@@ -37,19 +38,43 @@ pub(super) fn trace_row<const K: usize>(
     rays: &mut u64,
 ) -> Vec<Option<CameraSample<K>>> {
     let total = work.items();
+    let level = Level::current();
     let mut results: Vec<Option<CameraSample<K>>> = (0..total).map(|_| None).collect();
-    let mut lanes: Vec<_> = (0..total.min(BATCH))
-        .map(|i| generate::start::<K>(r, &work, i))
-        .collect();
-    let mut next = lanes.len();
+    let mut scratch = Scratch::default();
+    let (mut lanes, mut free, mut next) = (Vec::with_capacity(BATCH), Vec::new(), 0);
+    generate::refill::<K>(
+        r,
+        &work,
+        level,
+        &mut lanes,
+        &mut free,
+        &mut next,
+        &mut scratch,
+    );
     let mut order = Vec::with_capacity(BATCH);
     let mut by_material = shade::MaterialOrder::new(r.scene.materials.len());
     let geometry = &r.scene.geometry;
     while !lanes.is_empty() {
         *rays += intersect::intersect(geometry, &mut lanes);
-        shade::shade(r, &mut lanes, &mut by_material, &mut order);
+        shade::shade(
+            r,
+            level,
+            &mut lanes,
+            &mut by_material,
+            &mut order,
+            &mut scratch,
+        );
         *rays += shadow::shadow(geometry, &mut lanes);
-        retire::retire(r, &work, &mut lanes, &mut next, &mut results);
+        retire::retire(&lanes, &mut free, &mut results);
+        generate::refill(
+            r,
+            &work,
+            level,
+            &mut lanes,
+            &mut free,
+            &mut next,
+            &mut scratch,
+        );
     }
     results
 }

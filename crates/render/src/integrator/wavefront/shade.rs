@@ -4,15 +4,52 @@
 //! grouped by material, so one BSDF's code runs over consecutive paths.
 
 use super::super::Renderer;
-use super::lanes::Lane;
+use super::lanes::{Lane, Scratch};
+use crate::simd::Level;
+
+/// Draws the next two sets of every lane that hit something, for all of
+/// them at once: lanes at the same set (the same depth, mostly) share one
+/// batched draw, bit-identical to their own samplers.
+fn draw_numbers<const K: usize>(level: Level, lanes: &mut [Lane<K>], scratch: &mut Scratch) {
+    let mut group = std::mem::take(&mut scratch.lanes);
+    group.clear();
+    group.extend((0..lanes.len() as u32).filter(|&i| lanes[i as usize].hit.is_some()));
+    group.sort_unstable_by_key(|&i| (lanes[i as usize].sampler.next_set(), i));
+    let mut start = 0;
+    while start < group.len() {
+        let set = lanes[group[start] as usize].sampler.next_set();
+        let n = group[start..]
+            .iter()
+            .take_while(|&&i| lanes[i as usize].sampler.next_set() == set)
+            .count();
+        let members = &group[start..start + n];
+        scratch.resize(n);
+        for (k, &i) in members.iter().enumerate() {
+            let s = &lanes[i as usize].sampler;
+            scratch.keys[k] = s.pixel_key();
+            scratch.indices[k] = s.index();
+        }
+        scratch.draw_sets(level, set, n);
+        for (k, &i) in members.iter().enumerate() {
+            let lane = &mut lanes[i as usize];
+            lane.u = scratch.sets_of(k);
+            lane.sampler.skip_sets(2);
+        }
+        start += n;
+    }
+    scratch.lanes = group;
+}
 
 /// Shades every lane, in the order `order` fills in.
 pub fn shade<const K: usize>(
     r: &Renderer,
+    level: Level,
     lanes: &mut [Lane<K>],
     by_material: &mut MaterialOrder,
     order: &mut Vec<u32>,
+    scratch: &mut Scratch,
 ) {
+    draw_numbers(level, lanes, scratch);
     by_material.order(lanes, r, order);
     for &i in order.iter() {
         let lane = &mut lanes[i as usize];
@@ -22,7 +59,7 @@ pub fn shade<const K: usize>(
                 lane.alive = false;
             }
             Some(hit) => {
-                let b = r.bounce(&mut lane.path, &mut lane.sampler, hit);
+                let b = r.bounce(&mut lane.path, lane.u, hit);
                 lane.shadow = b.shadow;
                 lane.alive = b.goes_on;
             }
