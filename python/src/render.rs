@@ -57,6 +57,7 @@ fn render<'py>(
     tracer: &str,
 ) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
     let err = |e: String| PyValueError::new_err(e);
+    scotopia_render::simd::Level::init().map_err(|e| err(e.to_string()))?;
     let strategy = WavelengthStrategy::from_name(wavelengths).ok_or_else(|| {
         err(format!(
             "wavelengths '{wavelengths}': use swc, hero or single"

@@ -99,6 +99,8 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<()> {
+    // SCOTOPIA_SIMD, checked before anything is loaded.
+    scotopia_render::simd::Level::init().map_err(anyhow::Error::msg)?;
     let strategy = WavelengthStrategy::from_name(&args.wavelengths).with_context(|| {
         format!(
             "--wavelengths {}: use swc, hero or single",
