@@ -92,12 +92,14 @@ impl InverseCdf {
             return (members.map(|m| m.0), members.map(|m| m.1));
         }
         let x = u.clamp(0.0, 1.0) * per as f32;
-        let i = (x as usize).min(per - 1);
+        // `as u32`: the saturating conversion to u64 takes twice as many
+        // instructions.
+        let i = (x as u32 as usize).min(per - 1);
         let f = (x - i as f32).min(1.0);
         let cells: [Cell; K] = std::array::from_fn(|k| self.cells[(k * per + i).min(n - 1)]);
         (
-            cells.map(|c| c.start + f * c.width),
-            cells.map(|c| c.density),
+            std::array::from_fn(|k| cells[k].start + f * cells[k].width),
+            std::array::from_fn(|k| cells[k].density),
         )
     }
 
