@@ -2,12 +2,14 @@
 //! evaluable at one wavelength or on a cluster of sampled wavelengths.
 
 mod blackbody;
+mod lookup;
 mod sigmoid;
 mod tabulated;
 
 use std::sync::Arc;
 
 pub use blackbody::{planck, Blackbody, BOLTZMANN_K, LIGHT_C, PLANCK_H};
+pub use lookup::RESAMPLE_TOLERANCE;
 pub use sigmoid::{normalised_lambda, sigmoid, RgbSigmoid};
 pub use tabulated::Tabulated;
 
@@ -64,7 +66,7 @@ impl Spectrum {
         let lambda = wavelengths.lambdas();
         match self {
             Spectrum::Constant(v) => SampledSpectrum::splat(*v),
-            Spectrum::Tabulated(t) => SampledSpectrum::from_fn(|i| t.eval(lambda[i])),
+            Spectrum::Tabulated(t) => SampledSpectrum(t.eval_cluster(lambda)),
             Spectrum::Blackbody(b) => SampledSpectrum::from_fn(|i| b.eval(lambda[i])),
             Spectrum::Sigmoid(s) => SampledSpectrum::from_fn(|i| s.eval(lambda[i])),
         }

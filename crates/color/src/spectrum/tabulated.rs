@@ -1,6 +1,7 @@
 //! A spectrum tabulated at increasing wavelengths, linearly interpolated
 //! between them and zero outside them (as Mitsuba's irregular spectrum).
 
+use super::lookup::Lookup;
 use crate::error::ColorError;
 
 /// Piecewise-linear spectrum at any (strictly increasing) spacing.
@@ -8,9 +9,10 @@ use crate::error::ColorError;
 pub struct Tabulated {
     lambda: Vec<f32>,
     value: Vec<f32>,
-    /// `(first wavelength, 1 / step)` when the spacing is uniform: lookups
-    /// then index directly instead of searching.
-    uniform: Option<(f32, f32)>,
+    /// How `eval` finds a wavelength's segment: a uniform grid (the
+    /// table's own, or the table resampled within 10⁻⁴ of its largest
+    /// value), or a guide into the samples (see [`super::lookup`]).
+    lookup: Lookup,
 }
 
 impl Tabulated {
@@ -37,11 +39,11 @@ impl Tabulated {
         if let Some(i) = value.iter().position(|v| !v.is_finite()) {
             return bad(format!("value at {} nm is not finite", lambda[i]));
         }
-        let uniform = Self::uniform_spacing(&lambda);
+        let lookup = Lookup::new(&lambda, &value);
         Ok(Self {
             lambda,
             value,
-            uniform,
+            lookup,
         })
     }
 
@@ -49,24 +51,12 @@ impl Tabulated {
     pub fn from_fn(start: f32, end: f32, step: f32, f: impl Fn(f32) -> f32) -> Self {
         let n = ((end - start) / step).round() as usize + 1;
         let lambda: Vec<f32> = (0..n).map(|i| start + step * i as f32).collect();
-        let value = lambda.iter().map(|&l| f(l)).collect();
+        let value: Vec<f32> = lambda.iter().map(|&l| f(l)).collect();
         Self {
-            uniform: Self::uniform_spacing(&lambda),
+            lookup: Lookup::new(&lambda, &value),
             lambda,
             value,
         }
-    }
-
-    fn uniform_spacing(lambda: &[f32]) -> Option<(f32, f32)> {
-        if lambda.len() < 2 {
-            return None;
-        }
-        let step = (lambda[lambda.len() - 1] - lambda[0]) / (lambda.len() - 1) as f32;
-        let uniform = lambda
-            .iter()
-            .enumerate()
-            .all(|(i, &l)| (l - (lambda[0] + step * i as f32)).abs() <= 1e-4 * step);
-        uniform.then_some((lambda[0], 1.0 / step))
     }
 
     /// The tabulated wavelengths, nm.
@@ -86,27 +76,19 @@ impl Tabulated {
         if !(lambda >= self.lambda[0] && lambda <= self.lambda[n - 1]) {
             return 0.0;
         }
-        if n == 1 {
-            return self.value[0];
-        }
-        // Find the segment [i, i + 1] that holds lambda, and the position in it.
-        let (i, t) = match self.uniform {
-            Some((start, inv_step)) => {
-                let x = (lambda - start) * inv_step;
-                let i = (x as usize).min(n - 2);
-                (i, (x - i as f32).min(1.0))
-            }
-            None => {
-                let i = self
-                    .lambda
-                    .partition_point(|&l| l <= lambda)
-                    .clamp(1, n - 1)
-                    - 1;
-                let (l0, l1) = (self.lambda[i], self.lambda[i + 1]);
-                (i, ((lambda - l0) / (l1 - l0)).clamp(0.0, 1.0))
-            }
-        };
-        self.value[i] + t * (self.value[i + 1] - self.value[i])
+        self.lookup.eval(&self.lambda, &self.value, lambda)
+    }
+
+    /// Values at the K wavelengths of a cluster.
+    #[inline]
+    pub fn eval_cluster<const K: usize>(&self, lambda: &[f32; K]) -> [f32; K] {
+        self.lookup.eval_cluster(&self.lambda, &self.value, lambda)
+    }
+
+    /// Whether `eval` reads a uniform grid (the table's own or its
+    /// resampling), rather than searching the samples.
+    pub fn is_gridded(&self) -> bool {
+        self.lookup.is_grid()
     }
 
     /// Largest tabulated value.
@@ -122,7 +104,25 @@ impl Tabulated {
     /// The same spectrum with every value multiplied by `s`.
     pub fn scaled(&self, s: f32) -> Self {
         Self {
+            lambda: self.lambda.clone(),
             value: self.value.iter().map(|v| v * s).collect(),
+            lookup: self.lookup.scaled(s),
+        }
+    }
+}
+
+#[cfg(test)]
+impl Tabulated {
+    pub(super) fn lookup_for_tests(&self) -> &Lookup {
+        &self.lookup
+    }
+
+    /// The same table kept and read through a guide: its own function,
+    /// up to f32 rounding.
+    pub(super) fn searched_for_tests(&self) -> Self {
+        let n = self.lambda.len();
+        Self {
+            lookup: Lookup::guided(&self.lambda, &self.value, n.max(2) - 1),
             ..self.clone()
         }
     }
@@ -135,7 +135,8 @@ mod tests {
     #[test]
     fn interpolates_and_is_zero_outside() {
         let s = Tabulated::new(vec![400.0, 410.0, 430.0], vec![1.0, 3.0, 1.0]).unwrap();
-        assert!(s.uniform.is_none());
+        // Resampled to a 10 nm grid, exactly.
+        assert!(s.is_gridded());
         assert_eq!(s.eval(399.9), 0.0);
         assert_eq!(s.eval(400.0), 1.0);
         assert_eq!(s.eval(405.0), 2.0);
@@ -148,15 +149,12 @@ mod tests {
     #[test]
     fn uniform_lookup_matches_search() {
         let u = Tabulated::from_fn(360.0, 830.0, 5.0, |l| (l * 0.05).sin() + 1.0);
-        assert!(u.uniform.is_some());
-        let searched = Tabulated {
-            uniform: None,
-            ..u.clone()
-        };
+        assert!(u.is_gridded());
         for i in 0..=4700 {
             let l = 360.0 + i as f32 * 0.1;
             // Both are exact up to f32 rounding of the position in the segment.
-            assert!((u.eval(l) - searched.eval(l)).abs() < 1e-5, "at {l}");
+            let searched = super::super::lookup::searched(u.wavelengths(), u.values(), l);
+            assert!((u.eval(l) - searched).abs() < 1e-5, "at {l}");
         }
     }
 

@@ -1,21 +1,23 @@
 //! Choosing the wavelengths a path carries (`--wavelengths`):
 //!
-//! - `swc`, stratified wavelength clusters (Evans & McCool 1999): a light
-//!   chosen by power, K numbers stratified in [0, 1) pushed through that
-//!   light's spectral CDF. Each wavelength's density in the estimator is
-//!   the mixture over all lights (with a defensive share of the visible
-//!   density), which keeps the cluster average unbiased: summing over the
-//!   K strata covers each light's whole spectrum.
+//! - `swc`, stratified wavelength clusters (Evans & McCool 1999): K
+//!   numbers stratified in [0, 1) pushed through the tabulated inverse CDF
+//!   of the mixture of all lights' spectra (by power, with a defensive
+//!   share of the visible density); each wavelength's density in the
+//!   estimator is that table's, returned with it, which keeps the cluster
+//!   average unbiased.
 //! - `hero`, hero wavelengths (Wilkie et al. 2014): one wavelength from the
 //!   visible density, the others rotated by equal offsets over 360–830 nm;
 //!   each weighed by the mean of the visible density over the K rotations
 //!   that could have produced it (the balance heuristic), which is exact.
 //! - `single`: one wavelength per path, from the visible density.
 
+mod inverse_cdf;
 mod spectral_pdf;
 mod swc;
 mod visible;
 
+pub use inverse_cdf::InverseCdf;
 pub use spectral_pdf::SpectralPdf;
 pub use swc::Swc;
 pub use visible::{sample_visible, visible_pdf};

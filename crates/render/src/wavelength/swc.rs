@@ -1,6 +1,8 @@
 //! Stratified wavelength clusters (Evans & McCool 1999, Graphics Interface,
-//! pp. 42–49): the cluster is drawn from one light's spectrum, chosen by
-//! radiant power, and weighed by the mixture density of all lights.
+//! pp. 42–49): K numbers stratified in [0, 1) pushed through one inverse
+//! CDF, that of the mixture of the lights' spectra weighted by radiant
+//! power, with a defensive share of the visible density. Each member's
+//! marginal density is that mixture, so the cluster average is unbiased.
 //!
 //! Fluorescence (scotopia's extension): light can reach the eye at
 //! wavelengths no lamp emits, so each fluorescent material's emission
@@ -14,44 +16,35 @@
 //! times the Stokes factor) draws about 40 % of its wavelengths from the
 //! paints' emission, where the eye sees.
 //!
-//! The two shares are stratified within each cluster rather than chosen
-//! per cluster: member k's stratum (k + u)/K falls in the lights' share
-//! or the materials', so a cluster of 4 under a black light carries about
-//! 2 UV and 2 emission wavelengths instead of being all-UV or
-//! all-emission; that halves the variance of what the eye sees on such
-//! scenes. The light is still chosen once per cluster by power and the
-//! lights' members are stratified over its spectrum (Evans & McCool);
-//! without fluorescence nothing changes. Each member's marginal density
-//! is the same mixture, so the estimator's p(λ) is unchanged.
+//! Every source is stratified within each cluster rather than chosen per
+//! cluster: the strata run over the whole mixture's CDF, so a cluster of 4
+//! under a black light carries about 2 UV and 2 emission wavelengths
+//! instead of being all-UV or all-emission (that halves the variance of
+//! what the eye sees on such scenes), and a street under sodium and LED
+//! lamps gets members on the sodium lines and on the LED's band in the
+//! same cluster. The mixture's inverse CDF is tabulated ([`InverseCdf`]):
+//! a member costs one lookup and its density comes with it, where
+//! choosing a light and inverting its piecewise-linear density took a
+//! search, a square root and two divisions per member and the mixture's
+//! density another search.
 
 use scotopia_color::SampledWavelengths;
 
-use super::{sample_visible, visible_pdf, SpectralPdf};
+use super::inverse_cdf::{InverseCdf, CELLS};
+use super::SpectralPdf;
 use crate::bsdf::Fluorescent;
 use crate::light::Light;
 use crate::sampling::distribution::Distribution1D;
 
-/// Share of clusters drawn from the visible density instead of a light,
-/// so p(λ) > 0 wherever the image can have energy (reflected RGB
-/// emitters, environment maps, fluorescence); scotopia's choice.
+/// Share of the mixture given to the visible density, so p(λ) > 0
+/// wherever the image can have energy (reflected RGB emitters,
+/// environment maps, fluorescence); scotopia's choice.
 pub const DEFENSIVE_SHARE: f32 = 0.1;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Swc {
-    /// Spectral densities of the lights with power.
-    lights: Vec<SpectralPdf>,
-    /// Choice of the light, by radiant power.
-    light_choice: Option<Distribution1D>,
-    /// Spectral densities of the fluorescent materials' emission.
-    emitters: Vec<SpectralPdf>,
-    /// Choice among `emitters`, by the power each would re-emit.
-    emitter_choice: Option<Distribution1D>,
-    /// The lights' share of the non-defensive mixture, 1/(1 + R).
-    light_share: f32,
-    /// Σ P(source)·p_source(λ) over lights and emitters, tabulated once.
-    mixture: Option<SpectralPdf>,
-    /// Probability of drawing from the visible density instead.
-    defensive: f32,
+    /// The tabulated inverse CDF of the whole mixture.
+    table: InverseCdf,
 }
 
 impl Swc {
@@ -91,9 +84,7 @@ impl Swc {
                 }
             }
         }
-        let big_r: f32 = ratios.iter().sum();
-        let light_share = 1.0 / (1.0 + big_r);
-        let emitter_choice = (!emitters.is_empty()).then(|| Distribution1D::new(ratios.clone()));
+        let light_share = 1.0 / (1.0 + ratios.iter().sum::<f32>());
         let mut parts: Vec<(f32, &SpectralPdf)> = Vec::new();
         if let Some(m) = &lights_mix {
             parts.push((light_share, m));
@@ -101,53 +92,38 @@ impl Swc {
         for (e, r) in emitters.iter().zip(&ratios) {
             parts.push((r * light_share, e));
         }
-        let mixture = SpectralPdf::mixture(&parts);
+        let sources = SpectralPdf::mixture(&parts);
+        // The visible density, linear between whole nanometres: only the
+        // table's edges come from it, and the table is its own density.
+        let visible = SpectralPdf::visible();
+        let total = match &sources {
+            Some(m) => {
+                SpectralPdf::mixture(&[(1.0 - DEFENSIVE_SHARE, m), (DEFENSIVE_SHARE, &visible)])
+            }
+            None => None,
+        }
+        .unwrap_or(visible);
         Self {
-            defensive: if light_pdfs.is_empty() {
-                1.0
-            } else {
-                DEFENSIVE_SHARE
-            },
-            lights: light_pdfs,
-            light_choice,
-            emitters,
-            emitter_choice,
-            light_share,
-            mixture,
+            table: InverseCdf::new(&total, CELLS),
         }
     }
 
-    /// The mixture density the estimator divides by.
-    #[inline]
+    /// The density the estimator divides by (per nm): the table's.
     pub fn pdf(&self, lambda: f32) -> f32 {
-        let sources = self.mixture.as_ref().map_or(0.0, |m| m.pdf(lambda));
-        (1.0 - self.defensive) * sources + self.defensive * visible_pdf(lambda)
+        self.table.pdf(lambda)
     }
 
-    pub fn sample<const K: usize>(&self, u_choice: f32, u: f32) -> SampledWavelengths<K> {
-        let strata = |k: usize| (k as f32 + u) / K as f32;
-        let light = (u_choice >= self.defensive)
-            .then(|| {
-                let v = (u_choice - self.defensive) / (1.0 - self.defensive);
-                self.light_choice.as_ref()?.sample_discrete(v)
-            })
-            .flatten();
-        let lambda: [f32; K] = match light {
-            None => std::array::from_fn(|k| sample_visible(strata(k))),
-            Some((i, _, _)) => std::array::from_fn(|k| {
-                let s = strata(k);
-                match &self.emitter_choice {
-                    Some(c) if s >= self.light_share => {
-                        let v = (s - self.light_share) / (1.0 - self.light_share);
-                        match c.sample_discrete(v.min(1.0 - f32::EPSILON)) {
-                            Some((m, _, rest)) => self.emitters[m].sample(rest),
-                            None => self.lights[i].sample(s),
-                        }
-                    }
-                    _ => self.lights[i].sample(s / self.light_share),
-                }
-            }),
-        };
-        SampledWavelengths::new(lambda, lambda.map(|l| self.pdf(l)))
+    /// A cluster: member k at (k + u)/K through the mixture's inverse CDF
+    /// (`_u_choice` is not needed: no source is chosen per cluster).
+    #[inline]
+    pub fn sample<const K: usize>(&self, _u_choice: f32, u: f32) -> SampledWavelengths<K> {
+        let (lambda, pdf) = self.table.sample_strata::<K>(u);
+        SampledWavelengths::new(lambda, pdf)
+    }
+
+    /// The table's probability mass in [a, b] (tests).
+    #[cfg(test)]
+    pub(super) fn mass_between(&self, a: f32, b: f32) -> f64 {
+        self.table.mass_between(a, b)
     }
 }

@@ -130,6 +130,75 @@ fn swc_follows_the_lamps_and_pays_off_on_line_spectra() {
     );
 }
 
+/// SWC's table is the mixture it was made of: 0.9 of the lights' spectra
+/// by power and 0.1 of the visible density, bin by bin up to the two cells
+/// that straddle a bin's ends; its cells stratify each cluster, and each
+/// member carries the table's density at its wavelength.
+#[test]
+fn swc_table_is_the_mixture_of_the_lights() {
+    let all = samplers();
+    let WavelengthSampler::Swc(s) = &all[0].1 else {
+        panic!("swc")
+    };
+    let (na, d65) = (sodium(), cie::illuminant("d65").unwrap().scaled(1e-6));
+    let (pa, pb) = (
+        SpectralPdf::new(&na).unwrap(),
+        SpectralPdf::new(&d65).unwrap(),
+    );
+    // Light choice by power: the point light emits 4π·∫I, the constant
+    // one π·∫L per unit area of the sphere of radius 1 (4π m²).
+    let (wa, wb) = (
+        pa.integral() * 4.0,
+        pb.integral() * 4.0 * std::f64::consts::PI,
+    );
+    let (wa, wb) = (wa / (wa + wb), wb / (wa + wb));
+    let cells = 2.0 / inverse_cdf::CELLS as f64;
+    let mut edges: Vec<f32> = (0..=47).map(|i| 360.0 + 10.0 * i as f32).collect();
+    edges.extend([588.895, 589.095, 589.492, 589.692]);
+    edges.sort_by(f32::total_cmp);
+    for e in edges.windows(2) {
+        let (a, b) = (e[0], e[1]);
+        let lights =
+            wa * (pa.mass_below(b) - pa.mass_below(a)) + wb * (pb.mass_below(b) - pb.mass_below(a));
+        let m = 10_000;
+        let visible: f64 = (0..m)
+            .map(|i| visible_pdf(a + (b - a) * (i as f32 + 0.5) / m as f32) as f64)
+            .sum::<f64>()
+            * (b - a) as f64
+            / m as f64;
+        let want = 0.9 * lights + 0.1 * visible;
+        let got = s.mass_between(a, b);
+        assert!(
+            (got - want).abs() < cells + 1e-5,
+            "{a}–{b}: {got} vs {want}"
+        );
+    }
+    let mut rng = Rng(4);
+    for _ in 0..10_000 {
+        let u = rng.next();
+        let wl: SampledWavelengths<4> = s.sample(rng.next(), u);
+        for k in 0..4 {
+            let l = wl.lambda(k);
+            // Member k sits at (k + u)/4 of the mixture's CDF (up to the
+            // rounding of λ to f32, a fraction of a cell in a line).
+            let below = s.mass_between(360.0, l);
+            assert!(
+                (below - (k as f64 + u as f64) / 4.0).abs() < 0.5 * cells,
+                "member {k} at {l}: mass below {below}"
+            );
+            // Its density is the table's (the last f32 step of a cell may
+            // hold the next one's start, see `InverseCdf::pdf`).
+            // Inside a sodium line a cell is 2–3 f32 steps wide.
+            let p = wl.pdf(k);
+            assert!(
+                (0..4).any(|i| p == s.pdf(f32::from_bits(l.to_bits() - i))),
+                "{l}: {p} vs {}",
+                s.pdf(l)
+            );
+        }
+    }
+}
+
 #[test]
 fn hero_rotates_and_single_keeps_one() {
     let wl: SampledWavelengths<4> = WavelengthSampler::Hero.sample(0.0, 0.3);
