@@ -103,6 +103,10 @@ pub fn write_png(
         let file = File::create(&tmp).map_err(io)?;
         let mut encoder = png::Encoder::new(BufWriter::new(file), width, height);
         encoder.set_color(png::ColorType::Rgb);
+        // fdeflate with an adaptive row filter: on a dithered 1920×1080
+        // night image ~25× faster than the default (zlib level 6) for
+        // files ~1.2× larger (1.07× at 16 bits); README, benchmarks.
+        encoder.set_compression(png::Compression::Fast);
         let bytes: std::borrow::Cow<[u8]> = match samples {
             PngSamples::Rgb8(v) => {
                 encoder.set_depth(png::BitDepth::Eight);
@@ -111,10 +115,11 @@ pub fn write_png(
             PngSamples::Rgb16(v) => {
                 encoder.set_depth(png::BitDepth::Sixteen);
                 // PNG stores 16-bit samples big-endian.
-                v.iter()
-                    .flat_map(|s| s.to_be_bytes())
-                    .collect::<Vec<u8>>()
-                    .into()
+                let mut bytes = vec![0u8; 2 * v.len()];
+                for (b, s) in bytes.chunks_exact_mut(2).zip(v) {
+                    b.copy_from_slice(&s.to_be_bytes());
+                }
+                bytes.into()
             }
         };
         if colour == PngColour::SRGB {
@@ -133,4 +138,61 @@ pub fn write_png(
         let _ = std::fs::remove_file(&tmp);
     }
     result
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Decodes `path` with the `png` crate: (width, height, bit depth, bytes).
+    fn decode(path: &Path) -> (u32, u32, png::BitDepth, Vec<u8>) {
+        let decoder = png::Decoder::new(std::io::BufReader::new(File::open(path).unwrap()));
+        let mut reader = decoder.read_info().unwrap();
+        let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+        let info = reader.next_frame(&mut buf).unwrap();
+        buf.truncate(info.buffer_size());
+        (info.width, info.height, info.bit_depth, buf)
+    }
+
+    #[test]
+    fn pngs_decode_to_exactly_the_samples_written() {
+        let dir = std::env::temp_dir().join(format!("scotopia-png-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        // Odd sizes; smooth gradients, flat runs and hashed noise, so every
+        // row filter and both literal and match paths of the compressor
+        // are exercised.
+        let (w, h) = (97u32, 61u32);
+        let sample = |i: u32| -> u32 {
+            let (x, y) = (i / 3 % w, i / 3 / w);
+            match y % 3 {
+                0 => x * 2 + y,
+                1 => 200,
+                _ => i.wrapping_mul(0x9E37_79B9).rotate_left(7),
+            }
+        };
+        let n = w * h * 3;
+        let rgb8: Vec<u8> = (0..n).map(|i| sample(i) as u8).collect();
+        let path = dir.join("eight.png");
+        write_png(&path, w, h, PngSamples::Rgb8(&rgb8), PngColour::SRGB).unwrap();
+        assert_eq!(decode(&path), (w, h, png::BitDepth::Eight, rgb8));
+
+        let rgb16: Vec<u16> = (0..n).map(|i| sample(i).wrapping_mul(131) as u16).collect();
+        let path = dir.join("sixteen.png");
+        write_png(
+            &path,
+            w,
+            h,
+            PngSamples::Rgb16(&rgb16),
+            PngColour::REC2100_PQ,
+        )
+        .unwrap();
+        let (dw, dh, depth, bytes) = decode(&path);
+        let back: Vec<u16> = bytes
+            .chunks_exact(2)
+            .map(|b| u16::from_be_bytes([b[0], b[1]]))
+            .collect();
+        assert_eq!((dw, dh, depth, back), (w, h, png::BitDepth::Sixteen, rgb16));
+        // Only the two images are left: no temporary file behind.
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 2);
+    }
 }

@@ -63,7 +63,14 @@ pub fn read_xyzv(path: &Path, rgb: RgbInput) -> Result<XyzvImage, ImageError> {
                 notes.push("--units ignored: an XYZ image is already absolute".into());
             }
             match channel("V") {
-                Some(v) => (0..n).map(|i| [x[i], y[i], z[i], v[i]]).collect(),
+                // Zipped slices: one pass, no bounds checks, no per-pixel work.
+                Some(v) => x
+                    .iter()
+                    .zip(y)
+                    .zip(z)
+                    .zip(v)
+                    .map(|(((&x, &y), &z), &v)| [x, y, z, v])
+                    .collect(),
                 None => {
                     notes.push(
                         "no V channel: V′ estimated from X, Y, Z with Pattanaik et al. 1998's \

@@ -9,21 +9,47 @@ use scotopia_color::space::srgb_encode;
 /// night gradients do not band. The noise is a hash of the pixel and
 /// channel index: the same image always encodes to the same bytes.
 pub fn srgb8(rgb: &[[f32; 3]]) -> Vec<u8> {
-    rgb.par_iter()
+    // Written in place, a block of pixels per task (a flat_map collect
+    // gathers per-task vectors and copies them again).
+    const BLOCK: usize = 4096;
+    let mut out = vec![0u8; 3 * rgb.len()];
+    out.par_chunks_mut(3 * BLOCK)
+        .zip(rgb.par_chunks(BLOCK))
         .enumerate()
-        .flat_map_iter(|(i, p)| {
-            (0..3).map(move |c| {
-                let v = srgb_encode(p[c].clamp(0.0, 1.0) as f64) * 255.0;
-                // Pure black and peak white stay exact.
-                if v <= 0.0 || v >= 255.0 {
-                    return v as u8;
+        .for_each(|(b, (out, px))| {
+            for (j, (o, p)) in out.chunks_exact_mut(3).zip(px).enumerate() {
+                let i = b * BLOCK + j;
+                for c in 0..3 {
+                    o[c] = dithered8(srgb_encode_f32(p[c].clamp(0.0, 1.0)) * 255.0, 3 * i + c);
                 }
-                let k = (3 * i + c) as u64;
-                let noise = uniform(k, 0) + uniform(k, 1) - 1.0;
-                (v + noise).round().clamp(0.0, 255.0) as u8
-            })
-        })
-        .collect()
+            }
+        });
+    out
+}
+
+/// The 8-bit code of `v` (in code values, 0..=255) with sample `k`'s
+/// triangular dither.
+fn dithered8(v: f32, k: usize) -> u8 {
+    let v = f64::from(v);
+    // Pure black and peak white stay exact.
+    if v <= 0.0 || v >= 255.0 {
+        return v as u8;
+    }
+    let k = k as u64;
+    let noise = uniform(k, 0) + uniform(k, 1) - 1.0;
+    (v + noise).round().clamp(0.0, 255.0) as u8
+}
+
+/// The sRGB transfer function (IEC 61966-2-1, as `srgb_encode`) in f32: the
+/// pipeline's values are f32, and at 8 bits f32 arithmetic (a few 1e-5 of a
+/// code) moves a dithered code by one in ~5 of a million samples (night
+/// street, 1920×1080), for under half the time of the f64 power.
+fn srgb_encode_f32(linear: f32) -> f32 {
+    if linear <= 0.003_130_8 {
+        12.92 * linear
+    } else {
+        1.055 * linear.powf(1.0 / 2.4) - 0.055
+    }
 }
 
 /// 16-bit sRGB (no dither needed at this depth).
@@ -94,6 +120,17 @@ mod tests {
         // Black and white stay exact.
         assert!(srgb8(&[[0.0; 3]]).iter().all(|&c| c == 0));
         assert!(srgb8(&[[1.0; 3]]).iter().all(|&c| c == 255));
+    }
+
+    #[test]
+    fn the_f32_transfer_function_is_the_f64_one_to_a_few_ulp() {
+        // Both branches and the knee; 2e-7 is ~3 ulp of f32 near 1 (5e-5
+        // of an 8-bit code).
+        for i in 0..=200_000 {
+            let x = i as f32 / 200_000.0;
+            let err = (f64::from(srgb_encode_f32(x)) - srgb_encode(f64::from(x))).abs();
+            assert!(err < 2e-7, "{x}: {err}");
+        }
     }
 
     #[test]
