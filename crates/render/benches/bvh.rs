@@ -4,9 +4,10 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use scotopia_render::accel::Aggregate;
+use scotopia_render::accel::{Aggregate, LeafCost};
 use scotopia_render::geometry::{Shape, TriangleMesh};
 use scotopia_render::math::{Ray, Transform, Vec3};
+use scotopia_render::simd::Level;
 
 /// Quads per side: 708² quads × 2 = 1,002,528 triangles.
 const N: usize = 708;
@@ -74,22 +75,122 @@ fn incoherent_rays() -> Vec<Ray> {
         .collect()
 }
 
+/// With `BVH_COUNT=level,primary` (or `incoherent`; then optionally
+/// `,wide` for leaves costed by the level's own steps) set, traces that
+/// ray set once at that level instead of benchmarking,
+/// for instruction counts: `valgrind --tool=callgrind
+/// --toggle-collect='*intersect_many*'` counts the tracing alone.
+fn count_once(what: &str) {
+    let mut parts = what.split(',');
+    let level = parts.next().unwrap_or("scalar");
+    let set = parts.next().unwrap_or("primary");
+    let Ok(level) = Level::parse(level) else {
+        eprintln!("BVH_COUNT: no such level {level}");
+        return;
+    };
+    let cost = match parts.next() {
+        Some("wide") => LeafCost::wide(level.lanes()),
+        _ => LeafCost::SCALAR,
+    };
+    let agg = Aggregate::built_with(&cost, vec![terrain()], Vec::new());
+    let mesh: usize = agg
+        .shapes
+        .iter()
+        .map(|s| match s {
+            Shape::Mesh(m) => {
+                std::mem::size_of_val(&m.positions[..]) + std::mem::size_of_val(&m.indices[..])
+            }
+            _ => 0,
+        })
+        .sum();
+    let n = agg.stored_triangles() as f64;
+    eprintln!(
+        "{level}: bytes per triangle: acceleration {:.1} ({} nodes), mesh {:.1}",
+        agg.acceleration_bytes() as f64 / n,
+        agg.bvh().node_count(),
+        mesh as f64 / n
+    );
+    let rays = if set == "incoherent" {
+        incoherent_rays()
+    } else {
+        primary_rays()
+    };
+    let mut out = vec![None; rays.len()];
+    agg.intersect_many(level, &rays, &mut out);
+    eprintln!(
+        "{level} {set}: {} hits of {} rays",
+        out.iter().flatten().count(),
+        rays.len()
+    );
+    // BVH_REPEAT=n: the fastest of n passes, in Mrays/s (robust to a
+    // shared machine's noise, which only ever slows a pass).
+    let repeat: usize = std::env::var("BVH_REPEAT")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(0);
+    if repeat > 0 {
+        let best = (0..repeat)
+            .map(|_| {
+                let t = std::time::Instant::now();
+                agg.intersect_many(level, &rays, &mut out);
+                t.elapsed().as_secs_f64()
+            })
+            .fold(f64::INFINITY, f64::min);
+        eprintln!(
+            "{level} {set}: {:.2} Mrays/s (best of {repeat})",
+            rays.len() as f64 / best / 1e6
+        );
+    }
+}
+
 fn bench(c: &mut Criterion) {
+    if let Ok(level) = std::env::var("BVH_COUNT") {
+        return count_once(&level);
+    }
     let shape = terrain();
     let mut group = c.benchmark_group("bvh_1m_triangles");
     group.sample_size(10);
     group.bench_function("build", |b| {
         b.iter(|| black_box(Aggregate::new(vec![shape.clone()])))
     });
-    let agg = Aggregate::new(vec![shape]);
+    // The default BVH at each level; and trees with leaves costed by 8-
+    // and by the widest level's steps.
+    let built = |cost: &LeafCost| Aggregate::built_with(cost, vec![shape.clone()], Vec::new());
+    let default = built(&LeafCost::SCALAR);
+    let mut wide_levels = vec![Level::Avx2, Level::best()];
+    wide_levels.retain(|l| *l >= Level::Avx2 && l.supported());
+    wide_levels.dedup();
+    let wide: Vec<(Level, Aggregate)> = wide_levels
+        .into_iter()
+        .map(|l| (l, built(&LeafCost::wide(l.lanes()))))
+        .collect();
+    let mut runs: Vec<(String, Level, &Aggregate)> = Level::available()
+        .into_iter()
+        .map(|l| (l.to_string(), l, &default))
+        .collect();
+    runs.extend(
+        wide.iter()
+            .map(|(l, a)| (format!("{l}_wide_leaves"), *l, a)),
+    );
     for (name, rays) in [
         ("primary", primary_rays()),
         ("incoherent", incoherent_rays()),
     ] {
         group.throughput(Throughput::Elements(rays.len() as u64));
-        group.bench_with_input(BenchmarkId::new("closest_hit", name), &rays, |b, rays| {
-            b.iter(|| rays.iter().filter(|r| agg.intersect(r).is_some()).count())
-        });
+        for (label, level, agg) in &runs {
+            let level = *level;
+            group.bench_with_input(
+                BenchmarkId::new(format!("closest_hit/{name}"), label),
+                &rays,
+                |b, rays| {
+                    b.iter(|| {
+                        rays.iter()
+                            .filter(|r| agg.intersect_at(level, r).is_some())
+                            .count()
+                    })
+                },
+            );
+        }
     }
     group.finish();
 }

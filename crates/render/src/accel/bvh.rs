@@ -12,10 +12,61 @@ use crate::math::{Ray, Vec3};
 
 /// Bins per split axis.
 const BINS: usize = 16;
-/// Most primitives a leaf may hold.
-const MAX_LEAF: usize = 8;
 /// Cost of a traversal step relative to a primitive test (pbrt-v4 uses ½).
 const TRAVERSAL_COST: f32 = 0.5;
+
+/// The leaves a BVH is built for: how their tests cost, for the SAH.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LeafCost {
+    /// Most primitives a leaf may hold.
+    pub max: usize,
+    /// Primitives one test step covers: 1 for scalar tests, the SIMD lanes
+    /// for block tests.
+    pub lanes: usize,
+    /// Cost of a step relative to one scalar primitive test.
+    pub step: f32,
+    /// Scenes of at most this many primitives are one leaf (no tree):
+    /// tested by brute force in a few wide steps.
+    pub brute_force: usize,
+}
+
+impl LeafCost {
+    /// Leaves for scalar tests: at most 8, each primitive a step (leaves
+    /// of 4 or 2 measured slower, docs/performance.md). Every aggregate is
+    /// built so, whatever the SIMD level: one tree for every level keeps
+    /// their images identical. (Trees with [`LeafCost::wide`] leaves traced
+    /// a million triangles 10–25 % faster at AVX2, but a different tree
+    /// culls different near-misses, and the ray offsets are not yet robust
+    /// to that at 10⁶ scene scale: docs/performance.md, issue 23.)
+    pub const SCALAR: LeafCost = LeafCost {
+        max: 8,
+        lanes: 1,
+        step: 1.0,
+        brute_force: 0,
+    };
+
+    /// Leaves costed by the wide test's steps of `lanes` primitives, up to
+    /// 16.
+    pub fn wide(lanes: usize) -> LeafCost {
+        LeafCost {
+            max: super::block::BLOCK,
+            lanes: lanes.max(1),
+            step: WIDE_STEP_COST,
+            brute_force: 0,
+        }
+    }
+
+    /// The SAH cost of a leaf of `n` primitives, in primitive tests.
+    #[inline]
+    fn of(&self, n: usize) -> f32 {
+        n.div_ceil(self.lanes) as f32 * self.step
+    }
+}
+
+/// Cost of one wide step of a block test (up to 16 lanes) relative to one
+/// scalar primitive test: about 60 vector instructions against the
+/// scalar test's 30–40, which often exits early.
+const WIDE_STEP_COST: f32 = 2.0;
 /// Subtrees larger than this are built in parallel.
 const PARALLEL_MIN: usize = 4096;
 
@@ -26,6 +77,9 @@ pub struct Bvh {
     bounds: Aabb,
     /// Primitive indices in leaf order.
     order: Vec<u32>,
+    /// Each leaf's first position in `order` and primitive count, by the
+    /// leaf numbers `traverse` reports.
+    leaves: Vec<(u32, u32)>,
 }
 
 #[derive(Clone, Copy)]
@@ -47,7 +101,7 @@ enum BuildNode {
     },
 }
 
-fn build(items: &mut [Item], start: usize) -> BuildNode {
+fn build(items: &mut [Item], start: usize, cost: &LeafCost) -> BuildNode {
     let bounds = items.iter().fold(Aabb::EMPTY, |b, it| b.union(it.bounds));
     let n = items.len();
     let leaf = BuildNode::Leaf {
@@ -64,7 +118,7 @@ fn build(items: &mut [Item], start: usize) -> BuildNode {
 
     // All centroids coincide: no plane separates them; split by count.
     let mid = if hi.partial_cmp(&lo) != Some(std::cmp::Ordering::Greater) {
-        if n <= MAX_LEAF {
+        if n <= cost.max {
             return leaf;
         }
         n / 2
@@ -93,14 +147,15 @@ fn build(items: &mut [Item], start: usize) -> BuildNode {
         for i in 0..BINS - 1 {
             acc_b = acc_b.union(boxes[i]);
             acc_n += counts[i];
-            let cost = acc_b.area() * acc_n as f32 + right_area[i + 1] * right_count[i + 1] as f32;
+            let cost =
+                acc_b.area() * cost.of(acc_n) + right_area[i + 1] * cost.of(right_count[i + 1]);
             if cost < best_cost {
                 best_cost = cost;
                 best = i;
             }
         }
         let split_cost = TRAVERSAL_COST + best_cost / bounds.area().max(f32::MIN_POSITIVE);
-        if n <= MAX_LEAF && split_cost >= n as f32 {
+        if n <= cost.max && split_cost >= cost.of(n) {
             return leaf;
         }
         // Partition in place by the chosen plane.
@@ -120,9 +175,9 @@ fn build(items: &mut [Item], start: usize) -> BuildNode {
 
     let (l, r) = items.split_at_mut(mid);
     let (a, b) = if n > PARALLEL_MIN {
-        rayon::join(|| build(l, start), || build(r, start + mid))
+        rayon::join(|| build(l, start, cost), || build(r, start + mid, cost))
     } else {
-        (build(l, start), build(r, start + mid))
+        (build(l, start, cost), build(r, start + mid, cost))
     };
     BuildNode::Interior {
         bounds,
@@ -134,6 +189,11 @@ impl Bvh {
     /// Builds over primitives with the given bounds (empty bounds are left
     /// out: such primitives can never be hit).
     pub fn build(bounds: &[Aabb]) -> Self {
+        Self::build_for(bounds, &LeafCost::SCALAR)
+    }
+
+    /// Builds with leaves costed by `cost`.
+    pub fn build_for(bounds: &[Aabb], cost: &LeafCost) -> Self {
         let mut items: Vec<Item> = bounds
             .par_iter()
             .enumerate()
@@ -149,21 +209,63 @@ impl Bvh {
                 nodes: Vec::new(),
                 bounds: Aabb::EMPTY,
                 order: Vec::new(),
+                leaves: Vec::new(),
             };
         }
         // Leaves hold at most u16::MAX primitives; the count split guarantees
-        // far fewer (MAX_LEAF, or one degenerate cluster halved until small).
-        let root = build(&mut items, 0);
+        // far fewer (cost.max, or one degenerate cluster halved until small).
+        let root = if items.len() <= cost.brute_force.min(u16::MAX as usize) {
+            BuildNode::Leaf {
+                bounds: items.iter().fold(Aabb::EMPTY, |b, it| b.union(it.bounds)),
+                start: 0,
+                count: items.len(),
+            }
+        } else {
+            build(&mut items, 0, cost)
+        };
+        let mut leaves = Vec::new();
         Self {
-            nodes: collapse(&root),
+            nodes: collapse(&root, &mut leaves),
             bounds: root.bounds(),
             order: items.iter().map(|it| it.index).collect(),
+            leaves,
         }
     }
 
-    /// Primitive indices in leaf order: `traverse` reports positions in it.
+    /// Primitive indices in leaf order.
     pub fn order(&self) -> &[u32] {
         &self.order
+    }
+
+    /// Each leaf's first position in `order()` and primitive count, by the
+    /// leaf numbers `traverse` reports.
+    pub fn leaves(&self) -> &[(u32, u32)] {
+        &self.leaves
+    }
+
+    /// The leaf order and the leaves, handed over once the caller has laid
+    /// its primitives out by them (they are not needed to traverse).
+    pub(super) fn take_layout(&mut self) -> (Vec<u32>, Vec<(u32, u32)>) {
+        (
+            std::mem::take(&mut self.order),
+            std::mem::take(&mut self.leaves),
+        )
+    }
+
+    /// Rewrites each leaf's words in its node: `f(leaf number)` gives the
+    /// (child, count) that `traverse` will hand to `Visit::leaf` (count
+    /// must not be 0, which marks interior children). Lets the caller find
+    /// a leaf's primitives without a table lookup.
+    pub fn relabel_leaves(&mut self, f: impl Fn(u32) -> (u32, u16)) {
+        for node in &mut self.nodes {
+            for c in 0..4 {
+                if node.count[c] != 0 {
+                    let (child, count) = f(node.child[c]);
+                    assert!(count != 0, "a leaf's count must not be 0");
+                    (node.child[c], node.count[c]) = (child, count);
+                }
+            }
+        }
     }
 
     /// Nodes of the 4-wide tree.
@@ -171,24 +273,29 @@ impl Bvh {
         self.nodes.len()
     }
 
+    /// Bytes of the nodes.
+    pub fn node_bytes(&self) -> usize {
+        std::mem::size_of_val(&self.nodes[..])
+    }
+
     /// Bounds of everything.
     pub fn bounds(&self) -> Aabb {
         self.bounds
     }
 
-    /// Visits the primitives whose boxes the ray meets within (0, t_max),
-    /// nearest box first, by their position in `order()`.
-    /// `hit(position, t_max)` returns a new, closer t_max when the
-    /// primitive is hit; returning `Some` with `stop` true ends the
+    /// Visits the leaves whose boxes the ray meets within (0, t_max),
+    /// nearest box first, by their number in `leaves()`.
+    /// `hit(leaf, t_max)` returns a new, closer t_max when one of the
+    /// leaf's primitives is hit; returning `Some` with `stop` true ends the
     /// traversal (any-hit queries). `NEAREST_FIRST` orders each node's
     /// children by distance: closest-hit queries need it to shrink t_max
     /// early; any-hit queries skip the sort.
-    #[inline]
+    #[inline(always)]
     pub fn traverse<const NEAREST_FIRST: bool>(
         &self,
         ray: &Ray,
         t_max: f32,
-        mut hit: impl FnMut(u32, f32) -> Option<(f32, bool)>,
+        mut hit: impl Visit,
     ) -> f32 {
         if self.nodes.is_empty() {
             return t_max;
@@ -201,12 +308,13 @@ impl Bvh {
     /// (entry distance, node, child slot) words; a subtree that would
     /// overflow it (only in pathologically deep trees) is walked by
     /// recursion instead. Returns (t_max, stopped).
+    #[inline(always)]
     fn walk<const NEAREST_FIRST: bool>(
         &self,
         q: &Query,
         root: u32,
         mut t_max: f32,
-        hit: &mut impl FnMut(u32, f32) -> Option<(f32, bool)>,
+        hit: &mut impl Visit,
     ) -> (f32, bool) {
         let mut stack = [0u64; STACK];
         let mut sp = 0;
@@ -285,7 +393,7 @@ impl Bvh {
     /// Puts child `slot` of node `index`, entered at `t`, on the stack;
     /// when the stack is full, visits it at once instead.
     #[allow(clippy::too_many_arguments)]
-    #[inline]
+    #[inline(always)]
     fn push<const NEAREST_FIRST: bool>(
         &self,
         stack: &mut [u64; STACK],
@@ -295,7 +403,7 @@ impl Bvh {
         slot: u32,
         t: f32,
         t_max: f32,
-        hit: &mut impl FnMut(u32, f32) -> Option<(f32, bool)>,
+        hit: &mut impl Visit,
     ) -> (f32, bool) {
         if *sp < STACK {
             stack[*sp] = (t.to_bits() as u64) << 32 | (index << 2 | slot) as u64;
@@ -305,29 +413,55 @@ impl Bvh {
         self.visit::<NEAREST_FIRST>(q, &self.nodes[index as usize], slot as usize, t_max, hit)
     }
 
-    /// Child `slot` of `node`: a leaf's primitives, or (when the stack is
-    /// full) an interior subtree by recursion.
+    /// Child `slot` of `node`: a leaf, or (when the stack is full) an
+    /// interior subtree by recursion.
+    #[inline(always)]
     fn visit<const NEAREST_FIRST: bool>(
         &self,
         q: &Query,
         node: &Node4,
         slot: usize,
-        mut t_max: f32,
-        hit: &mut impl FnMut(u32, f32) -> Option<(f32, bool)>,
+        t_max: f32,
+        hit: &mut impl Visit,
     ) -> (f32, bool) {
-        let (first, count) = (node.child[slot], node.count[slot] as u32);
-        if count == 0 {
-            return self.walk::<NEAREST_FIRST>(q, first, t_max, hit);
+        let child = node.child[slot];
+        if node.count[slot] == 0 {
+            return self.walk_deep::<NEAREST_FIRST>(q, child, t_max, hit);
         }
-        for k in first..first + count {
-            if let Some((t, stop)) = hit(k, t_max) {
-                t_max = t;
-                if stop {
-                    return (t_max, true);
-                }
-            }
+        match hit.leaf(child, node.count[slot], t_max) {
+            Some((t, stop)) => (t, stop),
+            None => (t_max, false),
         }
-        (t_max, false)
+    }
+
+    /// `walk` where the stack overflowed: not inlined, which ends the
+    /// recursion's inlining.
+    #[inline(never)]
+    fn walk_deep<const NEAREST_FIRST: bool>(
+        &self,
+        q: &Query,
+        root: u32,
+        t_max: f32,
+        hit: &mut impl Visit,
+    ) -> (f32, bool) {
+        self.walk::<NEAREST_FIRST>(q, root, t_max, hit)
+    }
+}
+
+/// What a traversal does at a leaf: `leaf(child, count, t_max)` (the
+/// leaf's words in its node: its number and primitive count as built, or
+/// what [`Bvh::relabel_leaves`] put there) returns a new, closer t_max
+/// when a primitive is hit, with whether to stop. A trait rather than a
+/// closure so the call can be `#[inline(always)]`, which keeps it inside a
+/// SIMD kernel's target features.
+pub trait Visit {
+    fn leaf(&mut self, child: u32, count: u16, t_max: f32) -> Option<(f32, bool)>;
+}
+
+impl<F: FnMut(u32, f32) -> Option<(f32, bool)>> Visit for F {
+    #[inline(always)]
+    fn leaf(&mut self, child: u32, _: u16, t_max: f32) -> Option<(f32, bool)> {
+        self(child, t_max)
     }
 }
 
@@ -360,7 +494,7 @@ impl Query {
 struct Node4 {
     /// min x, min y, min z, max x, max y, max z of the four children.
     bounds: [[f32; 4]; 6],
-    /// Interior child: its node index; leaf: first position in `order`.
+    /// Interior child: its node index; leaf: its leaf number.
     child: [u32; 4],
     /// Primitives of a leaf child; 0 for an interior child.
     count: [u16; 4],
@@ -432,18 +566,23 @@ impl BuildNode {
 /// Collapses the binary tree into 4-wide nodes: each node takes its
 /// children's children, opening the largest interior child first, until
 /// it has four. Node 0 is the root.
-fn collapse(root: &BuildNode) -> Vec<Node4> {
+fn collapse(root: &BuildNode, leaves: &mut Vec<(u32, u32)>) -> Vec<Node4> {
     let mut nodes = vec![Node4::EMPTY];
     let top: Vec<&BuildNode> = match root {
         // A lone leaf still needs a node above it.
         BuildNode::Leaf { .. } => vec![root],
         BuildNode::Interior { children, .. } => vec![&children[0], &children[1]],
     };
-    fill(0, top, &mut nodes);
+    fill(0, top, &mut nodes, leaves);
     nodes
 }
 
-fn fill(at: usize, mut kids: Vec<&BuildNode>, nodes: &mut Vec<Node4>) {
+fn fill(
+    at: usize,
+    mut kids: Vec<&BuildNode>,
+    nodes: &mut Vec<Node4>,
+    leaves: &mut Vec<(u32, u32)>,
+) {
     while kids.len() < 4 {
         let widest = kids
             .iter()
@@ -466,14 +605,15 @@ fn fill(at: usize, mut kids: Vec<&BuildNode>, nodes: &mut Vec<Node4>) {
         }
         match kid {
             BuildNode::Leaf { start, count, .. } => {
-                nodes[at].child[c] = *start as u32;
-                nodes[at].count[c] = *count as u16;
+                nodes[at].child[c] = leaves.len() as u32;
+                nodes[at].count[c] = (*count).clamp(1, u16::MAX as usize) as u16;
+                leaves.push((*start as u32, *count as u32));
             }
             BuildNode::Interior { children, .. } => {
                 let index = nodes.len();
                 nodes.push(Node4::EMPTY);
                 nodes[at].child[c] = index as u32;
-                fill(index, vec![&children[0], &children[1]], nodes);
+                fill(index, vec![&children[0], &children[1]], nodes, leaves);
             }
         }
     }

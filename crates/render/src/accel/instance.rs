@@ -16,6 +16,7 @@ use std::sync::Arc;
 use super::{Aabb, Aggregate};
 use crate::geometry::{Hit, Shape, Surface};
 use crate::math::{Ray, Transform, Vec3};
+use crate::simd::Level;
 
 /// The shapes of one `shapegroup` under their own BVH. Its shapes are
 /// numbered in the scene from `first_shape` on (their materials are
@@ -126,8 +127,14 @@ impl Instance {
     /// primitive, and this instance's number `index`.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f32, index: u32) -> Option<Hit> {
+        self.intersect_at(Level::current(), ray, t_max, index)
+    }
+
+    /// [`Instance::intersect`] at SIMD level `level`.
+    #[inline]
+    pub fn intersect_at(&self, level: Level, ray: &Ray, t_max: f32, index: u32) -> Option<Hit> {
         let local = self.to_object(ray, t_max);
-        let hit = self.group.geometry.intersect(&local)?;
+        let hit = self.group.geometry.intersect_at(level, &local)?;
         Some(Hit {
             shape: self.group.first_shape + hit.shape,
             instance: Some(index),
@@ -138,7 +145,15 @@ impl Instance {
     /// Whether anything of the group lies along `ray` within (0, t_max).
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        self.group.geometry.occluded(&self.to_object(ray, t_max))
+        self.occluded_at(Level::current(), ray, t_max)
+    }
+
+    /// [`Instance::occluded`] at SIMD level `level`.
+    #[inline]
+    pub fn occluded_at(&self, level: Level, ray: &Ray, t_max: f32) -> bool {
+        self.group
+            .geometry
+            .occluded_at(level, &self.to_object(ray, t_max))
     }
 
     /// The world-space surface at `hit` (a hit on this instance) of `ray`.

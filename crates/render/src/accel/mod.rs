@@ -2,29 +2,102 @@
 //! answers a scene's ray queries, and instances of shape groups.
 
 mod aabb;
+mod block;
 mod bvh;
 mod instance;
 mod prims;
+mod query;
+#[cfg(test)]
+mod tests;
 
 pub use aabb::Aabb;
-pub use bvh::Bvh;
+pub use bvh::{Bvh, LeafCost, Visit};
 pub use instance::{Instance, ShapeGroup};
 
-use crate::geometry::{Hit, RayShear, Shape, Surface};
-use crate::math::Ray;
+use crate::geometry::{Hit, PlaneTest, Shape, Surface};
+use crate::math::{Ray, Vec3};
+use crate::simd::Level;
+use block::{Planes, Triangles, PAD, PLANE_FLOATS, TRI_FLOATS};
 use prims::Prim;
 
 /// All shapes of a scene, and the instances of shape groups, under one BVH
 /// over their primitives (an instance is one primitive; its group has a
-/// BVH of its own).
+/// BVH of its own). A leaf's triangles and planar shapes are kept in
+/// blocks tested many at a time; spheres, cylinders and instances one at
+/// a time.
 #[derive(Debug, Clone)]
 pub struct Aggregate {
     /// The shapes outside groups, numbered from 0.
     pub shapes: Vec<Shape>,
     instances: Vec<Instance>,
-    /// The primitives in the BVH's leaf order.
-    prims: Vec<Prim>,
     bvh: Bvh,
+    /// The BVH's leaves, by the numbers its traversal reports.
+    leaves: Vec<Leaf>,
+    /// The leaves' triangles: each leaf's coordinate arrays
+    /// (`block::Triangles`), then [`PAD`] floats.
+    tri_data: Vec<f32>,
+    /// Each triangle's shape and primitive, in leaf order.
+    tri_ids: Vec<(u32, u32)>,
+    /// The leaves' planar shapes: each leaf's arrays (`block::Planes`),
+    /// then [`PAD`] floats.
+    plane_data: Vec<f32>,
+    /// Each planar shape's test and shape, in leaf order.
+    plane_tests: Vec<(PlaneTest, u32)>,
+    /// The primitives tested one at a time, in leaf order.
+    others: Vec<Prim>,
+}
+
+/// A leaf's count word in its node when the leaf holds more than
+/// triangles: its child word is then its number in `Aggregate::leaves`.
+/// A leaf of triangles alone has its first triangle and their count there.
+const MIXED: u16 = 0x8000;
+
+/// One leaf: its triangles, planar shapes and other primitives, each a run
+/// from a first index, tested in that order.
+#[derive(Debug, Clone, Copy)]
+struct Leaf {
+    tri_first: u32,
+    plane_first: u32,
+    other_first: u32,
+    tris: u16,
+    planes: u16,
+    others: u16,
+}
+
+impl Aggregate {
+    /// The triangles of `leaf`.
+    #[inline(always)]
+    fn triangles(&self, leaf: &Leaf) -> Triangles<'_> {
+        Triangles {
+            data: &self.tri_data[leaf.tri_first as usize * TRI_FLOATS..],
+            n: leaf.tris as usize,
+        }
+    }
+
+    /// The planar shapes of `leaf`.
+    #[inline(always)]
+    fn planar(&self, leaf: &Leaf) -> Planes<'_> {
+        Planes {
+            data: &self.plane_data[leaf.plane_first as usize * PLANE_FLOATS..],
+            n: leaf.planes as usize,
+        }
+    }
+}
+
+/// The SIMD level of the leaf tests when the process runs at `level`: at
+/// most AVX2. Leaves hold at most 16 primitives and mostly fewer, so
+/// 16-lane steps run largely empty; they measured slower than 8-lane ones
+/// (docs/performance.md, issue 23).
+#[inline]
+pub fn leaf_level(level: Level) -> Level {
+    level.min(Level::Avx2)
+}
+
+/// A primitive while the aggregate is built.
+enum Item {
+    Triangle(u32, u32, [Vec3; 3]),
+    Plane(u32, PlaneTest),
+    Other(Prim),
 }
 
 impl Aggregate {
@@ -33,32 +106,110 @@ impl Aggregate {
     }
 
     /// `shapes` and `instances` under one BVH. The groups' shapes are
-    /// numbered after `shapes` (by each group's `first_shape`).
+    /// numbered after `shapes` (by each group's `first_shape`). The tree is
+    /// the same at every SIMD level ([`LeafCost::SCALAR`]).
     pub fn with_instances(shapes: Vec<Shape>, instances: Vec<Instance>) -> Self {
-        let mut prims: Vec<Prim> = shapes
+        Self::built_with(&LeafCost::SCALAR, shapes, instances)
+    }
+
+    /// [`Aggregate::with_instances`] with leaves costed by `cost`.
+    pub fn built_with(cost: &LeafCost, shapes: Vec<Shape>, instances: Vec<Instance>) -> Self {
+        // Primitives are numbered shape by shape, then the instances.
+        let bounds: Vec<Aabb> = shapes
             .iter()
-            .enumerate()
-            .flat_map(|(s, shape)| {
-                let shapes = &shapes;
-                (0..shape.primitive_count()).map(move |p| Prim::new(shapes, s as u32, p as u32))
-            })
+            .flat_map(|shape| (0..shape.primitive_count()).map(move |p| shape.bounds(p)))
+            .chain(instances.iter().map(|i| i.bounds()))
             .collect();
-        let mut bounds: Vec<Aabb> = prims
-            .iter()
-            .map(|p| shapes[p.shape as usize].bounds(p.index as usize))
-            .collect();
-        for (k, instance) in instances.iter().enumerate() {
-            prims.push(Prim::of_instance(k as u32));
-            bounds.push(instance.bounds());
+        let mut bvh = Bvh::build_for(&bounds, cost);
+        drop(bounds);
+        // Primitive numbers → (shape, primitive), for the leaves' items.
+        let mut first = Vec::with_capacity(shapes.len() + 1);
+        let mut n = 0u32;
+        for shape in &shapes {
+            first.push(n);
+            n += shape.primitive_count() as u32;
         }
-        let bvh = Bvh::build(&bounds);
-        let prims = bvh.order().iter().map(|&i| prims[i as usize]).collect();
-        Self {
-            shapes,
-            instances,
-            prims,
+        first.push(n);
+        let item = |i: u32| -> Item {
+            if i >= n {
+                return Item::Other(Prim::of_instance(i - n));
+            }
+            let s = first.partition_point(|&f| f <= i) - 1;
+            let p = i - first[s];
+            match &shapes[s] {
+                Shape::Mesh(m) => {
+                    let (a, b, c) = m.vertices(p as usize);
+                    Item::Triangle(s as u32, p, [a, b, c])
+                }
+                Shape::Planar(pl) => Item::Plane(s as u32, pl.test),
+                _ => Item::Other(
+                    Prim::new(&shapes, s as u32, p).expect("spheres and cylinders are prims"),
+                ),
+            }
+        };
+        let (order, bvh_leaves) = bvh.take_layout();
+        let mut agg = Self {
+            shapes: Vec::new(),
+            instances: Vec::new(),
             bvh,
+            leaves: Vec::with_capacity(bvh_leaves.len()),
+            tri_data: Vec::new(),
+            tri_ids: Vec::new(),
+            plane_data: Vec::new(),
+            plane_tests: Vec::new(),
+            others: Vec::new(),
+        };
+        let (mut tris, mut planes) = (Vec::new(), Vec::new());
+        for &(start, count) in &bvh_leaves {
+            tris.clear();
+            planes.clear();
+            let leaf = Leaf {
+                tri_first: agg.tri_ids.len() as u32,
+                plane_first: agg.plane_tests.len() as u32,
+                other_first: agg.others.len() as u32,
+                tris: 0,
+                planes: 0,
+                others: 0,
+            };
+            for &i in &order[start as usize..(start + count) as usize] {
+                match item(i) {
+                    Item::Triangle(s, p, v) => {
+                        tris.push(v);
+                        agg.tri_ids.push((s, p));
+                    }
+                    Item::Plane(s, t) => {
+                        planes.push(t);
+                        agg.plane_tests.push((t, s));
+                    }
+                    Item::Other(prim) => agg.others.push(prim),
+                }
+            }
+            block::push_triangles(&mut agg.tri_data, &tris);
+            block::push_planes(&mut agg.plane_data, &planes);
+            agg.leaves.push(Leaf {
+                tris: tris.len() as u16,
+                planes: planes.len() as u16,
+                others: (agg.others.len() as u32 - leaf.other_first) as u16,
+                ..leaf
+            });
         }
+        let leaves = &agg.leaves;
+        agg.bvh.relabel_leaves(|k| {
+            let leaf = &leaves[k as usize];
+            if leaf.planes == 0 && leaf.others == 0 && leaf.tris < MIXED {
+                (leaf.tri_first, leaf.tris)
+            } else {
+                (k, MIXED)
+            }
+        });
+        agg.tri_data.extend([0.0; PAD]);
+        agg.plane_data.extend([0.0; PAD]);
+        agg.tri_data.shrink_to_fit();
+        agg.tri_ids.shrink_to_fit();
+        agg.others.shrink_to_fit();
+        agg.shapes = shapes;
+        agg.instances = instances;
+        agg
     }
 
     pub fn bvh(&self) -> &Bvh {
@@ -115,45 +266,71 @@ impl Aggregate {
                 .sum::<usize>()
     }
 
-    /// The closest hit within (0, ray.t_max).
-    pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
-        let shear = RayShear::new(ray);
-        let mut best: Option<Hit> = None;
-        self.bvh.traverse::<true>(ray, ray.t_max, |i, t_max| {
-            let prim = &self.prims[i as usize];
-            let hit = match prim.instance() {
-                Some(k) => self.instances[k as usize].intersect(ray, t_max, k)?,
-                None => {
-                    let (t, uv) = prim.intersect(ray, &shear, t_max)?;
-                    Hit {
-                        t,
-                        shape: prim.shape,
-                        prim: prim.index,
-                        uv,
-                        instance: None,
-                    }
-                }
-            };
-            best = Some(hit);
-            Some((hit.t, false))
-        });
-        best
+    /// Bytes of the acceleration structure (BVH nodes, leaves, blocks and
+    /// the other primitives' tests), not counting the shapes themselves.
+    pub fn acceleration_bytes(&self) -> usize {
+        use std::mem::size_of_val;
+        self.bvh.node_bytes()
+            + size_of_val(&self.leaves[..])
+            + size_of_val(&self.tri_data[..])
+            + size_of_val(&self.tri_ids[..])
+            + size_of_val(&self.plane_data[..])
+            + size_of_val(&self.plane_tests[..])
+            + size_of_val(&self.others[..])
     }
 
-    /// Whether anything lies within (0, ray.t_max).
+    /// The closest hit within (0, ray.t_max), at the process's SIMD level
+    /// (at most AVX2: [`leaf_level`]).
+    #[inline]
+    pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        self.intersect_at(leaf_level(Level::current()), ray)
+    }
+
+    /// Whether anything lies within (0, ray.t_max), at the process's SIMD
+    /// level (at most AVX2: [`leaf_level`]).
+    #[inline]
     pub fn occluded(&self, ray: &Ray) -> bool {
-        let shear = RayShear::new(ray);
-        let mut any = false;
-        self.bvh.traverse::<false>(ray, ray.t_max, |i, t_max| {
-            let prim = &self.prims[i as usize];
-            let blocked = match prim.instance() {
-                Some(k) => self.instances[k as usize].occluded(ray, t_max),
-                None => prim.intersect(ray, &shear, t_max).is_some(),
-            };
-            any |= blocked;
-            blocked.then_some((t_max, true))
+        self.occluded_at(leaf_level(Level::current()), ray)
+    }
+
+    /// [`Aggregate::intersect`] at SIMD level `level` (every level gives
+    /// the same hit: the scalar test decides each one).
+    #[inline]
+    pub fn intersect_at(&self, level: Level, ray: &Ray) -> Option<Hit> {
+        level.run(query::Closest { agg: self, ray })
+    }
+
+    /// [`Aggregate::occluded`] at SIMD level `level`.
+    #[inline]
+    pub fn occluded_at(&self, level: Level, ray: &Ray) -> bool {
+        level.run(query::Occluded { agg: self, ray })
+    }
+
+    /// The closest hit of each ray, at SIMD level `level` (one dispatch for
+    /// all: what a wavefront tracer calls).
+    ///
+    /// # Panics
+    /// When `out` and `rays` differ in length.
+    pub fn intersect_many(&self, level: Level, rays: &[Ray], out: &mut [Option<Hit>]) {
+        assert_eq!(rays.len(), out.len(), "intersect_many: one output per ray");
+        level.run(query::ClosestMany {
+            agg: self,
+            rays,
+            out,
         });
-        any
+    }
+
+    /// Whether each ray is blocked, at SIMD level `level`.
+    ///
+    /// # Panics
+    /// When `out` and `rays` differ in length.
+    pub fn occluded_many(&self, level: Level, rays: &[Ray], out: &mut [bool]) {
+        assert_eq!(rays.len(), out.len(), "occluded_many: one output per ray");
+        level.run(query::OccludedMany {
+            agg: self,
+            rays,
+            out,
+        });
     }
 
     /// The world-space surface at `hit` (from `intersect(ray)`).

@@ -1,18 +1,16 @@
-//! The primitives in the BVH's leaf order, each with what its ray test
-//! needs stored inline: a traversal step reads one entry instead of
-//! following shape → mesh → index → position.
+//! The primitives tested one at a time (triangles and planar shapes are
+//! tested in blocks: `block.rs`), in the BVH's leaf order, each with what
+//! its ray test needs stored inline.
 
-use crate::geometry::{intersect_triangle, CylinderTest, PlaneTest, RayShear, Shape, Sphere};
+use crate::geometry::{CylinderTest, Shape, Sphere};
 use crate::math::{Ray, Vec3};
 
 #[derive(Debug, Clone, Copy)]
 enum Test {
-    Triangle([Vec3; 3]),
     Sphere(Vec3, f32),
-    Plane(PlaneTest),
     Cylinder(CylinderTest),
     /// An instance of a shape group, by its number in the aggregate: the
-    /// aggregate tests it (`Instance::intersect`).
+    /// aggregate tests it (`Instance::intersect_at`).
     Instance(u32),
 }
 
@@ -25,17 +23,15 @@ pub(super) struct Prim {
 }
 
 impl Prim {
-    pub fn new(shapes: &[Shape], shape: u32, index: u32) -> Self {
+    /// Primitive `index` of `shapes[shape]`, if it is a sphere or a
+    /// cylinder (the other kinds go into blocks).
+    pub fn new(shapes: &[Shape], shape: u32, index: u32) -> Option<Self> {
         let test = match &shapes[shape as usize] {
-            Shape::Mesh(m) => {
-                let (a, b, c) = m.vertices(index as usize);
-                Test::Triangle([a, b, c])
-            }
             Shape::Sphere(s) => Test::Sphere(s.center, s.radius),
-            Shape::Planar(p) => Test::Plane(p.test),
             Shape::Cylinder(c) => Test::Cylinder(c.test),
+            Shape::Mesh(_) | Shape::Planar(_) => return None,
         };
-        Self { test, shape, index }
+        Some(Self { test, shape, index })
     }
 
     /// Instance `k` of the aggregate.
@@ -56,17 +52,13 @@ impl Prim {
         }
     }
 
-    /// t in (0, t_max) and the hit's barycentrics or object (x, y).
+    /// t in (0, t_max) and the hit's object (x, y) or (0, 0).
     #[inline(always)]
-    pub fn intersect(&self, ray: &Ray, shear: &RayShear, t_max: f32) -> Option<(f32, [f32; 2])> {
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<(f32, [f32; 2])> {
         match &self.test {
-            Test::Triangle([a, b, c]) => {
-                intersect_triangle(ray, shear, *a, *b, *c, t_max).map(|h| (h.t, [h.b[1], h.b[2]]))
-            }
             Test::Sphere(c, r) => {
                 Sphere::intersect_ball(*c, *r, ray, t_max).map(|t| (t, [0.0, 0.0]))
             }
-            Test::Plane(p) => p.intersect(ray, t_max),
             Test::Cylinder(c) => c.intersect(ray, t_max),
             // Tested by the aggregate, which holds the instances.
             Test::Instance(_) => None,

@@ -34,6 +34,13 @@ pub struct PlaneTest {
 }
 
 impl PlaneTest {
+    /// The object-from-world rows and whether the shape is the disk, for
+    /// wide forms of the test.
+    #[inline]
+    pub fn parts(&self) -> (&[[f32; 4]; 3], bool) {
+        (&self.rows, self.disk)
+    }
+
     /// t in (0, t_max) and the object-space hit point (x, y). The hit
     /// point is rebuilt from (x, y) in f64, so t's f32 rounding only
     /// decides which surface is nearer.

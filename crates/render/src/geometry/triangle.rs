@@ -35,6 +35,18 @@ impl RayShear {
             sz: 1.0 / ray.d[kz],
         }
     }
+
+    /// The permuted axes (kx, ky, kz), for wide forms of the test.
+    #[inline]
+    pub fn axes(&self) -> [usize; 3] {
+        [self.kx, self.ky, self.kz]
+    }
+
+    /// The shear (sx, sy, sz), for wide forms of the test.
+    #[inline]
+    pub fn shear(&self) -> [f32; 3] {
+        [self.sx, self.sy, self.sz]
+    }
 }
 
 /// A hit on a triangle: distance and barycentric weights of (p0, p1, p2).
