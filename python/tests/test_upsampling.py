@@ -57,7 +57,9 @@ def test_smits_matches_colour_science(rng, wl):
     for rgb in rng.random((20, 3)):
         ref = RGB_to_sd_Smits1999(rgb)
         ours = scotopia.Spectrum.from_rgb(tuple(rgb), method="smits")(basis_wl)
-        np.testing.assert_allclose(ours, ref.values, atol=1e-6)
+        # Tabulated spectra are read from a uniform grid within 1e-4 of
+        # their peak (crates/color/src/spectrum/lookup.rs).
+        np.testing.assert_allclose(ours, ref.values, atol=1e-4 * ref.values.max())
 
 
 def test_kinds(wl):
