@@ -7,7 +7,11 @@ use std::path::Path;
 use scotopia_color::photometry::estimate_scotopic;
 use scotopia_color::RgbSpace;
 
-use crate::{read_exr, ImageError};
+use exr::prelude::*;
+use std::result::Result;
+
+use crate::exr_out::read_exr_headers;
+use crate::ImageError;
 
 /// An absolute XYZV′ image with what is known of its viewing geometry.
 #[derive(Debug, Clone, PartialEq)]
@@ -44,51 +48,67 @@ impl Default for RgbInput {
 /// Reads `path`: channels X, Y, Z and optionally V (V′; estimated from X,
 /// Y, Z when missing), or R, G, B converted with `rgb`.
 pub fn read_xyzv(path: &Path, rgb: RgbInput) -> Result<XyzvImage, ImageError> {
-    let exr = read_exr(path)?;
     let fail = |message: String| ImageError::Read {
         path: path.display().to_string(),
         message,
     };
+    // The channels are chosen from the first layer's header; only they are
+    // then read, straight into [X, Y, Z, V′] pixels.
+    let meta = read_exr_headers(path)?;
+    let header = meta
+        .headers
+        .first()
+        .ok_or_else(|| fail("no layers".into()))?;
+    if let Some(c) = header
+        .channels
+        .list
+        .iter()
+        .find(|c| c.sampling != Vec2(1, 1))
+    {
+        return Err(fail(format!(
+            "channel {} is subsampled ({}×{}): only full-resolution channels can be read",
+            c.name, c.sampling.0, c.sampling.1
+        )));
+    }
     let channel = |name: &str| {
-        exr.channels
+        let suffix = format!(".{name}");
+        header
+            .channels
+            .list
             .iter()
-            .find(|(n, _)| n == name || n.ends_with(&format!(".{name}")))
-            .map(|(_, v)| v.as_slice())
+            .find(|c| c.name == *name || c.name.to_string().ends_with(&suffix))
+            .map(|c| c.name.clone())
     };
-    let n = exr.width * exr.height;
     let mut notes = Vec::new();
-    let pixels: Vec<[f32; 4]> = match (channel("X"), channel("Y"), channel("Z")) {
+    let pixels = match (channel("X"), channel("Y"), channel("Z")) {
         (Some(x), Some(y), Some(z)) => {
             if rgb.units.is_some() {
                 notes.push("--units ignored: an XYZ image is already absolute".into());
             }
             match channel("V") {
-                // Zipped slices: one pass, no bounds checks, no per-pixel work.
-                Some(v) => x
-                    .iter()
-                    .zip(y)
-                    .zip(z)
-                    .zip(v)
-                    .map(|(((&x, &y), &z), &v)| [x, y, z, v])
-                    .collect(),
+                Some(v) => read_four(path, [x, y, z, v])?,
                 None => {
                     notes.push(
                         "no V channel: V′ estimated from X, Y, Z with Pattanaik et al. 1998's \
                          fit (exact for D65, ~13 % low for tungsten)"
                             .into(),
                     );
-                    (0..n)
-                        .map(|i| {
-                            let xyz = [x[i], y[i], z[i]].map(f64::from);
-                            [x[i], y[i], z[i], estimate_scotopic(xyz) as f32]
-                        })
-                        .collect()
+                    let mut pixels = read_three(path, [x, y, z])?;
+                    for p in &mut pixels {
+                        p[3] = estimate_scotopic([p[0], p[1], p[2]].map(f64::from)) as f32;
+                    }
+                    pixels
                 }
             }
         }
         _ => {
             let (Some(r), Some(g), Some(b)) = (channel("R"), channel("G"), channel("B")) else {
-                let names: Vec<&str> = exr.channels.iter().map(|(n, _)| n.as_str()).collect();
+                let names: Vec<String> = header
+                    .channels
+                    .list
+                    .iter()
+                    .map(|c| c.name.to_string())
+                    .collect();
                 return Err(fail(format!(
                     "needs channels X, Y, Z (and V) or R, G, B; it has {}",
                     names.join(", ")
@@ -110,33 +130,113 @@ pub fn read_xyzv(path: &Path, rgb: RgbInput) -> Result<XyzvImage, ImageError> {
                 rgb.space.name()
             ));
             let space = rgb.space.def();
-            (0..n)
-                .map(|i| {
-                    let xyz = space
-                        .rgb_to_xyz([r[i], g[i], b[i]].map(f64::from))
-                        .map(|v| v * units);
-                    let [x, y, z] = xyz.map(|v| v as f32);
-                    [x, y, z, estimate_scotopic(xyz) as f32]
-                })
-                .collect()
+            let mut pixels = read_three(path, [r, g, b])?;
+            for p in &mut pixels {
+                let xyz = space
+                    .rgb_to_xyz([p[0], p[1], p[2]].map(f64::from))
+                    .map(|v| v * units);
+                let [x, y, z] = xyz.map(|v| v as f32);
+                *p = [x, y, z, estimate_scotopic(xyz) as f32];
+            }
+            pixels
         }
     };
     // Non-finite values are kept as they are: the vision pipeline leaves
     // them out of its statistics and says so (reading them as black would
     // count them as black in the adaptation luminance).
-    let fov_horizontal = exr
-        .metadata
-        .iter()
-        .find(|(k, _)| k == "fovHorizontalDegrees")
-        .and_then(|(_, v)| v.parse::<f64>().ok())
+    let fov_horizontal = header
+        .own_attributes
+        .other
+        .get(&Text::from("fovHorizontalDegrees"))
+        .and_then(|v| match v {
+            // As its shortest decimal (60.000004, not 60.0000038…), the
+            // value metadata readers print and scotopia always read.
+            AttributeValue::F32(f) => f.to_string().parse().ok(),
+            AttributeValue::F64(f) => Some(*f),
+            AttributeValue::I32(i) => Some(f64::from(*i)),
+            AttributeValue::Text(t) => t.to_string().trim().parse().ok(),
+            _ => None,
+        })
         .filter(|f| f.is_finite() && *f > 0.0);
     Ok(XyzvImage {
-        width: exr.width,
-        height: exr.height,
+        width: header.layer_size.width(),
+        height: header.layer_size.height(),
         pixels,
         fov_horizontal,
         notes,
     })
+}
+
+/// The pixels of the first layer that has the four channels `names`
+/// (f16 and u32 samples converted), row-major.
+fn read_four(path: &Path, names: [Text; 4]) -> Result<Vec<[f32; 4]>, ImageError> {
+    let [a, b, c, d] = names;
+    let image = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .specific_channels()
+        .required(a)
+        .required(b)
+        .required(c)
+        .required(d)
+        .collect_pixels(new_pixels, |px: &mut Pixels, at, (a, b, c, d)| {
+            px.set(at, [a, b, c, d])
+        })
+        .first_valid_layer()
+        .all_attributes()
+        .from_file(path)
+        .map_err(|e| exr_error(path, e))?;
+    Ok(image.layer_data.channel_data.pixels.values)
+}
+
+/// As [`read_four`] for three channels, the fourth value left 0.
+fn read_three(path: &Path, names: [Text; 3]) -> Result<Vec<[f32; 4]>, ImageError> {
+    let [a, b, c] = names;
+    let image = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .specific_channels()
+        .required(a)
+        .required(b)
+        .required(c)
+        .collect_pixels(new_pixels, |px: &mut Pixels, at, (a, b, c)| {
+            px.set(at, [a, b, c, 0.0])
+        })
+        .first_valid_layer()
+        .all_attributes()
+        .from_file(path)
+        .map_err(|e| exr_error(path, e))?;
+    Ok(image.layer_data.channel_data.pixels.values)
+}
+
+/// Pixels being read: the layer's width and its values, row-major.
+struct Pixels {
+    width: usize,
+    values: Vec<[f32; 4]>,
+}
+
+impl Pixels {
+    /// Stores a pixel; a position outside the layer (which the decoder
+    /// never gives) is dropped rather than a panic.
+    fn set(&mut self, at: Vec2<usize>, value: [f32; 4]) {
+        if let Some(p) = self.values.get_mut(at.y() * self.width + at.x()) {
+            *p = value;
+        }
+    }
+}
+
+fn new_pixels<T>(size: Vec2<usize>, _: &T) -> Pixels {
+    Pixels {
+        width: size.width(),
+        values: vec![[0.0; 4]; size.area()],
+    }
+}
+
+fn exr_error(path: &Path, e: exr::error::Error) -> ImageError {
+    ImageError::Exr {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    }
 }
 
 #[cfg(test)]
@@ -200,6 +300,92 @@ mod tests {
         // sRGB white (1, 1, 1) is D65 with Y = 1: 50 cd/m².
         assert!((img.pixels[0][1] - 50.0).abs() < 1e-3);
         assert!(img.fov_horizontal.is_none());
+    }
+
+    #[test]
+    fn prefixed_channels_are_read_bit_for_bit_into_their_slots() {
+        let path = tmp("prefixed.exr");
+        let (w, h) = (5, 3);
+        let values = |c: u32| -> Vec<f32> {
+            (0..(w * h) as u32)
+                .map(|i| f32::from_bits((i + 1).wrapping_mul(0x9E37_79B9) ^ (c << 24)))
+                .collect()
+        };
+        let names = ["beauty.X", "beauty.Y", "beauty.Z", "beauty.V", "depth"];
+        let chans: Vec<(String, Vec<f32>)> = names
+            .iter()
+            .zip(1..)
+            .map(|(n, c)| (n.to_string(), values(c)))
+            .collect();
+        write_exr(
+            &path,
+            w,
+            h,
+            chans.clone(),
+            &[("fovHorizontalDegrees", Meta::I32(50))],
+        )
+        .unwrap();
+        let img = read_xyzv(&path, RgbInput::default()).unwrap();
+        assert_eq!(
+            (img.width, img.height, img.fov_horizontal),
+            (w, h, Some(50.0))
+        );
+        for (slot, (_, want)) in chans.iter().take(4).enumerate() {
+            let got: Vec<u32> = img.pixels.iter().map(|p| p[slot].to_bits()).collect();
+            let want: Vec<u32> = want.iter().map(|v| v.to_bits()).collect();
+            assert_eq!(got, want, "slot {slot}");
+        }
+    }
+
+    #[test]
+    fn half_float_channels_are_widened() {
+        use exr::prelude::f16;
+        let path = tmp("half.exr");
+        let half = |v: f32| f16::from_f32(v);
+        let chan = |name: &str, v: f32| AnyChannel::new(name, FlatSamples::F16(vec![half(v); 6]));
+        let channels = AnyChannels::sort(SmallVec::from_vec(vec![
+            chan("X", 0.5),
+            chan("Y", 1.0),
+            chan("Z", 2.0),
+            chan("V", 3.0),
+        ]));
+        let layer = Layer::new(
+            (3, 2),
+            LayerAttributes::default(),
+            Encoding::UNCOMPRESSED,
+            channels,
+        );
+        Image::from_layer(layer).write().to_file(&path).unwrap();
+        let img = read_xyzv(&path, RgbInput::default()).unwrap();
+        assert!(
+            img.pixels.iter().all(|p| *p == [0.5, 1.0, 2.0, 3.0]),
+            "{:?}",
+            img.pixels
+        );
+    }
+
+    #[test]
+    fn a_subsampled_channel_is_an_error_naming_it() {
+        let path = tmp("subsampled.exr");
+        let c = |n: &str| (n.to_string(), vec![1.0f32; 8]);
+        write_exr(&path, 4, 2, vec![c("X"), c("Y"), c("Z")], &[]).unwrap();
+        // Rewrite Z's x and y sampling in the channel list to 2 (name, then
+        // pixel type i32, pLinear u8, 3 reserved bytes, xSampling, ySampling).
+        let mut bytes = std::fs::read(&path).unwrap();
+        let key = b"channels\0chlist\0";
+        let list = bytes.windows(key.len()).position(|w| w == key).unwrap();
+        let z = list + bytes[list..].windows(2).position(|w| w == b"Z\0").unwrap();
+        for at in [z + 10, z + 14] {
+            bytes[at..at + 4].copy_from_slice(&2i32.to_le_bytes());
+        }
+        std::fs::write(&path, bytes).unwrap();
+        let err = read_xyzv(&path, RgbInput::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("channel Z is subsampled") && err.contains("subsampled.exr"),
+            "{err}"
+        );
     }
 
     #[test]
