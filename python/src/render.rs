@@ -35,7 +35,7 @@ use crate::scene::load_options;
 /// options; `spp` may grow), bit-identical to an uninterrupted render.
 /// The GIL is released while rendering.
 #[pyfunction]
-#[pyo3(signature = (path, spp = None, time = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, output = None, spectral = None, bands = 47, integrator = None, res = None, checkpoint = None, checkpoint_every = 60.0, resume = false, tracer = "wavefront"))]
+#[pyo3(signature = (path, spp = None, time = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, output = None, spectral = None, bands = 47, integrator = None, res = None, checkpoint = None, checkpoint_every = 60.0, resume = false, tracer = "scalar"))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,

@@ -72,10 +72,10 @@ pub struct Args {
     /// and T camera vertices; T=1 is light tracing), to inspect it.
     #[arg(long, value_name = "S,T")]
     bdpt_strategy: Option<String>,
-    /// The path integrator's form: wavefront (batches of paths, stage by
-    /// stage) or scalar (one path at a time, the reference). Both give
-    /// the same image, bit for bit.
-    #[arg(long, default_value = "wavefront", value_name = "wavefront|scalar")]
+    /// The path integrator's form: scalar (one path at a time, the
+    /// reference, today the faster) or wavefront (batches of paths, stage
+    /// by stage). Both give the same image, bit for bit.
+    #[arg(long, default_value = "scalar", value_name = "scalar|wavefront")]
     tracer: String,
     /// Wavelengths per path: 1, 2, 4, 8 or 16.
     #[arg(long, default_value_t = 4, value_name = "K")]

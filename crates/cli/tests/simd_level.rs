@@ -20,7 +20,7 @@ fn render(simd: &str, out: &std::path::Path) -> std::process::Output {
             "--spp",
             "2",
         ])
-        .args(["-o", out.to_str().unwrap()])
+        .args(["--tracer", "wavefront", "-o", out.to_str().unwrap()])
         .env("SCOTOPIA_SIMD", simd)
         .output()
         .unwrap()

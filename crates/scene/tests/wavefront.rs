@@ -66,6 +66,7 @@ fn every_bundled_scene_renders_the_scalar_tracers_image() {
                 strategy,
                 bands: Some(5),
                 integrator: Some(scotopia_render::scene::IntegratorKind::Path),
+                tracer: Tracer::Wavefront,
                 ..RenderOptions::default()
             };
             let scalar = run(

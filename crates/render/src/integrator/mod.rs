@@ -52,11 +52,13 @@ pub struct RenderOptions {
 
 /// The two forms of the path tracer: one path at a time (the reference)
 /// or batches of paths run stage by stage (`wavefront`). They give the
-/// same image, bit for bit; the bidirectional tracer has one form.
+/// same image, bit for bit; the bidirectional tracer has one form. The
+/// scalar one is the default while it is the faster (docs/performance.md:
+/// the wavefront's stages are not yet vectorised beyond its samplers).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Tracer {
-    #[default]
     Wavefront,
+    #[default]
     Scalar,
 }
 
