@@ -242,6 +242,23 @@ fn mutated_scenes_load_or_fail_cleanly() {
     }
 }
 
+/// Writes `dir/name` — a 4 × 4 scene of `shape` under a constant sky —
+/// and gives the command that renders it at 1 spp (the fuzzed file is
+/// one the shape names).
+fn tiny_scene(dir: &Path, name: &str, shape: &str) -> impl Fn(&Path) -> Vec<String> {
+    let xml = format!(
+        "<scene version=\"3.0.0\"><sensor type=\"perspective\"><film type=\"hdrfilm\"><integer name=\"width\" value=\"4\"/><integer name=\"height\" value=\"4\"/></film></sensor>{shape}<emitter type=\"constant\"/></scene>"
+    );
+    let scene = dir.join(name);
+    std::fs::write(&scene, xml).unwrap();
+    let out = dir.join("out.exr");
+    move |_| {
+        ["render", &s(&scene), "--spp", "1", "-o", &s(&out)]
+            .map(String::from)
+            .to_vec()
+    }
+}
+
 #[test]
 fn mutated_meshes_load_or_fail_cleanly() {
     let dir = out_dir("fuzz", "mesh");
@@ -249,22 +266,10 @@ fn mutated_meshes_load_or_fail_cleanly() {
     let ply = b"ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0 255 0 0\n1 0 0 0 255 0\n1 1 0 0 0 255\n0 1 0 9 9 9\n3 0 1 2\n3 0 2 3\n".to_vec();
     for (seed, name, bytes) in [(20, "case.obj", obj), (21, "case.ply", ply)] {
         let kind = &name[5..];
-        let xml = format!(
-            "<scene version=\"3.0.0\"><sensor type=\"perspective\"><film type=\"hdrfilm\"><integer name=\"width\" value=\"4\"/><integer name=\"height\" value=\"4\"/></film></sensor><shape type=\"{kind}\"><string name=\"filename\" value=\"{name}\"/></shape><emitter type=\"constant\"/></scene>"
-        );
-        let scene = dir.join(format!("{kind}.xml"));
-        std::fs::write(&scene, xml).unwrap();
-        let out = dir.join("out.exr");
-        fuzz(seed, &bytes, &dir, name, |_| {
-            vec![
-                "render".into(),
-                s(&scene),
-                "--spp".into(),
-                "1".into(),
-                "-o".into(),
-                s(&out),
-            ]
-        });
+        let shape =
+            format!("<shape type=\"{kind}\"><string name=\"filename\" value=\"{name}\"/></shape>");
+        let render = tiny_scene(&dir, &format!("{kind}.xml"), &shape);
+        fuzz(seed, &bytes, &dir, name, render);
     }
 }
 
@@ -300,25 +305,14 @@ fn mutated_serialized_meshes_load_or_fail_cleanly() {
     )
     .unwrap();
     assert_eq!(serialized_file(&payload)[..4], file[..4]);
-    let xml = "<scene version=\"3.0.0\"><sensor type=\"perspective\"><film type=\"hdrfilm\"><integer name=\"width\" value=\"4\"/><integer name=\"height\" value=\"4\"/></film></sensor><shape type=\"serialized\"><string name=\"filename\" value=\"case.serialized\"/></shape><emitter type=\"constant\"/></scene>";
-    let scene = dir.join("serialized.xml");
-    std::fs::write(&scene, xml).unwrap();
-    let out = dir.join("out.exr");
-    let render = |_: &Path| {
-        [
-            "render",
-            scene.to_str().unwrap(),
-            "--spp",
-            "1",
-            "-o",
-            out.to_str().unwrap(),
-        ]
-        .map(String::from)
-        .to_vec()
-    };
+    let render = tiny_scene(
+        &dir,
+        "serialized.xml",
+        "<shape type=\"serialized\"><string name=\"filename\" value=\"case.serialized\"/></shape>",
+    );
     // The file's bytes (header, dictionary, compressed stream) and the
     // shape's own bytes compressed again.
-    fuzz(22, &file, &dir, "case.serialized", render);
+    fuzz(22, &file, &dir, "case.serialized", &render);
     fuzz_with(
         23,
         &payload,
@@ -333,22 +327,12 @@ fn mutated_serialized_meshes_load_or_fail_cleanly() {
 fn mutated_reradiation_matrices_load_or_fail_cleanly() {
     let dir = out_dir("fuzz", "matrix");
     let csv = std::fs::read(scenes().join("materials/highlighter-yellow.csv")).unwrap();
-    let xml = "<scene version=\"3.0.0\"><sensor type=\"perspective\"><film type=\"hdrfilm\"><integer name=\"width\" value=\"4\"/><integer name=\"height\" value=\"4\"/></film></sensor><shape type=\"sphere\"><bsdf type=\"fluorescent\"><string name=\"matrix\" value=\"case.csv\"/></bsdf></shape><emitter type=\"constant\"/></scene>";
-    let scene = dir.join("matrix.xml");
-    std::fs::write(&scene, xml).unwrap();
-    let out = dir.join("out.exr");
-    fuzz(31, &csv, &dir, "case.csv", |_| {
-        [
-            "render",
-            scene.to_str().unwrap(),
-            "--spp",
-            "1",
-            "-o",
-            out.to_str().unwrap(),
-        ]
-        .map(String::from)
-        .to_vec()
-    });
+    let render = tiny_scene(
+        &dir,
+        "matrix.xml",
+        "<shape type=\"sphere\"><bsdf type=\"fluorescent\"><string name=\"matrix\" value=\"case.csv\"/></bsdf></shape>",
+    );
+    fuzz(31, &csv, &dir, "case.csv", render);
 }
 
 #[test]

@@ -138,6 +138,7 @@ mod tests {
 
     use scotopia_color::{cie, io, Spectrum};
 
+    use super::super::tests::Rng;
     use super::*;
 
     fn lamp(name: &str) -> Spectrum {
@@ -182,18 +183,6 @@ mod tests {
             })
             .sum::<f64>()
             - 1.0
-    }
-
-    /// SplitMix64 in [0, 1).
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> f32 {
-            self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-            let mut z = self.0;
-            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-            ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
-        }
     }
 
     /// The χ² divergence of the table from the street's mixture falls with

@@ -16,10 +16,10 @@ fn sodium() -> Spectrum {
     Spectrum::from(io::read_spectrum_file(&p).unwrap())
 }
 
-/// SplitMix64 in [0, 1).
-struct Rng(u64);
+/// SplitMix64 in [0, 1) (the wavelength tests' generator).
+pub(super) struct Rng(pub(super) u64);
 impl Rng {
-    fn next(&mut self) -> f32 {
+    pub(super) fn next(&mut self) -> f32 {
         self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);

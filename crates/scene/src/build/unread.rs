@@ -8,21 +8,7 @@
 
 use super::Builder;
 use crate::mitsuba::Node;
-
-/// Tags that set a parameter (`texture` and `ref` are objects given as one).
-const PROPERTY_TAGS: [&str; 11] = [
-    "float",
-    "integer",
-    "boolean",
-    "string",
-    "rgb",
-    "spectrum",
-    "point",
-    "vector",
-    "transform",
-    "texture",
-    "ref",
-];
+use crate::mitsuba::PROPERTY_TAGS;
 
 /// Mitsuba's object tags that scotopia reads, and the objects each holds
 /// that some builder reads. `medium` is left to `warn_media`.
@@ -98,7 +84,8 @@ fn walk(b: &mut Builder, node: &Node) {
             .attr("name")
             .map(|n| format!(" (named '{n}')"))
             .unwrap_or_default();
-        if PROPERTY_TAGS.contains(&tag) || tag == "medium" {
+        // A `<ref>` is an object given as a property.
+        if PROPERTY_TAGS.contains(&tag) || tag == "ref" || tag == "medium" {
             walk(b, c);
         } else if !is_object {
             b.warn(

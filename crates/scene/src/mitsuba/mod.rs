@@ -5,6 +5,7 @@
 mod error;
 mod parse;
 mod props;
+pub(crate) use props::PROPERTY_TAGS;
 mod search;
 mod spectrum;
 mod values;

@@ -26,7 +26,7 @@ pub enum Usage {
 }
 
 /// The property tags (a `<texture>` nested under a parameter's name is one).
-const PROPERTY_TAGS: [&str; 10] = [
+pub(crate) const PROPERTY_TAGS: [&str; 10] = [
     "float",
     "integer",
     "boolean",

@@ -72,9 +72,8 @@ pub fn refill<const K: usize>(
         }
     }
     *next += n;
-    // Free lanes past the work, highest first so each removal moves a
-    // live lane (or none) into the hole.
-    free.sort_unstable_by(|a, b| b.cmp(a));
+    // Free lanes past the work (still highest first: `pop` took the
+    // lowest), so each removal moves a live lane (or none) into the hole.
     for i in free.drain(..) {
         lanes.swap_remove(i);
     }
