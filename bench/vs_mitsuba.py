@@ -12,10 +12,15 @@ its film in XYZ; scotopia with its defaults (SWC, K = 4). Printed:
 
 Mitsuba's Y is ∫L·ȳ dλ / ∫ȳ dλ; it is multiplied by 683 × 106.857 to be
 absolute like scotopia's (docs/scene-format.md, "Comparing with Mitsuba 3").
-Usage: python bench/vs_mitsuba.py [--spp 64] [--ref-spp 1024] [--res 256] [--variant V]
+With `--mesh`, the box's floor is replaced by a terrain of 1,002,528
+triangles (the displaced grid of `crates/render/benches/bvh.rs`, written as
+a binary PLY both renderers read): the large-scene comparison.
+
+Usage: python bench/vs_mitsuba.py [--spp 64] [--ref-spp 1024] [--res 256] [--variant V] [--mesh]
 """
 
 import argparse
+import re
 import subprocess
 import sys
 import tempfile
@@ -43,12 +48,61 @@ def best_variant():
     return "llvm_ad_spectral" if ok else "scalar_spectral"
 
 
-def mitsuba_renderer(variant, res, depth, tmp):
+# The floor's shape in the bundled scene, replaced by the terrain with --mesh.
+FLOOR = re.compile(
+    r'<shape type="rectangle">\s*<transform name="to_world"><rotate x="1" angle="-90"/></transform>'
+    r'\s*<ref id="white"/>\s*</shape>'
+)
+
+
+def terrain_ply(path, n=708):
+    """(n² quads × 2) triangles over x, z ∈ [−1, 1], heights of bvh.rs's
+    sum of sines scaled to 0–0.13 above the floor, as binary PLY."""
+    t = np.linspace(-1.0, 1.0, n + 1, dtype=np.float64)
+    x, z = np.meshgrid(t, t)
+    h = 0.1 * np.sin(7 * x) * np.cos(5 * z) + 0.03 * np.sin(31 * x + 17 * z)
+    verts = np.stack([x, 0.5 * (h + 0.13), z], -1).reshape(-1, 3).astype("<f4")
+    v = (np.arange(n)[None, :] + (n + 1) * np.arange(n)[:, None]).ravel().astype("<i4")
+    w = n + 1
+    # Counter-clockwise seen from above (+y), so normals point up.
+    tris = np.concatenate([np.stack([v, v + w + 1, v + 1], -1), np.stack([v, v + w, v + w + 1], -1)])
+    faces = np.empty(len(tris), dtype=[("n", "u1"), ("i", "<i4", (3,))])
+    faces["n"], faces["i"] = 3, tris
+    header = (
+        "ply\nformat binary_little_endian 1.0\n"
+        f"element vertex {len(verts)}\nproperty float x\nproperty float y\nproperty float z\n"
+        f"element face {len(tris)}\nproperty list uchar int vertex_indices\nend_header\n"
+    )
+    with open(path, "wb") as f:
+        f.write(header.encode())
+        f.write(verts.tobytes())
+        f.write(faces.tobytes())
+    return len(tris)
+
+
+def scene_file(tmp, mesh):
+    """The Cornell box, with the terrain for a floor when `mesh`."""
+    if not mesh:
+        return SCENE
+    ply = Path(tmp) / "terrain.ply"
+    count = terrain_ply(ply)
+    text, found = FLOOR.subn(
+        f'<shape type="ply"><string name="filename" value="{ply}"/><ref id="white"/></shape>',
+        SCENE.read_text(),
+    )
+    assert found == 1, "the floor's shape was not found in cornell-box.xml"
+    out = Path(tmp) / "cornell-terrain.xml"
+    out.write_text(text)
+    print(f"terrain: {count:,} triangles", flush=True)
+    return out
+
+
+def mitsuba_renderer(variant, res, depth, tmp, scene_path):
     import mitsuba as mi
 
     mi.set_variant(variant)
-    xml = Path(tmp) / "cornell-xyz.xml"
-    xml.write_text(SCENE.read_text().replace('value="rgb"', 'value="xyz"'))
+    xml = Path(tmp) / "mitsuba-xyz.xml"
+    xml.write_text(scene_path.read_text().replace('value="rgb"', 'value="xyz"'))
     scene = mi.load_file(str(xml), res=res, max_depth=depth)
 
     def render(spp, seed=0):
@@ -61,9 +115,9 @@ def mitsuba_renderer(variant, res, depth, tmp):
     return render
 
 
-def scotopia_render(res, depth, spp=None, seconds=None):
+def scotopia_render(scene_path, res, depth, spp=None, seconds=None):
     img, meta = scotopia.render(
-        str(SCENE),
+        str(scene_path),
         spp=spp,
         time=seconds,
         seed=1,
@@ -83,22 +137,23 @@ def main():
     parser.add_argument("--res", type=int, default=256)
     parser.add_argument("--depth", type=int, default=16)
     parser.add_argument("--variant", help="Mitsuba variant (default: the best that runs)")
+    parser.add_argument("--mesh", action="store_true", help="a 1M-triangle terrain for a floor")
     args = parser.parse_args()
     pixels = args.res * args.res
 
     variant = args.variant or best_variant()
     with tempfile.TemporaryDirectory() as tmp:
-        mitsuba = mitsuba_renderer(variant, args.res, args.depth, tmp)
+        scene_path = scene_file(tmp, args.mesh)
+        mitsuba = mitsuba_renderer(variant, args.res, args.depth, tmp, scene_path)
         print(f"reference: Mitsuba {variant}, {args.ref_spp} spp …", flush=True)
         ref, ref_secs = mitsuba(args.ref_spp, seed=12345)
         theirs, t_m = mitsuba(args.spp)
-
-    ours, t_s, _ = scotopia_render(args.res, args.depth, spp=args.spp)
-    ours_eq, t_eq, spp_eq = scotopia_render(args.res, args.depth, seconds=t_m)
+        ours, t_s, _ = scotopia_render(scene_path, args.res, args.depth, spp=args.spp)
+        ours_eq, t_eq, spp_eq = scotopia_render(scene_path, args.res, args.depth, seconds=t_m)
 
     rate = lambda spp, secs: pixels * spp / secs * 1e-6  # noqa: E731
     print(
-        f"\nCornell box {args.res}×{args.res}, max depth {args.depth}; "
+        f"\nCornell box{' with the terrain' if args.mesh else ''} {args.res}×{args.res}, max depth {args.depth}; "
         f"reference {args.ref_spp} spp ({ref_secs:.0f} s)\n"
     )
     print("| renderer | spp | seconds | M camera samples/s | rel. RMSE of Y | mean Y / reference |")

@@ -32,12 +32,11 @@ pub struct LeafCost {
 
 impl LeafCost {
     /// Leaves for scalar tests: at most 8, each primitive a step (leaves
-    /// of 4 or 2 measured slower, docs/performance.md). Every aggregate is
-    /// built so, whatever the SIMD level: one tree for every level keeps
-    /// their images identical. (Trees with [`LeafCost::wide`] leaves traced
-    /// a million triangles 10–25 % faster at AVX2, but a different tree
-    /// culls different near-misses, and the ray offsets are not yet robust
-    /// to that at 10⁶ scene scale: docs/performance.md, issue 23.)
+    /// of 4 or 2 measured slower, docs/performance.md). Small scenes are
+    /// built so, whatever the SIMD level (one tree for every level keeps
+    /// their images identical); large ones get [`LeafCost::wide`] leaves
+    /// (`accel::WIDE_LEAVES_FROM`), safe at any scene scale since the
+    /// triangle test bounds its distance's error (pbrt-v4 §6.8.4).
     pub const SCALAR: LeafCost = LeafCost {
         max: 8,
         lanes: 1,

@@ -81,6 +81,7 @@ pub fn intersect_triangle(
     let by = b[ky] - s.sy * b[kz];
     let cx = c[kx] - s.sx * c[kz];
     let cy = c[ky] - s.sy * c[kz];
+    let sheared = [ax, ay, bx, by, cx, cy];
 
     // Scaled barycentrics: 2D edge functions, in f64 when one is exactly 0
     // (an edge through the ray), so the shared edge decides consistently.
@@ -112,7 +113,7 @@ pub fn intersect_triangle(
     // beyond ~10¹² it overflows f32 (and below ~10⁻¹² it underflows), so
     // such a scene's test is finished in f64.
     if !(t_scaled.is_normal() && det.is_normal()) {
-        return finish_f64([u, v, w], [az, bz, cz], t_max);
+        return finish_f64(sheared, [u, v, w], [az, bz, cz], t_max);
     }
     if (det < 0.0 && (t_scaled >= 0.0 || t_scaled < t_max * det))
         || (det > 0.0 && (t_scaled <= 0.0 || t_scaled > t_max * det))
@@ -121,7 +122,9 @@ pub fn intersect_triangle(
     }
     let inv = 1.0 / det;
     let t = t_scaled * inv;
-    if !(t > 0.0 && t < t_max) {
+    if !(t > 0.0 && t < t_max)
+        || t as f64 <= t_error_bound(sheared, [az, bz, cz], [u, v, w], inv as f64)
+    {
         return None;
     }
     Some(TriangleHit {
@@ -130,14 +133,46 @@ pub fn intersect_triangle(
     })
 }
 
+/// γₙ = nε / (1 − nε), ε = 2⁻²⁴: the bound on the relative error of n
+/// f32 operations (Pharr, Jakob & Humphreys, *Physically Based Rendering*,
+/// 4th ed., §6.8.1, eq. 6.41; Higham 2002).
+fn gamma(n: f64) -> f64 {
+    let e = f32::EPSILON as f64 * 0.5;
+    n * e / (1.0 - n * e)
+}
+
+/// A conservative bound on the error of the test's distance t: a hit
+/// closer than this may be on the wrong side of the origin (a ray leaving
+/// the surface it starts on finds that surface again). Pharr, Jakob &
+/// Humphreys, PBR 4th ed., §6.8.4 ("Conservative Ray–Triangle
+/// Intersection"): the sheared coordinates carry γ₅ (x, y) and γ₃ (z)
+/// errors, the edge functions δe, the scaled distance γ₃ maxE maxZ +
+/// δe maxZ + δz maxE, and 1/det a factor 3. Evaluated in f64 (the f32
+/// products overflow at scales where the test itself finishes in f64).
+/// `xy`: (ax, ay, bx, by, cx, cy); `z`: the scaled z's; `e`: the edge
+/// functions; `inv`: 1/det.
+#[cold]
+fn t_error_bound(xy: [f32; 6], z: [f32; 3], e: [f32; 3], inv: f64) -> f64 {
+    let max3 = |a: f32, b: f32, c: f32| a.abs().max(b.abs()).max(c.abs()) as f64;
+    let max_x = max3(xy[0], xy[2], xy[4]);
+    let max_y = max3(xy[1], xy[3], xy[5]);
+    let max_z = max3(z[0], z[1], z[2]);
+    let max_e = max3(e[0], e[1], e[2]);
+    let delta_x = gamma(5.0) * (max_x + max_z);
+    let delta_y = gamma(5.0) * (max_y + max_z);
+    let delta_z = gamma(3.0) * max_z;
+    let delta_e = 2.0 * (gamma(2.0) * max_x * max_y + delta_y * max_x + delta_x * max_y);
+    3.0 * (gamma(3.0) * max_e * max_z + delta_e * max_z + delta_z * max_e) * inv.abs()
+}
+
 /// The end of [`intersect_triangle`] in f64, for edge functions and
 /// distances beyond f32's range.
 #[cold]
-fn finish_f64(uvw: [f32; 3], z: [f32; 3], t_max: f32) -> Option<TriangleHit> {
+fn finish_f64(xy: [f32; 6], uvw: [f32; 3], z: [f32; 3], t_max: f32) -> Option<TriangleHit> {
     let [u, v, w] = uvw.map(f64::from);
     let det = u + v + w;
     let t = (u * z[0] as f64 + v * z[1] as f64 + w * z[2] as f64) / det;
-    if !(t > 0.0 && t < t_max as f64) {
+    if !(t > 0.0 && t < t_max as f64) || t <= t_error_bound(xy, z, uvw, 1.0 / det) {
         return None;
     }
     let b = [u / det, v / det, w / det].map(|x| x as f32);
@@ -198,6 +233,41 @@ mod tests {
         assert!(
             intersect_triangle(&out, &RayShear::new(&out), p0, p1, p2, f32::INFINITY).is_none()
         );
+    }
+
+    #[test]
+    fn a_ray_leaving_a_large_triangle_never_finds_it_again() {
+        // Rays from points of a 4·10⁶-wide face (z = 0, origins offset by
+        // Wächter & Binder's 1/65536 above it) towards a lamp 10⁶ above:
+        // the relative coordinates' rounding (ulp 0.25 at 2·10⁶) exceeds
+        // the offset, and without the conservative t bound 38 % of such
+        // rays hit the face they leave (at t ~ 10⁻³–10⁻¹).
+        let s = 1e6f32;
+        let v = |x: f32, y: f32| Vec3::new(x * s, y * s, 0.0);
+        let face = [
+            (v(-2.0, -2.0), v(2.0, -2.0), v(2.0, 2.0)),
+            (v(-2.0, -2.0), v(2.0, 2.0), v(-2.0, 2.0)),
+        ];
+        let mut state = 1u64;
+        let mut r = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let mut found = 0;
+        for _ in 0..20_000 {
+            let p = v(r() * 4.0 - 2.0, r() * 4.0 - 2.0);
+            let o = crate::math::offset_ray_origin(p, Vec3::new(0.0, 0.0, 1.0), 1.0);
+            let lamp = Vec3::new((r() * 0.8 - 0.4) * s, (r() * 0.8 - 0.4) * s, s);
+            let ray = Ray::new(o, (lamp - o).normalize());
+            let sh = RayShear::new(&ray);
+            found += face
+                .iter()
+                .filter(|t| intersect_triangle(&ray, &sh, t.0, t.1, t.2, f32::INFINITY).is_some())
+                .count();
+        }
+        assert_eq!(found, 0, "rays found the face they leave");
     }
 
     #[test]
