@@ -53,6 +53,7 @@ impl SceneInfo {
                     Light::Point(_) => "point",
                     Light::Spot(_) => "spot",
                     Light::Projector(_) => "projector",
+                    Light::Goniometric(_) => "ies",
                     Light::Directional(_) => "directional",
                     Light::Area(_) => "area",
                     Light::Constant(_) => "constant",

@@ -44,7 +44,10 @@ impl Light {
     /// hit it) or its direction is (nothing can be connected to it by a
     /// chosen direction): such lights end light paths only by `sample_li`.
     pub fn is_delta_position(&self) -> bool {
-        matches!(self, Light::Point(_) | Light::Spot(_) | Light::Projector(_))
+        matches!(
+            self,
+            Light::Point(_) | Light::Spot(_) | Light::Projector(_) | Light::Goniometric(_)
+        )
     }
 
     pub fn is_delta_direction(&self) -> bool {
@@ -100,6 +103,18 @@ impl Light {
             Light::Projector(l) => {
                 let (d, pdf_dir) = l.sample_direction(u_dir);
                 (pdf_dir > 0.0).then(|| Emission {
+                    p: l.position,
+                    n: None,
+                    uv: [0.0; 2],
+                    d,
+                    le: l.intensity_towards(wl, d),
+                    pdf_pos: 1.0,
+                    pdf_dir,
+                })
+            }
+            Light::Goniometric(l) => {
+                let (d, pdf_dir) = l.sample_direction(u_dir)?;
+                Some(Emission {
                     p: l.position,
                     n: None,
                     uv: [0.0; 2],
@@ -173,6 +188,10 @@ impl Light {
                 }
             }
             Light::Projector(l) => EmissionPdf {
+                pos: 1.0,
+                dir: l.pdf_direction(d),
+            },
+            Light::Goniometric(l) => EmissionPdf {
                 pos: 1.0,
                 dir: l.pdf_direction(d),
             },

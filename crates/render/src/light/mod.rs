@@ -11,6 +11,7 @@
 mod area;
 mod emit;
 mod envmap;
+mod goniometric;
 mod power;
 mod projector;
 mod simple;
@@ -18,6 +19,7 @@ mod simple;
 pub use area::AreaLight;
 pub use emit::{Emission, EmissionPdf};
 pub use envmap::EnvMapLight;
+pub use goniometric::{GoniometricLight, IntensityGrid};
 pub use power::{spectral_power, Power};
 pub use projector::ProjectorLight;
 pub use simple::{ConstantLight, DirectionalLight, PointLight, SpotLight};
@@ -51,6 +53,8 @@ pub enum Light {
     Spot(SpotLight),
     /// Boxed: it carries a camera and a texture.
     Projector(Box<ProjectorLight>),
+    /// A luminaire measured as I(γ, C) (IES, EULUMDAT).
+    Goniometric(GoniometricLight),
     Directional(DirectionalLight),
     Area(AreaLight),
     Constant(ConstantLight),
@@ -81,6 +85,7 @@ impl Light {
             Light::Point(l) => l.sample_li(wl, p),
             Light::Spot(l) => l.sample_li(wl, p),
             Light::Projector(l) => l.sample_li(wl, p),
+            Light::Goniometric(l) => l.sample_li(wl, p),
             Light::Directional(l) => l.sample_li(wl),
             Light::Area(l) => l.sample_li(scene.shapes, wl, p, u_select, u),
             Light::Constant(l) => l.sample_li(wl, u),
@@ -92,7 +97,11 @@ impl Light {
     pub fn is_delta(&self) -> bool {
         matches!(
             self,
-            Light::Point(_) | Light::Spot(_) | Light::Projector(_) | Light::Directional(_)
+            Light::Point(_)
+                | Light::Spot(_)
+                | Light::Projector(_)
+                | Light::Goniometric(_)
+                | Light::Directional(_)
         )
     }
 
@@ -137,6 +146,7 @@ impl Light {
             Light::Point(l) => &l.intensity,
             Light::Spot(l) => &l.intensity,
             Light::Projector(l) => l.spectrum(),
+            Light::Goniometric(l) => &l.spectrum,
             Light::Directional(l) => &l.irradiance,
             Light::Area(l) => l.mean_radiance(),
             Light::Constant(l) => &l.radiance,
@@ -150,6 +160,7 @@ impl Light {
             Light::Point(l) => l.power(),
             Light::Spot(l) => l.power(),
             Light::Projector(l) => l.power(),
+            Light::Goniometric(l) => l.power(),
             Light::Directional(l) => l.power(scene.radius),
             Light::Area(l) => l.power(),
             Light::Constant(l) => l.power(scene.radius),

@@ -150,6 +150,7 @@ impl Renderer<'_> {
             Some(Light::Point(p)) => p.intensity.sample(wl),
             Some(Light::Spot(s)) => s.intensity_towards(wl, d),
             Some(Light::Projector(p)) => p.intensity_towards(wl, d),
+            Some(Light::Goniometric(g)) => g.intensity_towards(wl, d),
             _ => SampledSpectrum::splat(0.0),
         }
     }
