@@ -3,10 +3,12 @@
 //! pixel until the requested count or time is reached, or it is cancelled.
 
 mod bdpt;
+mod measure;
 mod path;
 mod wavefront;
 
 pub use bdpt::Splat;
+pub use measure::{measure, Measured, Receiver};
 pub use path::CameraSample;
 
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -8,10 +8,10 @@ use scotopia_color::photometry::estimate_xyzv;
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::Renderer;
-use crate::bsdf::{ShadingPoint, Transport};
+use crate::bsdf::{Bsdf, ShadingPoint, Transport};
 use crate::geometry::Hit;
 use crate::light::{Light, LightSample};
-use crate::math::{offset_ray_origin, Ray, Vec3};
+use crate::math::{offset_ray_origin, Frame, Ray, Vec3};
 use crate::sampling::sobol::Sampler;
 
 /// What one camera sample found.
@@ -110,25 +110,45 @@ impl Renderer<'_> {
         rays: &mut u64,
     ) -> Option<CameraSample<K>> {
         let mut path = self.start_path::<K>(sampler, pixel, index);
-        let geometry = &self.scene.geometry;
+        self.trace(sampler, &mut path, rays);
+        Self::finish(&path)
+    }
+
+    /// Follows `path` from its ray to its end.
+    pub(super) fn trace<const K: usize>(
+        &self,
+        sampler: &mut Sampler,
+        path: &mut PathState<K>,
+        rays: &mut u64,
+    ) {
         loop {
             *rays += 1;
-            let Some(hit) = geometry.intersect(&path.ray) else {
-                self.escape(&mut path);
-                break;
+            let Some(hit) = self.scene.geometry.intersect(&path.ray) else {
+                self.escape(path);
+                return;
             };
-            let b = self.bounce(&mut path, [sampler.get_4d(), sampler.get_4d()], &hit);
-            if let Some((shadow, contribution)) = b.shadow {
-                *rays += 1;
-                if !geometry.occluded(&shadow) {
-                    path.l += contribution;
-                }
-            }
-            if !b.goes_on {
-                break;
+            let b = self.bounce(path, [sampler.get_4d(), sampler.get_4d()], &hit);
+            if !self.settle(path, b, rays) {
+                return;
             }
         }
-        Self::finish(&path)
+    }
+
+    /// Adds a bounce's light if its shadow ray is clear; whether the path
+    /// goes on.
+    pub(super) fn settle<const K: usize>(
+        &self,
+        path: &mut PathState<K>,
+        b: Bounce<K>,
+        rays: &mut u64,
+    ) -> bool {
+        if let Some((shadow, contribution)) = b.shadow {
+            *rays += 1;
+            if !self.scene.geometry.occluded(&shadow) {
+                path.l += contribution;
+            }
+        }
+        b.goes_on
     }
 
     /// A camera sample's path before its first segment.
@@ -242,6 +262,28 @@ impl Renderer<'_> {
             surface.dpdu,
             surface.dpdv,
         );
+        self.scatter(path, u, (surface.p, surface.n_geometric), (frame, at), bsdf)
+    }
+
+    /// What the path does at a point `p` (geometric normal `ng`) of `bsdf`,
+    /// reached along `path.ray`: fluorescence, next-event estimation and
+    /// the next direction. The camera's hits come here through
+    /// [`Self::bounce`], the virtual receivers of illuminance measurement
+    /// directly (`measure.rs`).
+    pub(super) fn scatter<const K: usize>(
+        &self,
+        path: &mut PathState<K>,
+        u: [[f32; 4]; 2],
+        (p, ng): (Vec3, Vec3),
+        (frame, at): (Frame, ShadingPoint),
+        bsdf: &Bsdf,
+    ) -> Bounce<K> {
+        let scene = self.scene;
+        let stop = Bounce {
+            shadow: None,
+            goes_on: false,
+        };
+        let wo_world = -path.ray.d;
         let wi = frame.to_local(wo_world);
         let uv = at.tex();
         let [[u_light, u_select, u_l0, u_l1], [u_lobe, u_rr, u_b0, u_b1]] = u;
@@ -260,18 +302,11 @@ impl Renderer<'_> {
         if !bsdf.is_delta() {
             if let Some((i, p_choice, _)) = self.light_choice.sample_discrete(u_light) {
                 let light = &scene.lights[i];
-                if let Some(ls) =
-                    light.sample_li(&self.extent(), &now, surface.p, u_select, [u_l0, u_l1])
-                {
+                if let Some(ls) = light.sample_li(&self.extent(), &now, p, u_select, [u_l0, u_l1]) {
                     let wo = frame.to_local(ls.wi);
                     let f = bsdf.eval(&now, at, wi, wo, Transport::Radiance);
                     if ls.pdf > 0.0 && !f.is_zero() && !ls.radiance.is_zero() {
-                        let ray = shadow_ray(
-                            surface.p,
-                            surface.n_geometric,
-                            &ls,
-                            scene.geometry.offset_unit(),
-                        );
+                        let ray = shadow_ray(p, ng, &ls, scene.geometry.offset_unit());
                         let p_light = p_choice * ls.pdf;
                         let w = if ls.delta {
                             1.0
@@ -302,14 +337,9 @@ impl Renderer<'_> {
         }
         path.delta = bs.delta;
         path.bsdf_pdf = bs.pdf;
-        path.prev = surface.p;
+        path.prev = p;
         let d = frame.to_world(bs.wo);
-        path.ray = spawn(
-            surface.p,
-            surface.n_geometric,
-            d,
-            scene.geometry.offset_unit(),
-        );
+        path.ray = spawn(p, ng, d, scene.geometry.offset_unit());
         path.depth += 1;
         // Russian roulette from rr_depth on (Mitsuba's rule: survive
         // with the throughput's largest value, at most 0.95).

@@ -1,0 +1,202 @@
+//! Illuminance at virtual receivers, by the path tracer's own transport.
+//!
+//! A receiver is a point and the normal of the hemisphere it measures. It
+//! is treated as a white Lambertian surface (reflectance 1) that a camera
+//! ray has just reached from above: the path tracer's vertex step
+//! ([`Renderer::scatter`]) does next-event estimation there (so point and
+//! goniometric lights count) and continues by BSDF sampling with MIS, and
+//! the path goes on as any camera path. Such a surface reflects
+//! L = E/π in every direction, so E = π L: every light path the camera
+//! would see is measured, with no separate estimator.
+//!
+//! Photopic illuminance E = π Y (lx, Y with K_m = 683 lm/W) and scotopic
+//! illuminance E′ = π V′ (K′_m = 1700 lm/W), each with its standard error
+//! over the samples. The receiver does not block light: nothing is added
+//! to the scene; its ray origin is offset along its normal as a surface
+//! point's would be, so a receiver on a floor measures the floor's
+//! illuminance.
+
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+
+use rayon::prelude::*;
+use scotopia_color::photometry::estimate_xyzv;
+use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
+
+use super::path::PathState;
+use super::{RenderError, RenderOptions, Renderer};
+use crate::bsdf::{Bsdf, Diffuse, ShadingPoint};
+use crate::math::{Frame, Ray, Vec3};
+use crate::sampling::sobol::Sampler;
+use crate::scene::{IntegratorKind, Scene};
+use crate::texture::Texture;
+
+/// A point and the unit normal of the hemisphere it receives light from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Receiver {
+    pub p: Vec3,
+    pub n: Vec3,
+}
+
+/// What one receiver measured.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Measured {
+    /// Photopic illuminance, lx, and its standard error.
+    pub e: f64,
+    pub e_se: f64,
+    /// Scotopic illuminance (K′_m = 1700 lm/W), scotopic lx, and its
+    /// standard error.
+    pub es: f64,
+    pub es_se: f64,
+    /// Samples that went into it.
+    pub samples: u32,
+}
+
+impl Measured {
+    /// The S/P ratio E′/E (0 in the dark).
+    pub fn sp(&self) -> f64 {
+        if self.e > 0.0 {
+            self.es / self.e
+        } else {
+            0.0
+        }
+    }
+}
+
+/// Illuminance at every receiver with `options.spp` samples each (the
+/// scene's when `None`), the seed, wavelength strategy and cluster size of
+/// `options`; always the path tracer. `progress(done, total)` counts
+/// receivers. Cancelled measurements return what they have (receivers
+/// not reached have no samples).
+pub fn measure(
+    scene: &Scene,
+    receivers: &[Receiver],
+    options: &RenderOptions,
+    cancel: &AtomicBool,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Vec<Measured>, RenderError> {
+    match options.cluster {
+        1 => measure_k::<1>(scene, receivers, options, cancel, progress),
+        2 => measure_k::<2>(scene, receivers, options, cancel, progress),
+        4 => measure_k::<4>(scene, receivers, options, cancel, progress),
+        8 => measure_k::<8>(scene, receivers, options, cancel, progress),
+        16 => measure_k::<16>(scene, receivers, options, cancel, progress),
+        k => Err(RenderError::Cluster(k)),
+    }
+}
+
+fn measure_k<const K: usize>(
+    scene: &Scene,
+    receivers: &[Receiver],
+    options: &RenderOptions,
+    cancel: &AtomicBool,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Vec<Measured>, RenderError> {
+    let spp = options.spp.unwrap_or(scene.samples_per_pixel);
+    if spp == 0 {
+        return Err(RenderError::Spp);
+    }
+    let renderer = Renderer::with_integrator(scene, options.strategy, IntegratorKind::Path);
+    let white = Bsdf::Diffuse(Diffuse {
+        reflectance: Texture::Constant(Spectrum::Constant(1.0)),
+    });
+    let done = AtomicUsize::new(0);
+    Ok(receivers
+        .par_iter()
+        .enumerate()
+        .map(|(k, r)| {
+            if cancel.load(Ordering::Relaxed) {
+                return Measured::default();
+            }
+            let m = renderer.receive::<K>(r, &white, options.seed, k as u32, spp, cancel);
+            progress(done.fetch_add(1, Ordering::Relaxed) + 1, receivers.len());
+            m
+        })
+        .collect())
+}
+
+impl Renderer<'_> {
+    /// `spp` samples of receiver number `index` (its place in the sampler's
+    /// pixel grid: row 0, column `index`).
+    fn receive<const K: usize>(
+        &self,
+        r: &Receiver,
+        white: &Bsdf,
+        seed: u32,
+        index: u32,
+        spp: u32,
+        cancel: &AtomicBool,
+    ) -> Measured {
+        let n = r.n.normalize();
+        if !(n.length_squared() > 0.5) || !r.p.x.is_finite() {
+            return Measured::default();
+        }
+        let frame = Frame::from_normal(n);
+        let at = ShadingPoint::at([0.0f32; 2], n, n, frame.s, frame.t).1;
+        let mut sampler = Sampler::new(seed);
+        let (mut sum, mut sum2) = ([0.0f64; 2], [0.0f64; 2]);
+        let mut samples = 0u32;
+        for i in 0..spp {
+            if i % 64 == 63 && cancel.load(Ordering::Relaxed) {
+                break;
+            }
+            sampler.start([index, 0], i);
+            let sets = [sampler.get_4d(), sampler.get_4d()];
+            let (_, _, wl, _) = self.start_sample_with::<K>([index, 0], sets);
+            // Arrived from straight above the receiver.
+            let mut path = PathState::<K>::at_receiver(r.p, n, wl);
+            let u = [sampler.get_4d(), sampler.get_4d()];
+            let b = self.scatter(&mut path, u, (r.p, n), (frame, at), white);
+            let mut rays = 0;
+            if self.settle(&mut path, b, &mut rays) {
+                self.trace(&mut sampler, &mut path, &mut rays);
+            }
+            let [_, y, _, v] = estimate_xyzv(&path.l, &path.wl);
+            let (e, es) = (
+                std::f64::consts::PI * y as f64,
+                std::f64::consts::PI * v as f64,
+            );
+            if !(e.is_finite() && es.is_finite()) {
+                continue;
+            }
+            samples += 1;
+            sum[0] += e;
+            sum[1] += es;
+            sum2[0] += e * e;
+            sum2[1] += es * es;
+        }
+        let n = samples.max(1) as f64;
+        let stat = |s: f64, s2: f64| {
+            let mean = s / n;
+            let var = (s2 / n - mean * mean).max(0.0) * n / (n - 1.0).max(1.0);
+            (mean, (var / n).sqrt())
+        };
+        let (e, e_se) = stat(sum[0], sum2[0]);
+        let (es, es_se) = stat(sum[1], sum2[1]);
+        Measured {
+            e,
+            e_se,
+            es,
+            es_se,
+            samples,
+        }
+    }
+}
+
+impl<const K: usize> PathState<K> {
+    /// A path that has just reached receiver `p` along −`n` (one segment
+    /// done, as a camera ray's first hit).
+    fn at_receiver(p: Vec3, n: Vec3, wl: SampledWavelengths<K>) -> Self {
+        Self {
+            ray: Ray::new(p + n, -n),
+            l: SampledSpectrum::splat(0.0),
+            beta: SampledSpectrum::splat(1.0),
+            wl,
+            now: wl,
+            delta: true,
+            bsdf_pdf: 0.0,
+            prev: p + n,
+            depth: 1,
+            whole: !wl.secondary_terminated(),
+        }
+    }
+}
