@@ -66,7 +66,8 @@ impl Measured {
 /// scene's when `None`), the seed, wavelength strategy and cluster size of
 /// `options`; always the path tracer. `progress(done, total)` counts
 /// receivers. Cancelled measurements return what they have (receivers
-/// not reached have no samples).
+/// not reached have no samples). A receiver whose point or normal is not
+/// finite, or whose normal is zero, is an error naming its index.
 pub fn measure(
     scene: &Scene,
     receivers: &[Receiver],
@@ -94,6 +95,13 @@ fn measure_k<const K: usize>(
     let spp = options.spp.unwrap_or(scene.samples_per_pixel);
     if spp == 0 {
         return Err(RenderError::Spp);
+    }
+    let finite = |v: Vec3| v.x.is_finite() && v.y.is_finite() && v.z.is_finite();
+    if let Some(i) = receivers
+        .iter()
+        .position(|r| !finite(r.p) || !finite(r.n) || r.n.length_squared() <= 0.0)
+    {
+        return Err(RenderError::Receiver(i));
     }
     let renderer = Renderer::with_integrator(scene, options.strategy, IntegratorKind::Path);
     let white = Bsdf::Diffuse(Diffuse {
@@ -127,9 +135,6 @@ impl Renderer<'_> {
         cancel: &AtomicBool,
     ) -> Measured {
         let n = r.n.normalize();
-        if !(n.length_squared() > 0.5) || !r.p.x.is_finite() {
-            return Measured::default();
-        }
         let frame = Frame::from_normal(n);
         let at = ShadingPoint::at([0.0f32; 2], n, n, frame.s, frame.t).1;
         let mut sampler = Sampler::new(seed);

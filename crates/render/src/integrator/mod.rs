@@ -156,6 +156,8 @@ pub enum RenderError {
     TooLarge(Box<scotopia_image::TooLarge>),
     #[error("{0}")]
     Checkpoint(String),
+    #[error("receiver {0}: its point and normal must be finite and the normal not zero")]
+    Receiver(usize),
 }
 
 /// Checkpoints of a long render (`render_resumable`).
