@@ -8,7 +8,9 @@ The colour-science core: spectra (``Spectrum``), the CIE observers
 ``spectrum(...)`` is the Python form of the ``scotopia spectrum`` command,
 ``scene_info(path)`` of ``scotopia info``, ``render(path, ...)`` of
 ``scotopia render`` (an H × W × 4 array of X, Y, Z, V′ and a metadata dict),
-``display(image_or_path, ...)`` of ``scotopia display``; ``scotopia.vision``
+``display(image_or_path, ...)`` of ``scotopia display``, ``measure(path,
+points, ...)`` of ``scotopia measure`` (illuminance at points, in lx);
+``scotopia.vision``
 holds each stage of the vision pipeline as a function on arrays;
 ``scotopia.bsdf`` evaluates and samples one BSDF given as Mitsuba XML.
 """
@@ -30,6 +32,7 @@ from ._scotopia import (  # noqa: F401
     colorimetry,
     delta_e_2000,
     lab_to_xyz,
+    measure,
     oklab_to_oklch,
     oklab_to_xyz,
     oklch_to_oklab,

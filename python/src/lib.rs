@@ -4,6 +4,7 @@
 mod arrays;
 mod bsdf;
 mod colour;
+mod measure;
 mod render;
 mod report;
 mod scene;
@@ -36,6 +37,7 @@ fn _scotopia(m: &Bound<'_, PyModule>) -> PyResult<()> {
     report::register(m)?;
     scene::register(m)?;
     render::register(m)?;
+    measure::register(m)?;
     vision::register(m)?;
     Ok(())
 }

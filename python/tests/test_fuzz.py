@@ -107,6 +107,13 @@ ENTRIES = {
         {"output", "spectral", "checkpoint"},
     ),
     "scene_info": (scotopia.scene_info, [CORNELL], dict(params=None, res=None), {"path"}, set()),
+    "measure": (
+        scotopia.measure,
+        [CORNELL, np.array([[0.0, 0.01, 0.0, 0.0, 1.0, 0.0]])],
+        dict(spp=4, seed=0, wavelengths="swc", cluster=4, params=None),
+        {"path"},
+        set(),
+    ),
     "display": (
         scotopia.display,
         [IMAGE],
@@ -206,6 +213,7 @@ ENTRIES = {
 
 # Arguments named by position, for the path sets above.
 POSITIONAL_NAMES = {"render": ["path"], "scene_info": ["path"], "display": ["image"],
+                    "measure": ["path", "points"],
                     "Spectrum.from_file": ["path"], "vision.read_image": ["path"]}
 
 
@@ -217,7 +225,7 @@ def _render_image():
     return str(path)
 
 
-def _guard(name, kwargs):
+def _guard(name, kwargs, args=()):
     """Leaves out legitimate but costly values (a big render is not bad
     input): the fuzz is about wrong values, not about waiting."""
     if name == "render":
@@ -225,6 +233,13 @@ def _guard(name, kwargs):
         res = kwargs.get("res")
         if isinstance(res, (int, float)) and not isinstance(res, bool) and 64 < res < 1e7:
             kwargs["res"] = 4
+    if name == "measure":
+        spp = kwargs.get("spp")
+        if isinstance(spp, (int, float)) and not isinstance(spp, bool) and 256 < spp:
+            kwargs["spp"] = 4
+        # Many points are legitimate, only slow.
+        if len(args) > 1 and isinstance(args[1], np.ndarray) and args[1].size > 600:
+            args[1] = args[1].reshape(-1)[:6]
     if name == "round_trip":
         n = kwargs.get("n")
         if isinstance(n, (int, float)) and not isinstance(n, bool) and 16 < n <= 256:
@@ -292,7 +307,7 @@ def test_wrong_arguments_are_python_exceptions(name, data):
             kwargs[key] = value
         else:
             args[key] = value
-    _guard(name, kwargs)
+    _guard(name, kwargs, args)
     cwd = os.getcwd()
     os.chdir(SCRATCH)
     try:

@@ -84,3 +84,25 @@ def test_a_checkpointed_render_resumes_to_the_same_bits(tmp_path):
     # Other options: refused.
     with pytest.raises(ValueError, match="another scene"):
         scotopia.render(scene, spp=24, checkpoint=str(ckpt), resume=True, cluster=8, **opts)
+
+
+def test_measure_gives_the_inverse_square_law_and_its_standard_errors(tmp_path):
+    # A 1000 cd point source 3 m above the floor: E = I cos θ / d².
+    scene = tmp_path / "point.xml"
+    scene.write_text(
+        '<scene version="3.0.0"><sensor type="perspective"><film type="hdrfilm">'
+        '<integer name="width" value="4"/><integer name="height" value="4"/></film></sensor>'
+        '<integrator type="path"><integer name="max_depth" value="2"/></integrator>'
+        '<emitter type="point"><point name="position" x="0" y="3" z="0"/>'
+        '<spectrum name="intensity" type="d65"><float name="luminance" value="1000"/></spectrum>'
+        "</emitter></scene>"
+    )
+    x = np.array([0.0, 2.0, 4.0])
+    points = np.stack([x, 0 * x, 0 * x, 0 * x, 1 + 0 * x, 0 * x], -1)
+    m = scotopia.measure(str(scene), points, spp=256)
+    d2 = x**2 + 9.0
+    expected = 1000.0 * 3.0 / d2**1.5
+    assert np.all(np.abs(m["E_lx"] - expected) <= 4 * m["E_lx_se"] + 5e-3 * expected)
+    assert np.all(m["E_lx_se"] > 0) and np.allclose(m["SP"], m["Es_lx"] / m["E_lx"])
+    with pytest.raises(ValueError, match="N × 6"):
+        scotopia.measure(str(scene), points[:, :5])

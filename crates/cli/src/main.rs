@@ -3,6 +3,7 @@
 
 mod display;
 mod info;
+mod measure;
 mod numbers;
 mod render;
 mod spectrum;
@@ -33,6 +34,9 @@ enum Command {
     /// Show an X, Y, Z, V′ image as a person would see it on a display:
     /// visual mode, glare, multiscale adaptation, night shift, gamut mapping.
     Display(display::Args),
+    /// Measure photopic and scotopic illuminance (lx) at points of a scene,
+    /// with standard errors and the S/P ratio: a lighting calculation grid.
+    Measure(measure::Args),
 }
 
 /// Writes `text` to standard output; a closed pipe (`| head`) is not an error.
@@ -51,6 +55,7 @@ fn main() -> ExitCode {
         Command::Info(args) => info::run(args),
         Command::Render(args) => render::run(*args),
         Command::Display(args) => display::run(args),
+        Command::Measure(args) => measure::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -10,6 +10,7 @@ pub mod preview;
 pub mod read;
 pub mod sheet;
 mod tmp_file;
+pub use tmp_file::write_atomic;
 pub mod xyzv;
 
 pub use exr_out::{read_exr, write_exr, ExrImage, Meta};

@@ -13,6 +13,16 @@ pub(crate) fn tmp_path(path: &Path) -> PathBuf {
     with_pid(path, std::process::id())
 }
 
+/// Writes `bytes` to `path` through a temporary file renamed over it.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let tmp = tmp_path(path);
+    std::fs::write(&tmp, bytes)
+        .and_then(|_| std::fs::rename(&tmp, path))
+        .inspect_err(|_| {
+            let _ = std::fs::remove_file(&tmp);
+        })
+}
+
 fn with_pid(path: &Path, pid: u32) -> PathBuf {
     let mut name = path
         .file_name()

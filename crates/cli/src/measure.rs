@@ -1,0 +1,187 @@
+//! `scotopia measure`: illuminance at points of a scene, as a lighting
+//! designer's calculation grid.
+
+use std::fmt::Write;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+use anyhow::{bail, Context, Result};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use scotopia_render::integrator::{measure, Receiver, RenderOptions, CLUSTER_SIZES};
+use scotopia_render::math::Vec3;
+use scotopia_render::wavelength::WavelengthStrategy;
+use scotopia_scene::load_scene_with;
+
+use crate::info::{load_options, parameters};
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The scene (Mitsuba 3 XML). Its sensor is not used.
+    scene: PathBuf,
+    /// The points: CSV rows `x,y,z,nx,ny,nz` (scene units; the normal is
+    /// the side the receiver faces). A header line, blank lines and lines
+    /// starting with # are skipped.
+    #[arg(long, value_name = "POINTS.csv")]
+    points: PathBuf,
+    /// The output: the points with photopic and scotopic illuminance, their
+    /// standard errors and the S/P ratio, as CSV with the header
+    /// x,y,z,nx,ny,nz,E_lx,E_lx_se,Es_lx,Es_lx_se,SP.
+    #[arg(short, long, value_name = "OUT.csv")]
+    output: PathBuf,
+    /// Samples per point (default: the scene's samples per pixel).
+    #[arg(long)]
+    spp: Option<u32>,
+    /// Set a scene parameter, overriding its <default> (repeatable).
+    #[arg(short = 'D', value_name = "NAME=VALUE")]
+    define: Vec<String>,
+    /// Worker threads (default: all cores; at most 4096).
+    #[arg(long, value_parser = crate::numbers::threads)]
+    threads: Option<usize>,
+    /// Seed of the sample sequence: the same seed gives the same figures.
+    #[arg(long, default_value_t = 0)]
+    seed: u32,
+    /// How paths choose wavelengths: swc, hero or single.
+    #[arg(long, default_value = "swc", value_name = "swc|hero|single")]
+    wavelengths: String,
+    /// Wavelengths per path: 1, 2, 4, 8 or 16.
+    #[arg(long, default_value_t = 4, value_name = "K")]
+    cluster: usize,
+}
+
+/// The receivers of a points file; errors name the file and line.
+pub fn read_points(path: &Path) -> Result<Vec<Receiver>> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("{}: cannot read the points", path.display()))?;
+    let mut out = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+        let numbers: Option<Vec<f32>> = fields.iter().map(|f| f.parse::<f32>().ok()).collect();
+        let at = || format!("{}:{}", path.display(), i + 1);
+        let Some(v) = numbers else {
+            if out.is_empty() && i == 0 {
+                continue; // a header
+            }
+            bail!(
+                "{}: expected six numbers x,y,z,nx,ny,nz, found {line:?}",
+                at()
+            );
+        };
+        if v.len() != 6 {
+            bail!(
+                "{}: expected six numbers x,y,z,nx,ny,nz, found {}",
+                at(),
+                v.len()
+            );
+        }
+        if v.iter().any(|x| !x.is_finite()) {
+            bail!("{}: every number must be finite", at());
+        }
+        let n = Vec3::new(v[3], v[4], v[5]);
+        if n.length_squared() <= 0.0 {
+            bail!(
+                "{}: the normal ({}, {}, {}) is zero",
+                at(),
+                v[3],
+                v[4],
+                v[5]
+            );
+        }
+        out.push(Receiver {
+            p: Vec3::new(v[0], v[1], v[2]),
+            n,
+        });
+    }
+    if out.is_empty() {
+        bail!("{}: no points", path.display());
+    }
+    Ok(out)
+}
+
+pub fn run(args: Args) -> Result<()> {
+    scotopia_render::simd::Level::init().map_err(anyhow::Error::msg)?;
+    let strategy = WavelengthStrategy::from_name(&args.wavelengths).with_context(|| {
+        format!(
+            "--wavelengths {}: use swc, hero or single",
+            args.wavelengths
+        )
+    })?;
+    if !CLUSTER_SIZES.contains(&args.cluster) {
+        bail!("--cluster {}: use one of 1, 2, 4, 8, 16", args.cluster);
+    }
+    if args.spp == Some(0) {
+        bail!("--spp must be positive");
+    }
+    let receivers = read_points(&args.points)?;
+    let scene = load_scene_with(
+        &args.scene,
+        &parameters(&args.define)?,
+        &load_options(None)?,
+    )?;
+    for w in &scene.warnings {
+        eprintln!("scotopia: warning: {w}");
+    }
+    let options = RenderOptions {
+        spp: args.spp,
+        seed: args.seed,
+        strategy,
+        cluster: args.cluster,
+        ..RenderOptions::default()
+    };
+    let cancel = Arc::new(AtomicBool::new(false));
+    {
+        let cancel = cancel.clone();
+        ctrlc::set_handler(move || cancel.store(true, Ordering::Relaxed))
+            .context("cannot install the Ctrl-C handler")?;
+    }
+    let bar = ProgressBar::new(receivers.len() as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} points  {elapsed} elapsed, {eta} left")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    if !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        bar.set_draw_target(ProgressDrawTarget::hidden());
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()
+        .context("cannot start the worker threads")?;
+    let progress = |done: usize, _| bar.set_position(done as u64);
+    let measured = pool.install(|| measure(&scene, &receivers, &options, &cancel, &progress))?;
+    bar.finish_and_clear();
+    if cancel.load(Ordering::Relaxed) {
+        bail!("interrupted: nothing written");
+    }
+    let mut csv = String::from("x,y,z,nx,ny,nz,E_lx,E_lx_se,Es_lx,Es_lx_se,SP\n");
+    for (r, m) in receivers.iter().zip(&measured) {
+        let _ = writeln!(
+            csv,
+            "{},{},{},{},{},{},{:.6e},{:.3e},{:.6e},{:.3e},{:.4}",
+            r.p.x,
+            r.p.y,
+            r.p.z,
+            r.n.x,
+            r.n.y,
+            r.n.z,
+            m.e,
+            m.e_se,
+            m.es,
+            m.es_se,
+            m.sp()
+        );
+    }
+    scotopia_image::write_atomic(&args.output, csv.as_bytes())
+        .with_context(|| format!("{}: cannot write", args.output.display()))?;
+    let spp = measured.first().map_or(0, |m| m.samples);
+    eprintln!(
+        "scotopia: {} points, {spp} samples each → {}",
+        receivers.len(),
+        args.output.display()
+    );
+    Ok(())
+}

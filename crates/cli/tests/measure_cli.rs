@@ -1,0 +1,72 @@
+//! `scotopia measure`: a points file in, a CSV of illuminance out; bad
+//! points are errors naming the file and line.
+
+mod common;
+
+use common::{out_dir, scenes, scotopia};
+
+#[test]
+fn measures_the_night_street_and_writes_the_documented_columns() {
+    let dir = out_dir("measure", "street");
+    let points = dir.join("points.csv");
+    std::fs::write(
+        &points,
+        "x,y,z,nx,ny,nz\n# under the sodium lamp, and under the LED\n-4,0.01,-8,0,1,0\n\n4,0.01,-16,0,1,0\n",
+    )
+    .unwrap();
+    let out = dir.join("out.csv");
+    let scene = scenes().join("night-street.xml");
+    let (code, _, err) = scotopia(&[
+        "measure",
+        scene.to_str().unwrap(),
+        "--points",
+        points.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--spp",
+        "64",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let csv = std::fs::read_to_string(&out).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(lines[0], "x,y,z,nx,ny,nz,E_lx,E_lx_se,Es_lx,Es_lx_se,SP");
+    assert_eq!(lines.len(), 3, "{csv}");
+    let row = |i: usize| -> Vec<f64> { lines[i].split(',').map(|v| v.parse().unwrap()).collect() };
+    let (sodium, led) = (row(1), row(2));
+    // Lit, with standard errors, and sodium light is poor for the rods.
+    assert!(sodium[6] > 1.0 && sodium[7] > 0.0 && led[6] > 1.0, "{csv}");
+    assert!(
+        sodium[10] < led[10],
+        "S/P sodium {} LED {}",
+        sodium[10],
+        led[10]
+    );
+}
+
+#[test]
+fn a_bad_point_is_an_error_naming_the_file_and_line() {
+    let dir = out_dir("measure", "bad");
+    let scene = scenes().join("cornell-box.xml");
+    for (text, line, what) in [
+        ("0,0,0,0,1,0\n1,2,3\n", ":2:", "six numbers"),
+        ("0,0,0,0,1,0\n0,0,0,0,0,0\n", ":2:", "zero"),
+        ("0,0,0,0,1,0\n0,0,x,0,1,0\n", ":2:", "six numbers"),
+        ("0,0,nan,0,1,0\n", ":1:", "finite"),
+    ] {
+        let points = dir.join("points.csv");
+        std::fs::write(&points, text).unwrap();
+        let (code, _, err) = scotopia(&[
+            "measure",
+            scene.to_str().unwrap(),
+            "--points",
+            points.to_str().unwrap(),
+            "-o",
+            dir.join("o.csv").to_str().unwrap(),
+        ]);
+        assert_eq!(code, 1, "{text}: {err}");
+        assert!(
+            err.contains(&format!("points.csv{line}")) && err.contains(what),
+            "{text}: {err}"
+        );
+    }
+}
