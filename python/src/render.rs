@@ -14,7 +14,7 @@ use pyo3::types::PyDict;
 use scotopia_image::Meta;
 use scotopia_render::film::Checkpoint;
 use scotopia_render::integrator::{
-    render_resumable, time_limit, Checkpointing, RenderError, RenderOptions, Tracer,
+    render_resumable, time_limit, Checkpointing, Quantity, RenderError, RenderOptions, Tracer,
 };
 use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_exr};
 use scotopia_render::scene::IntegratorKind;
@@ -33,9 +33,11 @@ use crate::scene::load_options;
 /// `checkpoint_every` seconds and at the end; with `resume` the render
 /// continues from it when it is there (the same scene, parameters and
 /// options; `spp` may grow), bit-identical to an uninterrupted render.
-/// The GIL is released while rendering.
+/// `quantity` "illuminance" renders the illuminance (lx) at the first
+/// surface each pixel sees instead of radiance. The GIL is released while
+/// rendering.
 #[pyfunction]
-#[pyo3(signature = (path, spp = None, time = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, output = None, spectral = None, bands = 47, integrator = None, res = None, checkpoint = None, checkpoint_every = 60.0, resume = false, tracer = "scalar"))]
+#[pyo3(signature = (path, spp = None, time = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, output = None, spectral = None, bands = 47, integrator = None, res = None, checkpoint = None, checkpoint_every = 60.0, resume = false, tracer = "scalar", quantity = "radiance"))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
@@ -55,6 +57,7 @@ fn render<'py>(
     checkpoint_every: f64,
     resume: bool,
     tracer: &str,
+    quantity: &str,
 ) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
     let err = |e: String| PyValueError::new_err(e);
     scotopia_render::simd::Level::init().map_err(|e| err(e.to_string()))?;
@@ -72,6 +75,11 @@ fn render<'py>(
     };
     let tracer = Tracer::from_name(tracer)
         .ok_or_else(|| err(format!("tracer '{tracer}': use wavefront or scalar")))?;
+    let quantity = Quantity::from_name(quantity).ok_or_else(|| {
+        err(format!(
+            "quantity '{quantity}': use radiance or illuminance"
+        ))
+    })?;
     let time_limit = match time {
         Some(t) => Some(time_limit(t).map_err(|e| err(format!("time {e}")))?),
         None => None,
@@ -94,6 +102,7 @@ fn render<'py>(
         integrator,
         only_strategy: None,
         tracer,
+        quantity,
     };
     let key = scotopia_scene::checkpoint_key(&path, &params, &load, &options)
         .map_err(|e| err(format!("{}: {e}", path.display())))?;

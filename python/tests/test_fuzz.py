@@ -102,7 +102,7 @@ ENTRIES = {
         # own extremes are in test_boundaries.
         dict(spp=1, seed=0, wavelengths="swc", cluster=4, params=None, spectral=None,
              bands=47, integrator=None, res=4, checkpoint=None, checkpoint_every=60.0,
-             resume=False, output=None, tracer="scalar"),
+             resume=False, output=None, tracer="scalar", quantity="radiance"),
         {"path"},
         {"output", "spectral", "checkpoint"},
     ),

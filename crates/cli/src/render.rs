@@ -11,7 +11,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use scotopia_image::{preview_srgb8, write_png_rgb8};
 use scotopia_render::film::Checkpoint;
 use scotopia_render::integrator::{
-    render_resumable, Checkpointing, RenderError, RenderOptions, Tracer, CLUSTER_SIZES,
+    render_resumable, Checkpointing, Quantity, RenderError, RenderOptions, Tracer, CLUSTER_SIZES,
 };
 use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_exr};
 use scotopia_render::scene::IntegratorKind;
@@ -80,6 +80,12 @@ pub struct Args {
     /// Wavelengths per path: 1, 2, 4, 8 or 16.
     #[arg(long, default_value_t = 4, value_name = "K")]
     cluster: usize,
+    /// What each pixel holds: radiance (X, Y, Z in cd/m², V′) or
+    /// illuminance (Y in lx, V′ in scotopic lx) at the first surface the
+    /// pixel sees, on its side facing the camera — by the path tracer,
+    /// whatever the scene's integrator; zero where no surface is seen.
+    #[arg(long, default_value = "radiance", value_name = "radiance|illuminance")]
+    quantity: String,
     /// Also write the spectral radiance image as a spectral OpenEXR
     /// (Fichet et al. 2021: channels S0.<λ>nm, W·m⁻²·sr⁻¹·nm⁻¹).
     #[arg(long, value_name = "OUT.exr")]
@@ -119,6 +125,8 @@ pub fn run(args: Args) -> Result<()> {
     };
     let tracer = Tracer::from_name(&args.tracer)
         .with_context(|| format!("--tracer {}: use wavefront or scalar", args.tracer))?;
+    let quantity = Quantity::from_name(&args.quantity)
+        .with_context(|| format!("--quantity {}: use radiance or illuminance", args.quantity))?;
     let only_strategy = match &args.bdpt_strategy {
         Some(text) => {
             let parsed: Option<Vec<usize>> =
@@ -162,6 +170,7 @@ pub fn run(args: Args) -> Result<()> {
         integrator,
         only_strategy,
         tracer,
+        quantity,
     };
 
     // Ctrl-C or SIGTERM: finish the current pass, write, exit non-zero.

@@ -25,7 +25,7 @@ pub fn checkpoint_key(
     let mut sorted: Vec<_> = params.iter().collect();
     sorted.sort();
     let text = format!(
-        "{sorted:?} {:?} {} {:?} {} {:?} {:?} {:?}",
+        "{sorted:?} {:?} {} {:?} {} {:?} {:?} {:?} {:?}",
         load.resolution,
         options.seed,
         options.strategy,
@@ -33,6 +33,7 @@ pub fn checkpoint_key(
         options.bands,
         options.integrator,
         options.only_strategy,
+        options.quantity,
     );
     Ok(fingerprint(&[&bytes, text.as_bytes()]))
 }

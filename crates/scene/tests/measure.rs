@@ -14,7 +14,11 @@ fn scene(name: &str, body: &str) -> scotopia_render::scene::Scene {
     std::fs::create_dir_all(&dir).unwrap();
     let f = dir.join(format!("{name}.xml"));
     // The sensor is not used by a measurement; the loader wants one.
-    let sensor = r#"<sensor type="perspective"><film type="hdrfilm"><integer name="width" value="4"/><integer name="height" value="4"/></film></sensor>"#;
+    let sensor = if body.contains("<sensor") {
+        ""
+    } else {
+        r#"<sensor type="perspective"><film type="hdrfilm"><integer name="width" value="4"/><integer name="height" value="4"/></film></sensor>"#
+    };
     std::fs::write(
         &f,
         format!(r#"<scene version="3.0.0">{sensor}{body}</scene>"#),
@@ -127,4 +131,36 @@ fn a_rectangular_lambertian_source_gives_its_configuration_factor() {
     let f = 4.0 * corner(1.0, 1.0);
     let m = run(&s, &rs, 4096)[0];
     assert_close("rectangle", &m, std::f64::consts::PI * l * f);
+}
+
+#[test]
+fn an_illuminance_render_holds_the_illuminance_of_the_surfaces_seen() {
+    // Sunlight of 500 lx straight down on a grey floor seen from above:
+    // every pixel holds 500 lx (the floor's reflectance plays no part),
+    // and a pixel that sees no surface holds 0.
+    use scotopia_render::integrator::{render, Quantity};
+    let s = scene(
+        "sunlit",
+        r#"<integrator type="path"><integer name="max_depth" value="2"/></integrator>
+        <emitter type="directional"><vector name="direction" x="0" y="-1" z="0"/>
+          <spectrum name="irradiance" type="d65"><float name="luminance" value="500"/></spectrum></emitter>
+        <shape type="rectangle"><transform name="to_world"><scale value="0.5"/><rotate x="1" angle="-90"/></transform>
+          <bsdf type="diffuse"><float name="reflectance" value="0.3"/></bsdf></shape>
+        <sensor type="perspective"><float name="fov" value="40"/>
+          <transform name="to_world"><lookat origin="0, 2, 0" target="0, 0, 0" up="0, 0, 1"/></transform>
+          <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film></sensor>"#,
+    );
+    let options = RenderOptions {
+        spp: Some(64),
+        seed: 1,
+        quantity: Quantity::Illuminance,
+        ..RenderOptions::default()
+    };
+    let r = render(&s, &options, &AtomicBool::new(false), &|_, _| {}).unwrap();
+    let y: Vec<f32> = r.film.xyzv().iter().map(|p| p[1]).collect();
+    let (w, h) = (r.film.width as usize, r.film.height as usize);
+    // The centre sees the floor, the corners (beyond its half-metre) the sky.
+    let centre = y[h / 2 * w + w / 2] as f64;
+    assert!((centre / 500.0 - 1.0).abs() < 0.01, "centre {centre} lx");
+    assert_eq!(y[0], 0.0);
 }

@@ -22,7 +22,7 @@ use rayon::prelude::*;
 use scotopia_color::photometry::estimate_xyzv;
 use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
 
-use super::path::PathState;
+use super::path::{CameraSample, PathState};
 use super::{RenderError, RenderOptions, Renderer};
 use crate::bsdf::{Bsdf, Diffuse, ShadingPoint};
 use crate::math::{Frame, Ray, Vec3};
@@ -104,9 +104,6 @@ fn measure_k<const K: usize>(
         return Err(RenderError::Receiver(i));
     }
     let renderer = Renderer::with_integrator(scene, options.strategy, IntegratorKind::Path);
-    let white = Bsdf::Diffuse(Diffuse {
-        reflectance: Texture::Constant(Spectrum::Constant(1.0)),
-    });
     let done = AtomicUsize::new(0);
     Ok(receivers
         .par_iter()
@@ -115,7 +112,7 @@ fn measure_k<const K: usize>(
             if cancel.load(Ordering::Relaxed) {
                 return Measured::default();
             }
-            let m = renderer.receive::<K>(r, &white, options.seed, k as u32, spp, cancel);
+            let m = renderer.receive::<K>(r, options.seed, k as u32, spp, cancel);
             progress(done.fetch_add(1, Ordering::Relaxed) + 1, receivers.len());
             m
         })
@@ -123,12 +120,41 @@ fn measure_k<const K: usize>(
 }
 
 impl Renderer<'_> {
+    /// One camera sample of the illuminance at the first surface `pixel`
+    /// sees ([`super::Quantity::Illuminance`]), as a [`CameraSample`]
+    /// whose X, Y, Z, V′ are illuminances.
+    pub(super) fn sample_illuminance<const K: usize>(
+        &self,
+        sampler: &mut Sampler,
+        pixel: [u32; 2],
+        index: u32,
+        rays: &mut u64,
+    ) -> Option<CameraSample<K>> {
+        let camera = self.start_path::<K>(sampler, pixel, index);
+        *rays += 1;
+        let Some(hit) = self.scene.geometry.intersect(&camera.ray) else {
+            return Self::finish(&camera);
+        };
+        let surface = self.scene.geometry.surface(&hit, &camera.ray);
+        let ng = surface.n_geometric;
+        let n = if ng.dot(camera.ray.d) <= 0.0 { ng } else { -ng };
+        let frame = Frame::from_normal(n);
+        let at = ShadingPoint::at([0.0f32; 2], n, n, frame.s, frame.t).1;
+        let mut path = PathState::<K>::at_receiver(surface.p, n, camera.wl);
+        let u = [sampler.get_4d(), sampler.get_4d()];
+        let b = self.scatter(&mut path, u, (surface.p, n), (frame, at), &self.white);
+        if self.settle(&mut path, b, rays) {
+            self.trace(sampler, &mut path, rays);
+        }
+        path.l = path.l * std::f32::consts::PI;
+        Self::finish(&path)
+    }
+
     /// `spp` samples of receiver number `index` (its place in the sampler's
     /// pixel grid: row 0, column `index`).
     fn receive<const K: usize>(
         &self,
         r: &Receiver,
-        white: &Bsdf,
         seed: u32,
         index: u32,
         spp: u32,
@@ -150,7 +176,7 @@ impl Renderer<'_> {
             // Arrived from straight above the receiver.
             let mut path = PathState::<K>::at_receiver(r.p, n, wl);
             let u = [sampler.get_4d(), sampler.get_4d()];
-            let b = self.scatter(&mut path, u, (r.p, n), (frame, at), white);
+            let b = self.scatter(&mut path, u, (r.p, n), (frame, at), &self.white);
             let mut rays = 0;
             if self.settle(&mut path, b, &mut rays) {
                 self.trace(&mut sampler, &mut path, &mut rays);
@@ -204,4 +230,12 @@ impl<const K: usize> PathState<K> {
             whole: !wl.secondary_terminated(),
         }
     }
+}
+
+/// The receivers' surface: white Lambertian, reflectance 1 at every
+/// wavelength (L = E/π).
+pub(super) fn white() -> Bsdf {
+    Bsdf::Diffuse(Diffuse {
+        reflectance: Texture::Constant(Spectrum::Constant(1.0)),
+    })
 }

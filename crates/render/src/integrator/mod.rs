@@ -50,6 +50,34 @@ pub struct RenderOptions {
     pub only_strategy: Option<[usize; 2]>,
     /// Which tracer runs the path integrator.
     pub tracer: Tracer,
+    /// What each pixel holds: the radiance reaching the camera, or the
+    /// illuminance at the first surface the pixel sees.
+    pub quantity: Quantity,
+}
+
+/// What a render measures at each pixel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Quantity {
+    /// X, Y, Z (cd/m²) and V′ (scotopic cd/m²) of the light reaching the
+    /// camera.
+    #[default]
+    Radiance,
+    /// X, Y, Z (Y in lx) and V′ (scotopic lx) of the light falling on the
+    /// first surface each pixel sees, on the side facing the camera (the
+    /// path tracer's own transport at a virtual receiver there,
+    /// `measure.rs`); zero where the pixel sees no surface.
+    Illuminance,
+}
+
+impl Quantity {
+    /// `radiance` or `illuminance`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "radiance" => Some(Self::Radiance),
+            "illuminance" => Some(Self::Illuminance),
+            _ => None,
+        }
+    }
 }
 
 /// The two forms of the path tracer: one path at a time (the reference)
@@ -87,6 +115,7 @@ impl Default for RenderOptions {
             integrator: None,
             only_strategy: None,
             tracer: Tracer::default(),
+            quantity: Quantity::default(),
         }
     }
 }
@@ -199,6 +228,9 @@ pub struct Renderer<'a> {
     light_spectra: Option<bdpt::LightSpectra>,
     only_strategy: Option<[usize; 2]>,
     tracer: Tracer,
+    quantity: Quantity,
+    /// The white Lambertian surface of virtual receivers (`measure.rs`).
+    white: crate::bsdf::Bsdf,
 }
 
 impl<'a> Renderer<'a> {
@@ -256,6 +288,8 @@ impl<'a> Renderer<'a> {
             light_spectra,
             only_strategy: None,
             tracer: Tracer::default(),
+            quantity: Quantity::default(),
+            white: measure::white(),
             filter: FilterSampler::new(scene.filter),
             infinite: (0..scene.lights.len())
                 .filter(|&i| scene.lights[i].is_infinite())
@@ -337,7 +371,8 @@ impl<'a> Renderer<'a> {
                 let mut scratch = bdpt::Scratch::<K>::default();
                 let mut splats = Vec::new();
                 let mut batch = (self.integrator == IntegratorKind::Path
-                    && self.tracer == Tracer::Wavefront)
+                    && self.tracer == Tracer::Wavefront
+                    && self.quantity == Quantity::Radiance)
                     .then(|| {
                         let work = wavefront::RowWork {
                             seed,
@@ -353,6 +388,8 @@ impl<'a> Renderer<'a> {
                         let pixel = [x as u32, y as u32];
                         let sample = match (&mut batch, self.integrator) {
                             (Some(done), _) => done.next().flatten(),
+                            _ if self.quantity == Quantity::Illuminance => self
+                                .sample_illuminance::<K>(&mut sampler, pixel, i, &mut counts.rays),
                             (None, IntegratorKind::Path) => {
                                 self.sample_pixel::<K>(&mut sampler, pixel, i, &mut counts.rays)
                             }
@@ -482,6 +519,7 @@ fn render_k<const K: usize>(
         renderer.only_strategy = Some([s, t]);
     }
     renderer.tracer = options.tracer;
+    renderer.quantity = options.quantity;
     let bands = match options.bands {
         Some(n) if (1..=471).contains(&n) => Some(Bands(n)),
         Some(_) => return Err(RenderError::Bands),
