@@ -146,7 +146,7 @@ impl Renderer<'_> {
         if self.settle(&mut path, b, rays) {
             self.trace(sampler, &mut path, rays);
         }
-        path.l = path.l * std::f32::consts::PI;
+        path.l *= std::f32::consts::PI;
         Self::finish(&path)
     }
 
