@@ -115,10 +115,10 @@ impl VisionArgs {
 pub struct Args {
     /// The input: an OpenEXR with X, Y, Z (cd/m²) and V (scotopic cd/m²;
     /// estimated if missing), or R, G, B with --units.
-    input: PathBuf,
+    pub input: PathBuf,
     /// The output: .png (sRGB, or PQ with --hdr) or .exr (linear, 1 = peak).
     #[arg(short, long, value_name = "OUT.png")]
-    output: Option<PathBuf>,
+    pub output: Option<PathBuf>,
     /// Print the adaptation luminance, s, the mesopic m and the mode.
     #[arg(long)]
     info: bool,
@@ -135,6 +135,18 @@ pub struct Args {
     /// For an RGB input: its primaries (linear srgb or acescg).
     #[arg(long, default_value = "srgb", value_name = "srgb|acescg")]
     input_space: String,
+    /// Instead of what the eye sees, write (-o, PNG) a false-colour map of
+    /// luminance (cd/m²) or of illuminance (lx: an image made by `render
+    /// --quantity illuminance`), with a labelled scale bar.
+    #[arg(long, value_name = "luminance|illuminance")]
+    pub false_colour: Option<String>,
+    /// The false-colour range LO:HI (default: 0 to the 99th percentile;
+    /// with --log, the three decades below it).
+    #[arg(long, value_name = "LO:HI", requires = "false_colour")]
+    pub range: Option<String>,
+    /// A logarithmic false-colour scale.
+    #[arg(long, requires = "false_colour")]
+    pub log: bool,
     #[command(flatten)]
     vision: VisionArgs,
 }
@@ -165,6 +177,9 @@ pub fn run(args: Args) -> Result<()> {
     }
     scotopia_vision::pipeline::check_size(image.width, image.height)
         .with_context(|| args.input.display().to_string())?;
+    if let Some(quantity) = &args.false_colour {
+        return crate::false_colour::run(&args, quantity, &image);
+    }
     let (params, png, notes) = args.vision.params(image.width, image.fov_horizontal)?;
     for note in notes {
         eprintln!("scotopia: note: {note}");

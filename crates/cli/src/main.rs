@@ -2,6 +2,7 @@
 //! library, and prints or writes the result.
 
 mod display;
+mod false_colour;
 mod info;
 mod measure;
 mod numbers;

@@ -70,3 +70,62 @@ fn a_bad_point_is_an_error_naming_the_file_and_line() {
         );
     }
 }
+
+#[test]
+fn an_illuminance_image_becomes_a_false_colour_map_with_a_scale_bar() {
+    let dir = out_dir("measure", "false-colour");
+    let scene = scenes().join("cornell-box.xml");
+    let (lux, png) = (dir.join("lux.exr"), dir.join("lux.png"));
+    let s = |p: &std::path::Path| p.to_str().unwrap().to_string();
+    let (code, _, err) = scotopia(&[
+        "render",
+        &s(&scene),
+        "--res",
+        "32",
+        "--spp",
+        "4",
+        "--quantity",
+        "illuminance",
+        "-o",
+        &s(&lux),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (code, _, err) = scotopia(&[
+        "display",
+        &s(&lux),
+        "--false-colour",
+        "illuminance",
+        "--log",
+        "-o",
+        &s(&png),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("lx (log)"), "{err}");
+    // The picture, then the scale bar below it (IHDR's width and height).
+    let bytes = std::fs::read(&png).unwrap();
+    let be = |i: usize| u32::from_be_bytes(bytes[i..i + 4].try_into().unwrap());
+    assert!(be(16) == 32 && be(20) > 32 + 20, "{} × {}", be(16), be(20));
+    // Luminance asked of an illuminance image: an error saying what it holds.
+    let (code, _, err) = scotopia(&[
+        "display",
+        &s(&lux),
+        "--false-colour",
+        "luminance",
+        "-o",
+        &s(&png),
+    ]);
+    assert_eq!(code, 1);
+    assert!(err.contains("holds illuminance"), "{err}");
+    let (code, _, err) = scotopia(&[
+        "display",
+        &s(&lux),
+        "--false-colour",
+        "illuminance",
+        "--range",
+        "5:1",
+        "-o",
+        &s(&png),
+    ]);
+    assert_eq!(code, 1);
+    assert!(err.contains("LO < HI"), "{err}");
+}

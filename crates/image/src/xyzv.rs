@@ -22,6 +22,9 @@ pub struct XyzvImage {
     pub pixels: Vec<[f32; 4]>,
     /// Horizontal field of view in degrees, from the file's metadata.
     pub fov_horizontal: Option<f64>,
+    /// What the pixels hold, from the file's `quantity` metadata
+    /// (`radiance` or `illuminance`, as `scotopia render` writes it).
+    pub quantity: Option<String>,
     /// What was assumed to read the file (estimated V′, RGB conversion),
     /// for the user to be told.
     pub notes: Vec<String>,
@@ -158,11 +161,16 @@ pub fn read_xyzv(path: &Path, rgb: RgbInput) -> Result<XyzvImage, ImageError> {
             _ => None,
         })
         .filter(|f| f.is_finite() && *f > 0.0);
+    let quantity = match header.own_attributes.other.get(&Text::from("quantity")) {
+        Some(AttributeValue::Text(t)) => Some(t.to_string()),
+        _ => None,
+    };
     Ok(XyzvImage {
         width: header.layer_size.width(),
         height: header.layer_size.height(),
         pixels,
         fov_horizontal,
+        quantity,
         notes,
     })
 }

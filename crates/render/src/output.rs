@@ -5,7 +5,7 @@ use std::path::Path;
 
 use scotopia_image::{write_exr, ImageError, Meta};
 
-use crate::integrator::{RenderOptions, Rendered};
+use crate::integrator::{Quantity, RenderOptions, Rendered};
 use crate::scene::Scene;
 
 /// Header attributes of a render: fields of view in degrees, samples per
@@ -32,9 +32,16 @@ pub fn render_metadata(
         ("renderSeconds", Meta::F32(rendered.elapsed.as_secs_f32())),
         ("raysTraced", Meta::Text(rendered.rays.to_string())),
         ("sceneFile", Meta::Text(scene_file.into())),
+        ("quantity", Meta::Text(match options.quantity {
+            Quantity::Radiance => "radiance".into(),
+            Quantity::Illuminance => "illuminance".into(),
+        })),
         (
             "units",
-            Meta::Text("X, Y, Z in cd/m2 (CIE 1931, Km = 683 lm/W); V in scotopic cd/m2 (CIE 1951, K'm = 1700 lm/W)".into()),
+            Meta::Text(match options.quantity {
+                Quantity::Radiance => "X, Y, Z in cd/m2 (CIE 1931, Km = 683 lm/W); V in scotopic cd/m2 (CIE 1951, K'm = 1700 lm/W)".into(),
+                Quantity::Illuminance => "illuminance at the surface each pixel sees: X, Y, Z with Y in lx (CIE 1931, Km = 683 lm/W); V in scotopic lx (CIE 1951, K'm = 1700 lm/W)".into(),
+            }),
         ),
         ("interrupted", Meta::I32(rendered.cancelled as i32)),
         ("renderer", Meta::Text(format!("scotopia {}", env!("CARGO_PKG_VERSION")))),

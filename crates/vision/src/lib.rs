@@ -8,6 +8,7 @@
 
 pub mod acuity;
 pub mod encode;
+pub mod false_colour;
 pub mod gamut;
 pub mod glare;
 pub mod mode;
