@@ -16,9 +16,11 @@ use rayon::prelude::*;
 
 use scotopia_color::SampledWavelengths;
 
+use crate::accel::Aabb;
 use crate::camera::Projection;
 use crate::film::{Bands, Checkpoint, Film, FilterSampler};
-use crate::light::{Light, SceneExtent};
+use crate::geometry::Shape;
+use crate::light::{Caster, Light, SceneExtent};
 use crate::math::Vec3;
 use crate::sampling::distribution::Distribution1D;
 use crate::sampling::sobol::Sampler;
@@ -180,6 +182,34 @@ fn pass_size(done: u32) -> u32 {
     }
 }
 
+/// The bounding spheres of the shapes (outside shape groups) whose BSDF
+/// casts caustics: where lights at infinity aim part of their light
+/// subpaths (`light::emit_disk`).
+fn casters(scene: &Scene) -> Vec<Caster> {
+    let shapes = &scene.geometry.shapes;
+    Caster::select(shapes.iter().enumerate().map(|(i, shape)| {
+        let bsdf = scene
+            .shape_material
+            .get(i)
+            .and_then(|&m| scene.materials.get(m as usize));
+        let bound = match shape {
+            Shape::Sphere(s) => Caster {
+                center: s.center,
+                radius: s.radius,
+            },
+            _ => {
+                let b = (0..shape.primitive_count())
+                    .fold(Aabb::EMPTY, |b, prim| b.union(shape.bounds(prim)));
+                Caster {
+                    center: b.centroid(),
+                    radius: 0.5 * b.extent().length(),
+                }
+            }
+        };
+        (bound, bsdf.is_some_and(|b| b.casts_caustics()))
+    }))
+}
+
 /// Per-scene state shared by all samples.
 pub struct Renderer<'a> {
     pub scene: &'a Scene,
@@ -189,6 +219,8 @@ pub struct Renderer<'a> {
     pub filter: FilterSampler,
     center: Vec3,
     radius: f32,
+    /// The shapes light subpaths from infinity are aimed at.
+    casters: Vec<Caster>,
     infinite: Vec<usize>,
     pub integrator: IntegratorKind,
     /// Bidirectional: the lights' spectra, to choose a light by cluster.
@@ -221,6 +253,7 @@ impl<'a> Renderer<'a> {
             shapes: &scene.geometry.shapes,
             center,
             radius,
+            casters: &[],
         };
         let power: Vec<f32> = scene
             .lights
@@ -256,6 +289,11 @@ impl<'a> Renderer<'a> {
             infinite: (0..scene.lights.len())
                 .filter(|&i| scene.lights[i].is_infinite())
                 .collect(),
+            casters: if scene.integrator.aim_at_casters {
+                casters(scene)
+            } else {
+                Vec::new()
+            },
             scene,
             center,
             radius,
@@ -268,6 +306,7 @@ impl<'a> Renderer<'a> {
             shapes: &self.scene.geometry.shapes,
             center: self.center,
             radius: self.radius,
+            casters: &self.casters,
         }
     }
 
