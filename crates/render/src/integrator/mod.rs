@@ -3,10 +3,12 @@
 //! pixel until the requested count or time is reached, or it is cancelled.
 
 mod bdpt;
+mod light_choice;
 mod path;
 mod wavefront;
 
 pub use bdpt::Splat;
+pub use light_choice::LightChoice;
 pub use path::CameraSample;
 
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -213,8 +215,12 @@ fn casters(scene: &Scene) -> Vec<Caster> {
 /// Per-scene state shared by all samples.
 pub struct Renderer<'a> {
     pub scene: &'a Scene,
-    /// Light choice for next-event estimation, by radiant power.
+    /// Light choice by radiant power (wavelengths, the bidirectional
+    /// tracer's clusters).
     pub light_choice: Distribution1D,
+    /// The path tracer's light choice for next-event estimation, by power
+    /// over squared distance.
+    pub nee_choice: LightChoice,
     pub wavelengths: WavelengthSampler,
     pub filter: FilterSampler,
     center: Vec3,
@@ -278,7 +284,9 @@ impl<'a> Renderer<'a> {
                 .collect();
             bdpt::LightSpectra::new(&scene.lights, p)
         });
+        let nee_choice = LightChoice::new(&scene.lights, &power, &extent);
         Self {
+            nee_choice,
             wavelengths: WavelengthSampler::new(strategy, &scene.lights, &power, &fluorescent),
             light_choice,
             integrator,
