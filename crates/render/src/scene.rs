@@ -47,6 +47,11 @@ pub struct IntegratorSettings {
     pub max_depth: i32,
     /// Depth from which Russian roulette starts.
     pub rr_depth: i32,
+    /// Bidirectional: whether lights at infinity aim part of their light
+    /// subpaths at the shapes that cast caustics (`light::emit_disk`).
+    /// Always on when a scene is read; off only to check that it leaves
+    /// the image's expectation as it was.
+    pub aim_at_casters: bool,
 }
 
 #[derive(Debug, Clone)]

@@ -52,6 +52,7 @@ fn by_light_samples(light: &Light, shapes: &[Shape], p: Vec3, n: usize) -> (f64,
         shapes,
         center: Vec3::ZERO,
         radius: 10.0,
+        casters: &[],
     };
     let mut rng = Rng(7);
     estimate(n, || {

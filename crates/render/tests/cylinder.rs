@@ -255,6 +255,7 @@ fn an_emitting_cylinder_radiates_pi_area_radiance_through_an_enclosing_sphere() 
         shapes: &shapes,
         center: centre,
         radius: big,
+        casters: &[],
     };
     let w = SampledWavelengths::<4>::sample_uniform(0.5);
     let mut rng = Rng(5);

@@ -39,6 +39,7 @@ fn scene(
             kind: Default::default(),
             max_depth: -1,
             rr_depth: 5,
+            aim_at_casters: true,
         },
         geometry: Aggregate::new(shapes),
         materials: vec![Bsdf::Diffuse(Diffuse {

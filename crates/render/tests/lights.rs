@@ -39,6 +39,7 @@ fn scene(shapes: &[Shape]) -> SceneExtent<'_> {
         shapes,
         center: Vec3::ZERO,
         radius: 10.0,
+        casters: &[],
     }
 }
 

@@ -36,6 +36,7 @@ fn a_flipped_sphere_faces_and_emits_inwards() {
         shapes: &shapes,
         center: sphere.center,
         radius: 10.0,
+        casters: &[],
     };
     let w = SampledWavelengths::<4>::sample_uniform(0.5);
     let normal = Vec3::new(0.6, 0.0, 0.8);

@@ -44,6 +44,7 @@ impl SceneInfo {
             shapes: &scene.geometry.shapes,
             center,
             radius,
+            casters: &[],
         };
         let lights = scene
             .lights

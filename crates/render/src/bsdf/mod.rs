@@ -303,6 +303,15 @@ impl Bsdf {
     }
 }
 
+impl Bsdf {
+    /// Whether light leaving this surface goes only where delta lobes send
+    /// it (a mirror, smooth glass; `null` passes light on unchanged): the
+    /// caustics it casts are found by light subpaths alone.
+    pub fn casts_caustics(&self) -> bool {
+        self.is_delta() && !matches!(self, Bsdf::Null(_))
+    }
+}
+
 /// The point and both directions moved to the upper side when `wi` is
 /// below.
 #[inline]

@@ -3,11 +3,13 @@
 //! pixel until the requested count or time is reached, or it is cancelled.
 
 mod bdpt;
+mod light_choice;
 mod measure;
 mod path;
 mod wavefront;
 
 pub use bdpt::Splat;
+pub use light_choice::LightChoice;
 pub use measure::{measure, Measured, Receiver};
 pub use path::CameraSample;
 
@@ -18,9 +20,11 @@ use rayon::prelude::*;
 
 use scotopia_color::SampledWavelengths;
 
+use crate::accel::Aabb;
 use crate::camera::Projection;
 use crate::film::{Bands, Checkpoint, Film, FilterSampler};
-use crate::light::{Light, SceneExtent};
+use crate::geometry::Shape;
+use crate::light::{Caster, Light, SceneExtent};
 use crate::math::Vec3;
 use crate::sampling::distribution::Distribution1D;
 use crate::sampling::sobol::Sampler;
@@ -213,15 +217,49 @@ fn pass_size(done: u32) -> u32 {
     }
 }
 
+/// The bounding spheres of the shapes (outside shape groups) whose BSDF
+/// casts caustics: where lights at infinity aim part of their light
+/// subpaths (`light::emit_disk`).
+fn casters(scene: &Scene) -> Vec<Caster> {
+    let shapes = &scene.geometry.shapes;
+    Caster::select(shapes.iter().enumerate().map(|(i, shape)| {
+        let bsdf = scene
+            .shape_material
+            .get(i)
+            .and_then(|&m| scene.materials.get(m as usize));
+        let bound = match shape {
+            Shape::Sphere(s) => Caster {
+                center: s.center,
+                radius: s.radius,
+            },
+            _ => {
+                let b = (0..shape.primitive_count())
+                    .fold(Aabb::EMPTY, |b, prim| b.union(shape.bounds(prim)));
+                Caster {
+                    center: b.centroid(),
+                    radius: 0.5 * b.extent().length(),
+                }
+            }
+        };
+        (bound, bsdf.is_some_and(|b| b.casts_caustics()))
+    }))
+}
+
 /// Per-scene state shared by all samples.
 pub struct Renderer<'a> {
     pub scene: &'a Scene,
-    /// Light choice for next-event estimation, by radiant power.
+    /// Light choice by radiant power (wavelengths, the bidirectional
+    /// tracer's clusters).
     pub light_choice: Distribution1D,
+    /// The path tracer's light choice for next-event estimation, by power
+    /// over squared distance.
+    pub nee_choice: LightChoice,
     pub wavelengths: WavelengthSampler,
     pub filter: FilterSampler,
     center: Vec3,
     radius: f32,
+    /// The shapes light subpaths from infinity are aimed at.
+    casters: Vec<Caster>,
     infinite: Vec<usize>,
     pub integrator: IntegratorKind,
     /// Bidirectional: the lights' spectra, to choose a light by cluster.
@@ -257,6 +295,7 @@ impl<'a> Renderer<'a> {
             shapes: &scene.geometry.shapes,
             center,
             radius,
+            casters: &[],
         };
         let power: Vec<f32> = scene
             .lights
@@ -281,7 +320,9 @@ impl<'a> Renderer<'a> {
                 .collect();
             bdpt::LightSpectra::new(&scene.lights, p)
         });
+        let nee_choice = LightChoice::new(&scene.lights, &power, &extent);
         Self {
+            nee_choice,
             wavelengths: WavelengthSampler::new(strategy, &scene.lights, &power, &fluorescent),
             light_choice,
             integrator,
@@ -294,6 +335,11 @@ impl<'a> Renderer<'a> {
             infinite: (0..scene.lights.len())
                 .filter(|&i| scene.lights[i].is_infinite())
                 .collect(),
+            casters: if scene.integrator.aim_at_casters {
+                casters(scene)
+            } else {
+                Vec::new()
+            },
             scene,
             center,
             radius,
@@ -306,6 +352,7 @@ impl<'a> Renderer<'a> {
             shapes: &self.scene.geometry.shapes,
             center: self.center,
             radius: self.radius,
+            casters: &self.casters,
         }
     }
 

@@ -208,7 +208,8 @@ impl Renderer<'_> {
             let w = if path.delta {
                 1.0
             } else {
-                let p_light = self.light_choice.probability(i) * light.pdf_li_at_infinity(d);
+                let p_light =
+                    self.nee_choice.probability(path.prev, i) * light.pdf_li_at_infinity(d);
                 power_heuristic(path.bsdf_pdf, p_light)
             };
             path.l += path.beta * le * w;
@@ -243,7 +244,7 @@ impl Renderer<'_> {
                     let w = if path.delta {
                         1.0
                     } else {
-                        let p_light = self.light_choice.probability(li as usize)
+                        let p_light = self.nee_choice.probability(path.prev, li as usize)
                             * area.pdf_li(path.prev, surface.p, surface.n_geometric);
                         power_heuristic(path.bsdf_pdf, p_light)
                     };
@@ -297,10 +298,11 @@ impl Renderer<'_> {
         }
         let now = path.now;
 
-        // Next-event estimation: one light chosen by power.
+        // Next-event estimation: one light, chosen by its power over its
+        // squared distance (`light_choice`).
         let mut shadow = None;
         if !bsdf.is_delta() {
-            if let Some((i, p_choice, _)) = self.light_choice.sample_discrete(u_light) {
+            if let Some((i, p_choice)) = self.nee_choice.sample(p, u_light) {
                 let light = &scene.lights[i];
                 if let Some(ls) = light.sample_li(&self.extent(), &now, p, u_select, [u_l0, u_l1]) {
                     let wo = frame.to_local(ls.wi);

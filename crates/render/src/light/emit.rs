@@ -4,15 +4,17 @@
 //! light, the direction of a directional light) have density 1 as a
 //! marker, as in `LightSample`. Lights at infinity emit from a disk of the
 //! scene's bounding radius R facing the direction they shine in, placed
-//! outside the scene: density 1/(πR²) per unit area of the disk.
+//! outside the scene, from points drawn partly towards the shapes that
+//! cast caustics (`emit_disk`): a density per unit area of the disk that
+//! depends on the point.
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::{Light, SceneExtent};
 use crate::math::{Frame, Vec3};
 use crate::sampling::warp::{
-    cosine_hemisphere_pdf, square_to_cosine_hemisphere, square_to_disk_concentric,
-    square_to_uniform_cone, square_to_uniform_sphere, uniform_cone_pdf, UNIFORM_SPHERE_PDF,
+    cosine_hemisphere_pdf, square_to_cosine_hemisphere, square_to_uniform_cone,
+    square_to_uniform_sphere, uniform_cone_pdf, UNIFORM_SPHERE_PDF,
 };
 
 /// A sampled emission.
@@ -64,12 +66,6 @@ impl Light {
         u_pos: [f32; 2],
         u_dir: [f32; 2],
     ) -> Option<Emission<K>> {
-        let disk = |d: Vec3, u: [f32; 2]| {
-            let f = Frame::from_normal(d);
-            let [x, y] = square_to_disk_concentric(u);
-            scene.center + (f.s * x + f.t * y - d) * scene.radius
-        };
-        let disk_pdf = 1.0 / (std::f32::consts::PI * scene.radius * scene.radius);
         match self {
             Light::Point(l) => {
                 let d = square_to_uniform_sphere(u_dir);
@@ -124,15 +120,18 @@ impl Light {
                     pdf_dir,
                 })
             }
-            Light::Directional(l) => Some(Emission {
-                p: disk(l.direction, u_pos),
-                n: None,
-                uv: [0.0; 2],
-                d: l.direction,
-                le: l.irradiance.sample(wl),
-                pdf_pos: disk_pdf,
-                pdf_dir: 1.0,
-            }),
+            Light::Directional(l) => {
+                let (p, pdf_pos) = scene.sample_disk(l.direction, u_pos);
+                Some(Emission {
+                    p,
+                    n: None,
+                    uv: [0.0; 2],
+                    d: l.direction,
+                    le: l.irradiance.sample(wl),
+                    pdf_pos,
+                    pdf_dir: 1.0,
+                })
+            }
             Light::Area(l) => {
                 let shape = scene.shapes.get(l.shape as usize)?;
                 let s = shape.sample_area(l.triangles(), u_select, u_pos)?;
@@ -152,13 +151,14 @@ impl Light {
             Light::Constant(_) | Light::EnvMap(_) => {
                 let ls = self.sample_li(scene, wl, Vec3::ZERO, 0.0, u_dir)?;
                 let d = -ls.wi;
+                let (p, pdf_pos) = scene.sample_disk(d, u_pos);
                 Some(Emission {
-                    p: disk(d, u_pos),
+                    p,
                     n: None,
                     uv: [0.0; 2],
                     d,
                     le: ls.radiance,
-                    pdf_pos: disk_pdf,
+                    pdf_pos,
                     pdf_dir: ls.pdf,
                 })
             }
@@ -166,10 +166,11 @@ impl Light {
     }
 
     /// Densities of `sample_le` emitting from `p` (normal `n` for area
-    /// lights) in direction `d`. For lights at infinity only `dir` means
-    /// anything (`pos` is the disk's), with `d` the direction light travels.
-    pub fn pdf_le(&self, scene: &SceneExtent, n: Vec3, d: Vec3) -> EmissionPdf {
-        let disk_pdf = 1.0 / (std::f32::consts::PI * scene.radius * scene.radius);
+    /// lights) in direction `d`. For lights at infinity `d` is the
+    /// direction light travels and `pos` the disk's density where the line
+    /// through `p` along `d` meets it (`p` may be any point of that line,
+    /// the receiving one included).
+    pub fn pdf_le(&self, scene: &SceneExtent, p: Vec3, n: Vec3, d: Vec3) -> EmissionPdf {
         match self {
             Light::Point(_) => EmissionPdf {
                 pos: 1.0,
@@ -195,8 +196,8 @@ impl Light {
                 pos: 1.0,
                 dir: l.pdf_direction(d),
             },
-            Light::Directional(_) => EmissionPdf {
-                pos: disk_pdf,
+            Light::Directional(l) => EmissionPdf {
+                pos: scene.disk_pdf(l.direction, p),
                 dir: 1.0,
             },
             Light::Area(l) => EmissionPdf {
@@ -204,7 +205,7 @@ impl Light {
                 dir: cosine_hemisphere_pdf(n.dot(d)),
             },
             Light::Constant(_) | Light::EnvMap(_) => EmissionPdf {
-                pos: disk_pdf,
+                pos: scene.disk_pdf(d, p),
                 dir: self.pdf_li_at_infinity(-d),
             },
         }

@@ -10,6 +10,7 @@
 
 mod area;
 mod emit;
+mod emit_disk;
 mod envmap;
 mod goniometric;
 mod power;
@@ -18,6 +19,7 @@ mod simple;
 
 pub use area::AreaLight;
 pub use emit::{Emission, EmissionPdf};
+pub use emit_disk::{Caster, CASTER_SHARE, MAX_CASTERS};
 pub use envmap::EnvMapLight;
 pub use goniometric::{GoniometricLight, IntensityGrid};
 pub use power::{spectral_power, Power};
@@ -61,13 +63,15 @@ pub enum Light {
     EnvMap(Box<EnvMapLight>),
 }
 
-/// The scene facts lights need: the shapes (for area lights) and the
-/// bounding sphere (for lights at infinity).
+/// The scene facts lights need: the shapes (for area lights), the
+/// bounding sphere (for lights at infinity) and the shapes light subpaths
+/// from infinity are aimed at (`emit_disk`; empty: none).
 #[derive(Debug, Clone, Copy)]
 pub struct SceneExtent<'a> {
     pub shapes: &'a [Shape],
     pub center: Vec3,
     pub radius: f32,
+    pub casters: &'a [Caster],
 }
 
 impl Light {

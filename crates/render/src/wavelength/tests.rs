@@ -61,6 +61,7 @@ fn samplers() -> Vec<(&'static str, WavelengthSampler)> {
         shapes: &[],
         center: Vec3::ZERO,
         radius: 1.0,
+        casters: &[],
     };
     let power: Vec<f32> = lights
         .iter()

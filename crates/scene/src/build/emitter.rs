@@ -142,6 +142,7 @@ pub(super) fn check_power(b: &mut Builder, node: &Node, light: &Light) -> Result
         shapes: &[],
         center: Vec3::ZERO,
         radius: 1.0,
+        casters: &[],
     };
     let p = light.power(&unit);
     // The light sampler weighs lights by their power in single precision.

@@ -13,6 +13,7 @@ pub const DEFAULT: IntegratorSettings = IntegratorSettings {
     kind: IntegratorKind::Path,
     max_depth: -1,
     rr_depth: 5,
+    aim_at_casters: true,
 };
 
 /// Integrators that only add outputs around the one they hold.
@@ -113,6 +114,7 @@ pub fn build_integrator(b: &mut Builder, node: &Node) -> Result<IntegratorSettin
         kind,
         max_depth,
         rr_depth: depth(rr_depth, "rr_depth")?,
+        aim_at_casters: true,
     };
     b.report_unused(&p);
     Ok(settings)

@@ -87,16 +87,16 @@ impl Renderer<'_> {
         match v.kind {
             Kind::Infinite => self
                 .infinite_lights()
-                .map(|(i, l)| choice.probability(i) * l.pdf_le(&extent, Vec3::ZERO, -v.wi).dir)
+                .map(|(i, l)| choice.probability(i) * l.pdf_le(&extent, v.p, Vec3::ZERO, -v.wi).dir)
                 .sum(),
             Kind::Light => {
                 let i = v.index as usize;
-                choice.probability(i) * self.scene.lights[i].pdf_le(&extent, v.ng, -v.wi).pos
+                choice.probability(i) * self.scene.lights[i].pdf_le(&extent, v.p, v.ng, -v.wi).pos
             }
             Kind::Surface => match self.scene.shape_light[v.index as usize] {
                 Some(i) => {
                     let l = &self.scene.lights[i as usize];
-                    choice.probability(i as usize) * l.pdf_le(&extent, v.ng, v.ng).pos
+                    choice.probability(i as usize) * l.pdf_le(&extent, v.p, v.ng, v.ng).pos
                 }
                 None => 0.0,
             },
@@ -119,7 +119,9 @@ impl Renderer<'_> {
     fn emission_density<const K: usize>(&self, v: &Vertex<K>, next: &Vertex<K>) -> f32 {
         let extent = self.extent();
         if v.kind == Kind::Infinite {
-            let disk = 1.0 / (std::f32::consts::PI * self.radius * self.radius);
+            // The light travels along −wi; its disk's density on the line
+            // through `next`.
+            let disk = extent.disk_pdf(-v.wi, next.p);
             let mut at = *v;
             at.at_infinity = true;
             return at.convert(disk, next);
@@ -128,7 +130,7 @@ impl Renderer<'_> {
             return 0.0;
         };
         let d = (next.p - v.p).normalize();
-        let pdf = light.pdf_le(&extent, v.ng, d);
+        let pdf = light.pdf_le(&extent, next.p, v.ng, d);
         v.convert(if v.at_infinity { pdf.pos } else { pdf.dir }, next)
     }
 
