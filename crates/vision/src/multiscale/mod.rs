@@ -170,14 +170,25 @@ pub fn multiscale(
     height: usize,
     p: &MultiscaleParams,
 ) -> Vec<[f32; 3]> {
+    let mut out = vec![[0.0f32; 3]; width * height];
+    Model::new(pixels, width, height, p).display(&mut out, |o, xyz| *o = xyz);
+    out
+}
+
+/// As [`multiscale`], writing pixel i's result `finish(&pixels[i],
+/// display X, Y, Z)` over `pixels[i]`: the pipeline's tone operator, with
+/// no full-size output buffer.
+pub fn multiscale_in_place(
+    pixels: &mut [[f32; 4]],
+    width: usize,
+    height: usize,
+    p: &MultiscaleParams,
+    finish: impl Fn(&[f32; 4], [f32; 3]) -> [f32; 4] + Sync,
+) {
+    // The model keeps no reference to the pixels once its pyramids are
+    // built, so they can be overwritten.
     let model = Model::new(pixels, width, height, p);
-    // Combining a display band with the collapsed coarser levels: one gain
-    // per receptor scales bands and mean alike, so a plain sum is exact
-    // and cannot undershoot; local gains need the contrast roll-off.
-    match model.fixed_gains {
-        Some(_) => model.display(|m, b| m + b),
-        None => model.display(add_contrast),
-    }
+    model.display(pixels, |q, xyz| *q = finish(q, xyz));
 }
 
 /// The model's state: receptor pyramids and the gains that depend on them.
@@ -330,11 +341,29 @@ impl<'a> Model<'a> {
         }
     }
 
+    /// Display X, Y, Z of each pixel, given to `put` with its slot of
+    /// `out` (row-major, the image's size).
+    fn display<T: Send>(&self, out: &mut [T], put: impl Fn(&mut T, [f32; 3]) + Sync) {
+        // Combining a display band with the collapsed coarser levels: one
+        // gain per receptor scales bands and mean alike, so a plain sum is
+        // exact and cannot undershoot; local gains need the contrast
+        // roll-off.
+        match self.fixed_gains {
+            Some(_) => self.display_with(|m, b| m + b, out, put),
+            None => self.display_with(add_contrast, out, put),
+        }
+    }
+
     /// Display X, Y, Z: the coarsest level's display cones, every band
     /// but the finest collapsed onto it with `combine`, and the finest band
     /// fused with the last collapse step and the return to X, Y, Z so no
     /// full-size band plane is ever stored.
-    fn display(&self, combine: impl Fn(f32, f32) -> f32 + Sync + Copy) -> Vec<[f32; 3]> {
+    fn display_with<T: Send>(
+        &self,
+        combine: impl Fn(f32, f32) -> f32 + Sync + Copy,
+        out: &mut [T],
+        put: impl Fn(&mut T, [f32; 3]) + Sync,
+    ) {
         let (width, height) = self.size(0);
         let n = self.pyramids[0].len();
         // The display cones of the coarsest level, then every band but the
@@ -363,12 +392,11 @@ impl<'a> Model<'a> {
             // bright edge); clamping there, not in XYZ, keeps hues.
             apply(&self.m.xyz, cones.map(|v| v.max(0.0))).map(|c| c.max(0.0))
         };
-        let mut out = vec![[0.0f32; 3]; width * height];
         if n == 1 {
             for (i, o) in out.iter_mut().enumerate() {
-                *o = to_xyz(std::array::from_fn(|c| coarser[c].data[i]));
+                put(o, to_xyz(std::array::from_fn(|c| coarser[c].data[i])));
             }
-            return out;
+            return;
         }
         let up = Bilinear::new(self.size(1), (width, height));
         out.par_chunks_mut(width).enumerate().for_each_init(
@@ -378,11 +406,13 @@ impl<'a> Model<'a> {
                     up.row(&coarser[c].data, y, m);
                 }
                 self.band_row(0, y, scratch, |x, band| {
-                    row[x] = to_xyz(std::array::from_fn(|c| combine(mean[c][x], band[c])));
+                    put(
+                        &mut row[x],
+                        to_xyz(std::array::from_fn(|c| combine(mean[c][x], band[c]))),
+                    );
                 });
             },
         );
-        out
     }
 
     /// Band `level`'s display cone signals as three planes.
