@@ -91,11 +91,15 @@ pub fn gaussian_blur(pixels: &mut [[f32; 4]], width: usize, height: usize, sigma
                 let (w0, w1) = taps.edge_weights(x as i64, n);
                 let mut acc = [0.0f32; 4];
                 let mut add = |p: &[f32; 4], t: f32| axpy(&mut acc, p, t);
-                add(&copy[0], w0);
+                // (An edge's weight is 0 away from it, and adding 0 · p
+                // changes no finite sum: skipped.)
+                if w0 != 0.0 {
+                    add(&copy[0], w0);
+                }
                 for i in taps.interior(x as i64, n) {
                     add(&copy[i as usize], taps.weight(i - x as i64));
                 }
-                if n > 1 {
+                if n > 1 && w1 != 0.0 {
                     add(&copy[width - 1], w1);
                 }
                 *o = acc;
@@ -259,11 +263,13 @@ impl Taps {
             }
         };
         out.fill([0.0; 4]);
-        add(out, 0, w0);
+        if w0 != 0.0 {
+            add(out, 0, w0);
+        }
         for i in self.interior(y, n) {
             add(out, i, self.weight(i - y));
         }
-        if n > 1 {
+        if n > 1 && w1 != 0.0 {
             add(out, n - 1, w1);
         }
     }

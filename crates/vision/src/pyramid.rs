@@ -164,18 +164,25 @@ impl Bilinear {
 
     /// Row `y` of the resampled `src` (row-major, the source size) into
     /// `out` (the destination width): the two source rows blended
-    /// vertically at each tap, then interpolated across. Nothing is
-    /// allocated: it runs once per row of every band.
+    /// vertically, each source column once (an enlargement reads each
+    /// about twice), then interpolated across. It runs once per row of
+    /// every band, so the blended row lives in a per-thread buffer.
     pub fn row(&self, src: &[f32], y: usize, out: &mut [f32]) {
+        thread_local! {
+            static BLENDED: std::cell::RefCell<Vec<f32>> = const { std::cell::RefCell::new(Vec::new()) };
+        }
         let (y0, y1, fy) = self.rows[y];
         let w = self.src_width;
         let top = &src[y0 * w..(y0 + 1) * w];
         let bottom = &src[y1 * w..(y1 + 1) * w];
-        let blend = |x: usize| top[x] + fy * (bottom[x] - top[x]);
-        for (o, &(x0, x1, fx)) in out.iter_mut().zip(&self.cols) {
-            let (a, b) = (blend(x0), blend(x1));
-            *o = a + fx * (b - a);
-        }
+        BLENDED.with_borrow_mut(|blended| {
+            blended.clear();
+            blended.extend(top.iter().zip(bottom).map(|(&t, &b)| t + fy * (b - t)));
+            for (o, &(x0, x1, fx)) in out.iter_mut().zip(&self.cols) {
+                let (a, b) = (blended[x0], blended[x1]);
+                *o = a + fx * (b - a);
+            }
+        });
     }
 }
 
