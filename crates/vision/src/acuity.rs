@@ -121,8 +121,8 @@ pub fn gaussian_blur(pixels: &mut [[f32; 4]], width: usize, height: usize, sigma
     // Vertical pass in bands of rows: a band keeps the rows it has
     // overwritten, while they are still needed, in a ring of `radius + 1`
     // rows, and reads its neighbours' rows next to it and the two edge
-    // rows (which every sample reads, with weight 0 away from them) from
-    // copies made before any band starts.
+    // rows (onto which the taps beyond the image fold) from copies made
+    // before any band starts.
     let (top, bottom) = (row_of(pixels, 0), row_of(pixels, height - 1));
     let bands: Vec<(usize, usize)> = (0..height)
         .step_by(BAND_ROWS)
@@ -144,7 +144,12 @@ pub fn gaussian_blur(pixels: &mut [[f32; 4]], width: usize, height: usize, sigma
         .par_chunks_mut(BAND_ROWS * width)
         .zip(bands.par_iter().zip(&halos))
         .for_each_init(
-            || (vec![[0.0f32; 4]; ring_rows * width], vec![[0.0f32; 4]; width]),
+            || {
+                (
+                    vec![[0.0f32; 4]; ring_rows * width],
+                    vec![[0.0f32; 4]; width],
+                )
+            },
             |(ring, out), (band, (&(y0, y1), (above, below)))| {
                 let above_start = y0.saturating_sub(radius);
                 for y in y0..y1 {

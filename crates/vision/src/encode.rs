@@ -12,7 +12,7 @@ pub fn srgb8(rgb: &[[f32; 3]]) -> Vec<u8> {
     // Written in place, a block of pixels per task (a flat_map collect
     // gathers per-task vectors and copies them again).
     const BLOCK: usize = 4096;
-    let mut out = vec![0u8; 3 * rgb.len()];
+    let mut out = crate::pyramid::zeroed(3 * rgb.len());
     out.par_chunks_mut(3 * BLOCK)
         .zip(rgb.par_chunks(BLOCK))
         .enumerate()
@@ -152,7 +152,17 @@ mod tests {
             }
             x += 0.001_953_125 / 3.0;
         }
-        for v in [-0.5, -0.0, 0.0, 0.5, 0.499_999_999_999_999_94, 2.5, 254.5, 255.49, 255.5] {
+        for v in [
+            -0.5,
+            -0.0,
+            0.0,
+            0.5,
+            0.499_999_999_999_999_94,
+            2.5,
+            254.5,
+            255.49,
+            255.5,
+        ] {
             assert_eq!(round_code(v), v.round().clamp(0.0, 255.0) as u8, "{v}");
         }
     }

@@ -30,6 +30,15 @@ impl Plane {
     }
 }
 
+/// `n` zeros, written in parallel: a buffer about to be filled by
+/// parallel passes. (`vec![0.0; n]` zeroes reused heap memory on the
+/// calling thread alone.)
+pub fn zeroed<T: Default + Clone + Send + Sync>(n: usize) -> Vec<T> {
+    let mut v = Vec::with_capacity(n);
+    v.par_extend(rayon::iter::repeat_n(T::default(), n));
+    v
+}
+
 /// The binomial kernel [1 4 6 4 1]/16.
 const TAPS: [f32; 5] = [1.0 / 16.0, 4.0 / 16.0, 6.0 / 16.0, 4.0 / 16.0, 1.0 / 16.0];
 
@@ -97,7 +106,7 @@ pub fn reduce4(
 ) -> [Plane; 4] {
     const BAND: usize = 16;
     let (nw, nh) = (width.div_ceil(2), height.div_ceil(2));
-    let mut out: [Vec<f32>; 4] = std::array::from_fn(|_| vec![0.0f32; nw * nh]);
+    let mut out: [Vec<f32>; 4] = std::array::from_fn(|_| zeroed(nw * nh));
     let [a, b, c, d] = &mut out;
     a.par_chunks_mut(BAND * nw)
         .zip(b.par_chunks_mut(BAND * nw))
@@ -237,7 +246,7 @@ pub fn collapse_with(
     for band in bands.iter().rev() {
         let (w, h) = (band.width, band.height);
         let up = Bilinear::new((acc.width, acc.height), (w, h));
-        let mut data = vec![0.0f32; w * h];
+        let mut data = zeroed(w * h);
         data.par_chunks_mut(w)
             .zip(band.data.par_chunks(w))
             .enumerate()

@@ -120,28 +120,26 @@ fn convolve(
     let norm = 1.0 / (pw * ph) as f32;
     let mut out: [Vec<f32>; 4] = Default::default();
     for (a, b) in [(0, 1), (2, 3)] {
-        let mut packed = vec![Complex32::new(0.0, 0.0); pw * ch];
-        packed.par_chunks_mut(pw).enumerate().for_each(|(y, row)| {
-            for (v, px) in row.iter_mut().zip(&img[y * cw..(y + 1) * cw]) {
-                *v = Complex32::new(px[a], px[b]);
+        // Buffers are made in parallel, each value written once (zeroing
+        // them first would run on one thread).
+        let mut packed = Vec::with_capacity(pw * ph);
+        packed.par_extend((0..pw * ph).into_par_iter().map(|i| {
+            let (x, y) = (i % pw, i / pw);
+            match img.get(y * cw + x).filter(|_| x < cw) {
+                Some(px) => Complex32::new(px[a], px[b]),
+                None => Complex32::new(0.0, 0.0),
             }
-        });
-        packed.resize(pw * ph, Complex32::new(0.0, 0.0));
+        }));
         let spectrum = fft.forward(&mut packed, ch);
         let (ka, kb) = (kernels.channel(a), kernels.channel(b));
         // Column-major: index kx·ph + ky; −k wraps on both axes.
-        let mut filtered = vec![Complex32::new(0.0, 0.0); pw * ph];
-        filtered
-            .par_chunks_mut(ph)
-            .enumerate()
-            .for_each(|(kx, col)| {
-                let mirror = ((pw - kx) % pw) * ph;
-                for (ky, r) in col.iter_mut().enumerate() {
-                    let k = kx * ph + ky;
-                    let conj_neg = spectrum[mirror + (ph - ky) % ph].conj();
-                    *r = spectrum[k] * (0.5 * (ka[k] + kb[k])) + conj_neg * (0.5 * (ka[k] - kb[k]));
-                }
-            });
+        let mut filtered = Vec::with_capacity(pw * ph);
+        filtered.par_extend((0..pw * ph).into_par_iter().map(|k| {
+            let (kx, ky) = (k / ph, k % ph);
+            let mirror = ((pw - kx) % pw) * ph;
+            let conj_neg = spectrum[mirror + (ph - ky) % ph].conj();
+            spectrum[k] * (0.5 * (ka[k] + kb[k])) + conj_neg * (0.5 * (ka[k] - kb[k]))
+        }));
         let result = fft.inverse(&mut filtered, ch);
         let plane = |part: fn(&Complex32) -> f32| -> Vec<f32> {
             result

@@ -43,7 +43,7 @@ use scotopia_color::space::Cat;
 use scotopia_color::{Mat3, RgbSpace};
 
 use crate::mode::image_statistics;
-use crate::pyramid::{collapse_with, gaussian, reduce4, Bilinear, Plane};
+use crate::pyramid::{collapse_with, gaussian, reduce4, zeroed, Bilinear, Plane};
 
 /// What the eye adapts to in the model's gain control.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -179,7 +179,8 @@ pub fn multiscale(
     p: &MultiscaleParams,
 ) -> Vec<[f32; 3]> {
     let mut out = pixels.to_vec();
-    Model::new(pixels, width, height, p).display(&mut out, |o, xyz| *o = [xyz[0], xyz[1], xyz[2], 0.0]);
+    Model::new(pixels, width, height, p)
+        .display(&mut out, |o, xyz| *o = [xyz[0], xyz[1], xyz[2], 0.0]);
     out.into_iter().map(|q| [q[0], q[1], q[2]]).collect()
 }
 
@@ -451,7 +452,7 @@ impl<'a> Model<'a> {
     /// Band `level`'s display cone signals as three planes.
     fn band_planes(&self, level: usize) -> [Plane; 3] {
         let (w, h) = self.size(level);
-        let mut out: [Vec<f32>; 3] = std::array::from_fn(|_| vec![0.0f32; w * h]);
+        let mut out: [Vec<f32>; 3] = std::array::from_fn(|_| zeroed(w * h));
         let [l, m, s] = &mut out;
         l.par_chunks_mut(w)
             .zip(m.par_chunks_mut(w))
