@@ -128,7 +128,9 @@ pub fn gaussian_blur(pixels: &mut [[f32; 4]], width: usize, height: usize, sigma
         .step_by(BAND_ROWS)
         .map(|y0| (y0, (y0 + BAND_ROWS).min(height)))
         .collect();
-    let halos: Vec<(Vec<[f32; 4]>, Vec<[f32; 4]>)> = bands
+    // Each band's rows above and below it.
+    type Halo = (Vec<[f32; 4]>, Vec<[f32; 4]>);
+    let halos: Vec<Halo> = bands
         .iter()
         .map(|&(y0, y1)| {
             let above = y0.saturating_sub(radius)..y0;

@@ -435,8 +435,8 @@ impl<'a> Model<'a> {
                 // them is overwritten.
                 for (x, px) in row.iter().enumerate() {
                     let r = receptors(&self.m, px);
-                    for c in 0..4 {
-                        scratch.fine[c][x] = r[c];
+                    for (fine, v) in scratch.fine.iter_mut().zip(r) {
+                        fine[x] = v;
                     }
                 }
                 self.band_row(0, y, scratch, |x, band| {
