@@ -12,7 +12,7 @@ use scotopia_vision::mode::Adaptation;
 use scotopia_vision::output::{
     compare_sheet, display_gamut, display_peak, write_display, PngOptions,
 };
-use scotopia_vision::{display, DisplayParams, Displayed, ToneOperator};
+use scotopia_vision::{display_owned, DisplayParams, Displayed, ToneOperator};
 
 /// The pipeline's switches, shared by `display` and `render --display`.
 #[derive(clap::Args, Clone)]
@@ -191,7 +191,8 @@ pub fn run(args: Args) -> Result<()> {
             write_png_rgb8(sheet_path, w as u32, h as u32, &rgb)?;
             shown
         }
-        None => display(&image.pixels, image.width, image.height, &params),
+        // The image is not needed after: the pipeline works in its memory.
+        None => display_owned(image.pixels, image.width, image.height, &params),
     };
     say_left_out(&shown);
     if let Some(out) = &args.output {

@@ -293,7 +293,7 @@ pub fn run(args: Args) -> Result<()> {
     }
     if let (Some(out), Some((params, png))) = (&args.display, display) {
         let (w, h) = (rendered.film.width as usize, rendered.film.height as usize);
-        let shown = scotopia_vision::display(&rendered.film.xyzv(), w, h, &params);
+        let shown = scotopia_vision::display_owned(rendered.film.xyzv(), w, h, &params);
         crate::display::say_left_out(&shown);
         write_shown(out, &shown, &params, png)?;
     }

@@ -101,27 +101,30 @@ pub fn write_png(
     let tmp = tmp_path(path);
     let result = (|| {
         let file = File::create(&tmp).map_err(io)?;
-        let mut encoder = png::Encoder::new(BufWriter::new(file), width, height);
-        encoder.set_color(png::ColorType::Rgb);
-        // fdeflate with an adaptive row filter: on a dithered 1920×1080
-        // night image ~25× faster than the default (zlib level 6) for
-        // files ~1.2× larger (1.07× at 16 bits); README, benchmarks.
-        encoder.set_compression(png::Compression::Fast);
-        let bytes: std::borrow::Cow<[u8]> = match samples {
-            PngSamples::Rgb8(v) => {
-                encoder.set_depth(png::BitDepth::Eight);
-                v.into()
-            }
+        let (bytes, depth): (std::borrow::Cow<[u8]>, _) = match samples {
+            PngSamples::Rgb8(v) => (v.into(), png::BitDepth::Eight),
             PngSamples::Rgb16(v) => {
-                encoder.set_depth(png::BitDepth::Sixteen);
                 // PNG stores 16-bit samples big-endian.
                 let mut bytes = vec![0u8; 2 * v.len()];
                 for (b, s) in bytes.chunks_exact_mut(2).zip(v) {
                     b.copy_from_slice(&s.to_be_bytes());
                 }
-                bytes.into()
+                (bytes.into(), png::BitDepth::Sixteen)
             }
         };
+        let compression = if worth_compressing(width, height, depth, &bytes) {
+            // fdeflate with an adaptive row filter: on a dithered
+            // 1920×1080 night image ~25× faster than the default (zlib
+            // level 6) for files ~1.2× larger (1.07× at 16 bits); README,
+            // benchmarks.
+            png::Compression::Fast
+        } else {
+            png::Compression::NoCompression
+        };
+        let mut encoder = png::Encoder::new(BufWriter::new(file), width, height);
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(depth);
+        encoder.set_compression(compression);
         if colour == PngColour::SRGB {
             encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
         }
@@ -138,6 +141,49 @@ pub fn write_png(
         let _ = std::fs::remove_file(&tmp);
     }
     result
+}
+
+/// Whether fdeflate makes the image's rows (`bytes`) clearly smaller than
+/// storing them, judged on a few bands of rows. The `png` crate falls back to
+/// stored blocks when fast compression comes out larger, which it does on
+/// 8-bit dithered night images (their lowest bits are noise): a full-HD
+/// image was then compressed in vain, ~50 ms on one core, for the same
+/// file. Bands through the image (an eighth of it at most) are encoded
+/// both ways and compared; the picture is the same either way.
+fn worth_compressing(width: u32, height: u32, depth: png::BitDepth, bytes: &[u8]) -> bool {
+    const BANDS: usize = 4;
+    const BAND_ROWS: usize = 16;
+    let h = height as usize;
+    let row = bytes.len() / h.max(1);
+    if h < 8 * BAND_ROWS {
+        return true;
+    }
+    let encoded_size = |rows: &[u8], compression| -> usize {
+        let mut out = Vec::new();
+        let mut encoder = png::Encoder::new(&mut out, width, (rows.len() / row) as u32);
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(depth);
+        encoder.set_compression(compression);
+        let written = encoder
+            .write_header()
+            .and_then(|mut w| w.write_image_data(rows));
+        // An error here only ends the estimate: compress as before.
+        if written.is_err() {
+            return 0;
+        }
+        out.len()
+    };
+    let (mut fast, mut stored) = (0, 0);
+    for b in 0..BANDS {
+        let y = (2 * b + 1) * h / (2 * BANDS) - BAND_ROWS / 2;
+        let rows = &bytes[y * row..(y + BAND_ROWS) * row];
+        fast += encoded_size(rows, png::Compression::Fast);
+        stored += encoded_size(rows, png::Compression::NoCompression);
+    }
+    // A tenth smaller at least: a file a few per cent larger is not worth
+    // 50 ms, and the bands' estimate errs (night street: 0.96 on them,
+    // over 1 on the whole image).
+    10 * fast < 9 * stored
 }
 
 #[cfg(test)]
@@ -194,5 +240,25 @@ mod tests {
         assert_eq!((dw, dh, depth, back), (w, h, png::BitDepth::Sixteen, rgb16));
         // Only the two images are left: no temporary file behind.
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 2);
+    }
+
+    #[test]
+    fn noise_is_stored_and_smooth_images_are_compressed() {
+        let (w, h) = (64u32, 160u32);
+        let n = (w * h * 3) as u64;
+        let noise: Vec<u8> = (0..n)
+            .map(|i| (i.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 56) as u8)
+            .collect();
+        assert!(!worth_compressing(w, h, png::BitDepth::Eight, &noise));
+        let ramp: Vec<u8> = (0..n).map(|i| (i / 3 % w as u64) as u8).collect();
+        assert!(worth_compressing(w, h, png::BitDepth::Eight, &ramp));
+        // Both decode to the samples written.
+        let dir = std::env::temp_dir().join(format!("scotopia-png-n-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for (name, rgb) in [("noise.png", noise), ("ramp.png", ramp)] {
+            let path = dir.join(name);
+            write_png(&path, w, h, PngSamples::Rgb8(&rgb), PngColour::SRGB).unwrap();
+            assert_eq!(decode(&path), (w, h, png::BitDepth::Eight, rgb));
+        }
     }
 }

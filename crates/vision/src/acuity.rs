@@ -73,70 +73,213 @@ pub fn degrees_per_pixel(fov: f64, width: usize) -> Result<f64, String> {
 /// pixels nothing visible would change, so the image is left alone. The
 /// taps that fall beyond an edge are summed onto the edge pixel, so a
 /// pass costs at most one multiply per pixel of the row, however wide
-/// the blur.
+/// the blur. Both passes work in place (a narrow blur needs no full-size
+/// buffer: a fresh process pays for every page it touches).
 pub fn gaussian_blur(pixels: &mut [[f32; 4]], width: usize, height: usize, sigma: f64) {
     if sigma.is_nan() || sigma < 0.3 || width == 0 || height == 0 {
         return;
     }
-    let sigma = sigma.min(MAX_BLUR_SIGMA);
-    let radius = (3.0 * sigma).ceil() as i64;
-    let taps: Vec<f64> = (-radius..=radius)
-        .map(|d| (-(d * d) as f64 / (2.0 * sigma * sigma)).exp())
-        .collect();
-    // prefix[k] = the sum of taps[..k], normalised.
-    let mut prefix = Vec::with_capacity(taps.len() + 1);
-    prefix.push(0.0f64);
-    for t in &taps {
-        prefix.push(prefix.last().copied().unwrap_or(0.0) + t);
-    }
-    let total = prefix.last().copied().unwrap_or(1.0);
-    let weight = |k: i64| (taps[k as usize] / total) as f32;
-    // The weights pixel `x` of an `n`-long axis gives sources 0, 1..n-1
-    // and n-1: interior taps at their offset, edges the taps beyond them.
-    let edge_weights = |x: i64, n: i64| -> (f32, f32) {
-        if n == 1 {
-            return (1.0, 0.0);
-        }
-        let low = (radius - x).clamp(-1, 2 * radius) + 1; // taps with x + d ≤ 0
-        let high = (radius + n - 1 - x).clamp(0, 2 * radius + 1); // x + d ≥ n-1
-        (
-            (prefix[low as usize] / total) as f32,
-            ((total - prefix[high as usize]) / total) as f32,
-        )
-    };
-    let pass = |src: &[[f32; 4]], out: &mut [[f32; 4]], horizontal: bool| {
-        let n = if horizontal { width } else { height } as i64;
-        out.par_chunks_mut(width).enumerate().for_each(|(y, row)| {
+    let taps = Taps::new(sigma.min(MAX_BLUR_SIGMA));
+    // Horizontal pass, row by row.
+    pixels.par_chunks_mut(width).for_each_init(
+        || Vec::with_capacity(width),
+        |copy: &mut Vec<[f32; 4]>, row| {
+            copy.clear();
+            copy.extend_from_slice(row);
+            let n = width as i64;
             for (x, o) in row.iter_mut().enumerate() {
-                let at = |i: i64| {
-                    if horizontal {
-                        src[y * width + i as usize]
-                    } else {
-                        src[i as usize * width + x]
-                    }
-                };
-                let pos = if horizontal { x } else { y } as i64;
-                let (w0, w1) = edge_weights(pos, n);
+                let (w0, w1) = taps.edge_weights(x as i64, n);
                 let mut acc = [0.0f32; 4];
-                let mut add = |p: [f32; 4], t: f32| {
-                    for c in 0..4 {
-                        acc[c] += t * p[c];
-                    }
-                };
-                add(at(0), w0);
-                for i in (pos - radius).max(1)..=(pos + radius).min(n - 2) {
-                    add(at(i), weight(i - pos + radius));
+                let mut add = |p: &[f32; 4], t: f32| axpy(&mut acc, p, t);
+                // (An edge's weight is 0 away from it, and adding 0 · p
+                // changes no finite sum: skipped.)
+                if w0 != 0.0 {
+                    add(&copy[0], w0);
                 }
-                if n > 1 {
-                    add(at(n - 1), w1);
+                for i in taps.interior(x as i64, n) {
+                    add(&copy[i as usize], taps.weight(i - x as i64));
+                }
+                if n > 1 && w1 != 0.0 {
+                    add(&copy[width - 1], w1);
                 }
                 *o = acc;
             }
-        });
-    };
-    let mut tmp = vec![[0.0f32; 4]; pixels.len()];
-    pass(pixels, &mut tmp, true);
-    pass(&tmp, pixels, false);
+        },
+    );
+    let radius = taps.radius as usize;
+    let row_of = |v: &[[f32; 4]], y: usize| v[y * width..(y + 1) * width].to_vec();
+    if radius >= BAND_ROWS / 4 {
+        // A wide blur reads far: from a full-size copy (the halos of the
+        // bands below would outweigh it).
+        let copy = pixels.to_vec();
+        pixels
+            .par_chunks_mut(width)
+            .enumerate()
+            .for_each(|(y, out)| taps.column(out, y, height, |yy| &copy[yy * width..][..width]));
+        return;
+    }
+    // Vertical pass in bands of rows: a band keeps the rows it has
+    // overwritten, while they are still needed, in a ring of `radius + 1`
+    // rows, and reads its neighbours' rows next to it and the two edge
+    // rows (onto which the taps beyond the image fold) from copies made
+    // before any band starts.
+    let (top, bottom) = (row_of(pixels, 0), row_of(pixels, height - 1));
+    let bands: Vec<(usize, usize)> = (0..height)
+        .step_by(BAND_ROWS)
+        .map(|y0| (y0, (y0 + BAND_ROWS).min(height)))
+        .collect();
+    // Each band's rows above and below it.
+    type Halo = (Vec<[f32; 4]>, Vec<[f32; 4]>);
+    let halos: Vec<Halo> = bands
+        .iter()
+        .map(|&(y0, y1)| {
+            let above = y0.saturating_sub(radius)..y0;
+            let below = y1..(y1 + radius).min(height);
+            (
+                pixels[above.start * width..above.end * width].to_vec(),
+                pixels[below.start * width..below.end * width].to_vec(),
+            )
+        })
+        .collect();
+    let ring_rows = radius + 1;
+    pixels
+        .par_chunks_mut(BAND_ROWS * width)
+        .zip(bands.par_iter().zip(&halos))
+        .for_each_init(
+            || {
+                (
+                    vec![[0.0f32; 4]; ring_rows * width],
+                    vec![[0.0f32; 4]; width],
+                )
+            },
+            |(ring, out), (band, (&(y0, y1), (above, below)))| {
+                let above_start = y0.saturating_sub(radius);
+                for y in y0..y1 {
+                    let own = (y - y0) * width;
+                    let slot = (y % ring_rows) * width;
+                    ring[slot..slot + width].copy_from_slice(&band[own..own + width]);
+                    let ring: &[[f32; 4]] = ring;
+                    let band_rows: &[[f32; 4]] = band;
+                    // Row yy after the horizontal pass, as it was.
+                    let source = |yy: usize| -> &[[f32; 4]] {
+                        let (v, r) = if yy == 0 {
+                            (top.as_slice(), 0)
+                        } else if yy == height - 1 {
+                            (bottom.as_slice(), 0)
+                        } else if yy < y0 {
+                            (above.as_slice(), yy - above_start)
+                        } else if yy <= y {
+                            (ring, yy % ring_rows)
+                        } else if yy < y1 {
+                            (band_rows, yy - y0)
+                        } else {
+                            (below.as_slice(), yy - y1)
+                        };
+                        &v[r * width..(r + 1) * width]
+                    };
+                    taps.column(out, y, height, source);
+                    band[own..own + width].copy_from_slice(out);
+                }
+            },
+        );
+}
+
+/// Rows per band of the in-place vertical pass.
+const BAND_ROWS: usize = 64;
+
+/// `acc += t · p`, channel by channel.
+#[inline]
+fn axpy(acc: &mut [f32; 4], p: &[f32; 4], t: f32) {
+    for c in 0..4 {
+        acc[c] += t * p[c];
+    }
+}
+
+/// A Gaussian's normalised taps and the weights of the taps that fall
+/// beyond an edge, folded onto it.
+struct Taps {
+    radius: i64,
+    /// The taps, normalised; index d + radius for offset d.
+    weights: Vec<f32>,
+    /// prefix[k] = the sum of the first k taps (unnormalised).
+    prefix: Vec<f64>,
+    total: f64,
+}
+
+impl Taps {
+    fn new(sigma: f64) -> Self {
+        let radius = (3.0 * sigma).ceil() as i64;
+        let taps: Vec<f64> = (-radius..=radius)
+            .map(|d| (-(d * d) as f64 / (2.0 * sigma * sigma)).exp())
+            .collect();
+        let mut prefix = Vec::with_capacity(taps.len() + 1);
+        prefix.push(0.0f64);
+        for t in &taps {
+            prefix.push(prefix.last().copied().unwrap_or(0.0) + t);
+        }
+        let total = prefix.last().copied().unwrap_or(1.0);
+        Self {
+            radius,
+            weights: taps.iter().map(|t| (t / total) as f32).collect(),
+            prefix,
+            total,
+        }
+    }
+
+    /// The weight of the tap at offset `d`.
+    #[inline]
+    fn weight(&self, d: i64) -> f32 {
+        self.weights[(d + self.radius) as usize]
+    }
+
+    /// The weights sample `x` of an `n`-long axis gives the sources 0 and
+    /// n-1: the taps at or beyond each edge.
+    fn edge_weights(&self, x: i64, n: i64) -> (f32, f32) {
+        if n == 1 {
+            return (1.0, 0.0);
+        }
+        let r = self.radius;
+        let low = (r - x).clamp(-1, 2 * r) + 1; // taps with x + d ≤ 0
+        let high = (r + n - 1 - x).clamp(0, 2 * r + 1); // x + d ≥ n-1
+        (
+            (self.prefix[low as usize] / self.total) as f32,
+            ((self.total - self.prefix[high as usize]) / self.total) as f32,
+        )
+    }
+
+    /// The sources strictly between the edges that sample `x` reads.
+    fn interior(&self, x: i64, n: i64) -> std::ops::RangeInclusive<i64> {
+        (x - self.radius).max(1)..=(x + self.radius).min(n - 2)
+    }
+
+    /// Output row `y` of the vertical pass over `n` rows, `source(yy)`
+    /// giving row yy: the same sums, in the same order, as the horizontal
+    /// pass, a whole row at a time.
+    fn column<'a>(
+        &self,
+        out: &mut [[f32; 4]],
+        y: usize,
+        n: usize,
+        source: impl Fn(usize) -> &'a [[f32; 4]],
+    ) {
+        let (y, n) = (y as i64, n as i64);
+        let (w0, w1) = self.edge_weights(y, n);
+        let add = |out: &mut [[f32; 4]], yy: i64, t: f32| {
+            for (o, p) in out.iter_mut().zip(source(yy as usize)) {
+                axpy(o, p, t);
+            }
+        };
+        out.fill([0.0; 4]);
+        if w0 != 0.0 {
+            add(out, 0, w0);
+        }
+        for i in self.interior(y, n) {
+            add(out, i, self.weight(i - y));
+        }
+        if n > 1 && w1 != 0.0 {
+            add(out, n - 1, w1);
+        }
+    }
 }
 
 #[cfg(test)]
@@ -217,6 +360,25 @@ mod tests {
                     assert!(
                         (a[c] - b[c]).abs() < 1e-4 * (1.0 + b[c].abs()),
                         "σ {sigma}: {a:?} {b:?}"
+                    );
+                }
+            }
+        }
+        // Taller than a band of the in-place vertical pass, narrow and
+        // wide blurs: still the every-tap sums.
+        let (w, h) = (7, 3 * BAND_ROWS + 5);
+        let px: Vec<[f32; 4]> = (0..w * h)
+            .map(|i| [(i % 13) as f32, (i * 7 % 11) as f32, (i / w) as f32, 1.0])
+            .collect();
+        for sigma in [0.4, 1.2, 4.9, 5.4, 20.0] {
+            let mut fast = px.clone();
+            gaussian_blur(&mut fast, w, h, sigma);
+            let slow = blur_by_every_tap(&px, w, h, sigma);
+            for (i, (a, b)) in fast.iter().zip(&slow).enumerate() {
+                for c in 0..4 {
+                    assert!(
+                        (a[c] - b[c]).abs() < 1e-4 * (1.0 + b[c].abs()),
+                        "σ {sigma}, pixel {i}: {a:?} {b:?}"
                     );
                 }
             }

@@ -12,7 +12,7 @@ pub fn srgb8(rgb: &[[f32; 3]]) -> Vec<u8> {
     // Written in place, a block of pixels per task (a flat_map collect
     // gathers per-task vectors and copies them again).
     const BLOCK: usize = 4096;
-    let mut out = vec![0u8; 3 * rgb.len()];
+    let mut out = crate::pyramid::zeroed(3 * rgb.len());
     out.par_chunks_mut(3 * BLOCK)
         .zip(rgb.par_chunks(BLOCK))
         .enumerate()
@@ -37,7 +37,17 @@ fn dithered8(v: f32, k: usize) -> u8 {
     }
     let k = k as u64;
     let noise = uniform(k, 0) + uniform(k, 1) - 1.0;
-    (v + noise).round().clamp(0.0, 255.0) as u8
+    round_code(v + noise)
+}
+
+/// `x.round().clamp(0.0, 255.0) as u8` for x in (−1, 256) — a dithered
+/// code — without a call to `round` (not inlined without SSE4.1): the
+/// integer part by conversion and the fraction exactly, as x − ⌊x⌋ is
+/// exact for these magnitudes.
+fn round_code(x: f64) -> u8 {
+    let whole = x as i64; // toward zero
+    let up = (x - whole as f64 >= 0.5) as i64;
+    (whole + up).clamp(0, 255) as u8
 }
 
 /// The sRGB transfer function (IEC 61966-2-1, as `srgb_encode`) in f32: the
@@ -130,6 +140,30 @@ mod tests {
             let x = i as f32 / 200_000.0;
             let err = (f64::from(srgb_encode_f32(x)) - srgb_encode(f64::from(x))).abs();
             assert!(err < 2e-7, "{x}: {err}");
+        }
+    }
+
+    #[test]
+    fn code_rounding_is_round_and_clamp() {
+        let mut x: f64 = -0.999_999;
+        while x < 256.0 {
+            for v in [x, x.next_up(), x.next_down()] {
+                assert_eq!(round_code(v), v.round().clamp(0.0, 255.0) as u8, "{v}");
+            }
+            x += 0.001_953_125 / 3.0;
+        }
+        for v in [
+            -0.5,
+            -0.0,
+            0.0,
+            0.5,
+            0.499_999_999_999_999_94,
+            2.5,
+            254.5,
+            255.49,
+            255.5,
+        ] {
+            assert_eq!(round_code(v), v.round().clamp(0.0, 255.0) as u8, "{v}");
         }
     }
 

@@ -21,5 +21,5 @@ pub mod screen;
 pub mod tonemap;
 
 pub use pipeline::{
-    display, display_observed, DisplayParams, Displayed, Report, Stage, ToneOperator,
+    display, display_observed, display_owned, DisplayParams, Displayed, Report, Stage, ToneOperator,
 };

@@ -8,6 +8,8 @@
 //!   from photopic luminance and the S/P ratio (§5), which also names the
 //!   mode: photopic at m = 1 (≥ 5 cd/m²), scotopic at m = 0 (≤ 0.005).
 
+use rayon::prelude::*;
+
 use crate::screen::{left_out, LeftOutCount};
 
 /// Jensen et al. 2001: s = 0 at log₁₀ L ≤ −2, 1 at log₁₀ L ≥ 0.6, and the
@@ -123,19 +125,16 @@ pub struct ImageStatistics {
 /// finite and not absurd ([`crate::screen::left_out`]): the others count
 /// neither as black nor at all.
 pub fn image_statistics(pixels: &[[f32; 4]]) -> ImageStatistics {
-    const DELTA: f64 = 1e-6;
-    let mut used = 0usize;
-    let (mut log_sum, mut max) = (0.0, 0.0f64);
-    let mut sum = [0.0f64; 4];
-    for p in pixels.iter().filter(|p| left_out(p).is_none()) {
-        let y = (p[1] as f64).max(0.0);
-        used += 1;
-        log_sum += (DELTA + y).ln();
-        max = max.max(y);
-        for (s, v) in sum.iter_mut().zip(p) {
-            *s += (*v as f64).max(0.0);
-        }
-    }
+    // In parallel over fixed blocks, each summed in order and the blocks'
+    // sums added in order: the same figures on any number of threads.
+    const BLOCK: usize = 1 << 16;
+    let blocks: Vec<Sums> = pixels.par_chunks(BLOCK).map(Sums::of).collect();
+    let Sums {
+        used,
+        log_sum,
+        max,
+        sum,
+    } = blocks.iter().fold(Sums::default(), |a, b| a.add(b));
     let n = used.max(1) as f64;
     ImageStatistics {
         log_average: (log_sum / n).exp(),
@@ -143,6 +142,42 @@ pub fn image_statistics(pixels: &[[f32; 4]]) -> ImageStatistics {
         sp_ratio: if sum[1] > 0.0 { sum[3] / sum[1] } else { 0.0 },
         mean: sum.map(|s| s / n),
         left_out: LeftOutCount::of(pixels),
+    }
+}
+
+/// Sums over some pixels for [`image_statistics`].
+#[derive(Default)]
+struct Sums {
+    used: usize,
+    /// Σ ln(δ + Y).
+    log_sum: f64,
+    max: f64,
+    sum: [f64; 4],
+}
+
+impl Sums {
+    fn of(pixels: &[[f32; 4]]) -> Self {
+        const DELTA: f64 = 1e-6;
+        let mut s = Sums::default();
+        for p in pixels.iter().filter(|p| left_out(p).is_none()) {
+            let y = (p[1] as f64).max(0.0);
+            s.used += 1;
+            s.log_sum += (DELTA + y).ln();
+            s.max = s.max.max(y);
+            for (s, v) in s.sum.iter_mut().zip(p) {
+                *s += (*v as f64).max(0.0);
+            }
+        }
+        s
+    }
+
+    fn add(self, b: &Sums) -> Sums {
+        Sums {
+            used: self.used + b.used,
+            log_sum: self.log_sum + b.log_sum,
+            max: self.max.max(b.max),
+            sum: std::array::from_fn(|c| self.sum[c] + b.sum[c]),
+        }
     }
 }
 

@@ -30,6 +30,15 @@ impl Plane {
     }
 }
 
+/// `n` zeros, written in parallel: a buffer about to be filled by
+/// parallel passes. (`vec![0.0; n]` zeroes reused heap memory on the
+/// calling thread alone.)
+pub fn zeroed<T: Default + Clone + Send + Sync>(n: usize) -> Vec<T> {
+    let mut v = Vec::with_capacity(n);
+    v.par_extend(rayon::iter::repeat_n(T::default(), n));
+    v
+}
+
 /// The binomial kernel [1 4 6 4 1]/16.
 const TAPS: [f32; 5] = [1.0 / 16.0, 4.0 / 16.0, 6.0 / 16.0, 4.0 / 16.0, 1.0 / 16.0];
 
@@ -38,38 +47,99 @@ const TAPS: [f32; 5] = [1.0 / 16.0, 4.0 / 16.0, 6.0 / 16.0, 4.0 / 16.0, 1.0 / 16
 pub fn reduce(p: &Plane) -> Plane {
     let (w, h) = (p.width, p.height);
     let (nw, nh) = (w.div_ceil(2), h.div_ceil(2));
-    let clamp = |i: i64, n: usize| i.clamp(0, n as i64 - 1) as usize;
-    // Horizontal pass on every row, keeping even columns; the taps are
-    // clamped only near the ends.
+    // Horizontal pass on every row, keeping even columns.
     let mut rows = vec![0.0f32; nw * h];
     rows.par_chunks_mut(nw)
         .zip(p.data.par_chunks(w))
-        .for_each(|(out, row)| {
-            for (i, o) in out.iter_mut().enumerate() {
-                let x = 2 * i;
-                *o = if x >= 2 && x + 2 < w {
-                    let t = &row[x - 2..x + 3];
-                    TAPS[0] * (t[0] + t[4]) + TAPS[1] * (t[1] + t[3]) + TAPS[2] * t[2]
-                } else {
-                    (0..5)
-                        .map(|k| TAPS[k] * row[clamp(x as i64 + k as i64 - 2, w)])
-                        .sum()
-                };
-            }
-        });
-    // Vertical pass, keeping even rows: five whole rows combined.
+        .for_each(|(out, row)| reduce_row(row, out));
+    // Vertical pass, keeping even rows.
     let mut data = vec![0.0f32; nw * nh];
     data.par_chunks_mut(nw).enumerate().for_each(|(j, out)| {
-        let y = 2 * j as i64;
-        let r: [&[f32]; 5] = std::array::from_fn(|k| {
-            let yy = clamp(y + k as i64 - 2, h);
-            &rows[yy * nw..(yy + 1) * nw]
-        });
-        for (x, o) in out.iter_mut().enumerate() {
-            *o = TAPS[0] * (r[0][x] + r[4][x]) + TAPS[1] * (r[1][x] + r[3][x]) + TAPS[2] * r[2][x];
-        }
+        let r = taps_rows(j, h).map(|yy| &rows[yy * nw..(yy + 1) * nw]);
+        reduce_column(r, out);
     });
     Plane::new(nw, nh, data)
+}
+
+/// The horizontal half of [`reduce`] on one row: blurred, even columns
+/// kept; the taps are clamped only near the ends.
+fn reduce_row(row: &[f32], out: &mut [f32]) {
+    let w = row.len();
+    let clamp = |i: i64| i.clamp(0, w as i64 - 1) as usize;
+    for (i, o) in out.iter_mut().enumerate() {
+        let x = 2 * i;
+        *o = if x >= 2 && x + 2 < w {
+            let t = &row[x - 2..x + 3];
+            TAPS[0] * (t[0] + t[4]) + TAPS[1] * (t[1] + t[3]) + TAPS[2] * t[2]
+        } else {
+            (0..5)
+                .map(|k| TAPS[k] * row[clamp(x as i64 + k as i64 - 2)])
+                .sum()
+        };
+    }
+}
+
+/// The rows (clamped to `h`) whose horizontal passes make output row `j`.
+fn taps_rows(j: usize, h: usize) -> [usize; 5] {
+    std::array::from_fn(|k| (2 * j as i64 + k as i64 - 2).clamp(0, h as i64 - 1) as usize)
+}
+
+/// The vertical half of [`reduce`]: five horizontally reduced rows
+/// combined into one output row.
+fn reduce_column(r: [&[f32]; 5], out: &mut [f32]) {
+    for (x, o) in out.iter_mut().enumerate() {
+        *o = TAPS[0] * (r[0][x] + r[4][x]) + TAPS[1] * (r[1][x] + r[3][x]) + TAPS[2] * r[2][x];
+    }
+}
+
+/// [`reduce`] of four planes that are never stored: `fill(y, rows)`
+/// writes row y (`width` values) of each into `rows`. Bands of output rows
+/// are made from their own horizontal passes (the two rows at a band's
+/// edge are passed twice), so neither the full-size planes nor their
+/// half-width horizontal passes are ever allocated — a fresh process
+/// pays for every page it touches. The result equals `reduce` of each
+/// plane exactly.
+pub fn reduce4(
+    width: usize,
+    height: usize,
+    fill: impl Fn(usize, &mut [Vec<f32>; 4]) + Sync,
+) -> [Plane; 4] {
+    const BAND: usize = 16;
+    let (nw, nh) = (width.div_ceil(2), height.div_ceil(2));
+    let mut out: [Vec<f32>; 4] = std::array::from_fn(|_| zeroed(nw * nh));
+    let [a, b, c, d] = &mut out;
+    a.par_chunks_mut(BAND * nw)
+        .zip(b.par_chunks_mut(BAND * nw))
+        .zip(c.par_chunks_mut(BAND * nw))
+        .zip(d.par_chunks_mut(BAND * nw))
+        .enumerate()
+        .for_each_init(
+            || {
+                let rows = (2 * BAND + 3) * nw;
+                let source: [Vec<f32>; 4] = std::array::from_fn(|_| vec![0.0; width]);
+                (source, std::array::from_fn(|_| vec![0.0f32; rows]))
+            },
+            |(source, passed): &mut ([Vec<f32>; 4], [Vec<f32>; 4]), (band, (((a, b), c), d))| {
+                let j0 = band * BAND;
+                let j1 = j0 + a.len() / nw;
+                let first = taps_rows(j0, height)[0];
+                let last = taps_rows(j1 - 1, height)[4];
+                for y in first..=last {
+                    fill(y, source);
+                    let at = (y - first) * nw;
+                    for (src, pass) in source.iter().zip(passed.iter_mut()) {
+                        reduce_row(src, &mut pass[at..at + nw]);
+                    }
+                }
+                for (plane, pass) in [a, b, c, d].into_iter().zip(passed.iter()) {
+                    for (j, out) in (j0..j1).zip(plane.chunks_mut(nw)) {
+                        let r = taps_rows(j, height).map(|yy| &pass[(yy - first) * nw..][..nw]);
+                        reduce_column(r, out);
+                    }
+                }
+            },
+        );
+    out.map(|data| Plane::new(nw, nh, data))
 }
 
 /// Bilinear resampling between two grid sizes, sample centres aligned
@@ -103,18 +173,25 @@ impl Bilinear {
 
     /// Row `y` of the resampled `src` (row-major, the source size) into
     /// `out` (the destination width): the two source rows blended
-    /// vertically at each tap, then interpolated across. Nothing is
-    /// allocated: it runs once per row of every band.
+    /// vertically, each source column once (an enlargement reads each
+    /// about twice), then interpolated across. It runs once per row of
+    /// every band, so the blended row lives in a per-thread buffer.
     pub fn row(&self, src: &[f32], y: usize, out: &mut [f32]) {
+        thread_local! {
+            static BLENDED: std::cell::RefCell<Vec<f32>> = const { std::cell::RefCell::new(Vec::new()) };
+        }
         let (y0, y1, fy) = self.rows[y];
         let w = self.src_width;
         let top = &src[y0 * w..(y0 + 1) * w];
         let bottom = &src[y1 * w..(y1 + 1) * w];
-        let blend = |x: usize| top[x] + fy * (bottom[x] - top[x]);
-        for (o, &(x0, x1, fx)) in out.iter_mut().zip(&self.cols) {
-            let (a, b) = (blend(x0), blend(x1));
-            *o = a + fx * (b - a);
-        }
+        BLENDED.with_borrow_mut(|blended| {
+            blended.clear();
+            blended.extend(top.iter().zip(bottom).map(|(&t, &b)| t + fy * (b - t)));
+            for (o, &(x0, x1, fx)) in out.iter_mut().zip(&self.cols) {
+                let (a, b) = (blended[x0], blended[x1]);
+                *o = a + fx * (b - a);
+            }
+        });
     }
 }
 
@@ -169,7 +246,7 @@ pub fn collapse_with(
     for band in bands.iter().rev() {
         let (w, h) = (band.width, band.height);
         let up = Bilinear::new((acc.width, acc.height), (w, h));
-        let mut data = vec![0.0f32; w * h];
+        let mut data = zeroed(w * h);
         data.par_chunks_mut(w)
             .zip(band.data.par_chunks(w))
             .enumerate()
@@ -200,6 +277,28 @@ mod tests {
         let p = reduce(&Plane::filled(9, 6, 3.5));
         assert_eq!((p.width, p.height), (5, 3));
         assert!(p.data.iter().all(|&v| (v - 3.5).abs() < 1e-6));
+    }
+
+    #[test]
+    fn the_fused_reduction_of_four_planes_is_reduce_of_each() {
+        // Sizes odd and even, under one band and over several.
+        for (w, h) in [(37, 23), (64, 70), (5, 4), (9, 131)] {
+            let planes: Vec<Plane> = (0..4)
+                .map(|c| {
+                    let mut p = ramp(w, h);
+                    p.data.iter_mut().for_each(|v| *v *= 1.0 + c as f32);
+                    p
+                })
+                .collect();
+            let fused = reduce4(w, h, |y, rows| {
+                for (row, p) in rows.iter_mut().zip(&planes) {
+                    row.copy_from_slice(&p.data[y * w..(y + 1) * w]);
+                }
+            });
+            for (f, p) in fused.iter().zip(&planes) {
+                assert_eq!(*f, reduce(p), "{w}×{h}");
+            }
+        }
     }
 
     #[test]

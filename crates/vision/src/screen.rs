@@ -92,6 +92,16 @@ impl From<(usize, usize)> for LeftOutCount {
     }
 }
 
+/// The index and reason of every pixel left out, in order (usually none:
+/// a list, not a full-size mask, so a clean image costs no memory).
+pub fn left_out_pixels(pixels: &[[f32; 4]]) -> Vec<(usize, LeftOut)> {
+    pixels
+        .par_iter()
+        .enumerate()
+        .filter_map(|(i, p)| left_out(p).map(|why| (i, why)))
+        .collect()
+}
+
 /// The pixels with those left out replaced by `fill` (for the spatial
 /// stages, which need a value everywhere); `None` when none is left out.
 pub fn filled(pixels: &[[f32; 4]], fill: [f32; 4]) -> Option<Vec<[f32; 4]>> {
@@ -143,5 +153,8 @@ mod tests {
         assert_eq!(f[1], [7.0; 4]);
         assert_eq!(f[4], px[4]);
         assert!(filled(&px[..1], [7.0; 4]).is_none());
+        let listed: Vec<usize> = left_out_pixels(&px).iter().map(|l| l.0).collect();
+        assert_eq!(listed, [1, 2, 3, 5]);
+        assert_eq!(left_out_pixels(&px)[2].1, Absurd);
     }
 }

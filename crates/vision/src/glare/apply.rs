@@ -27,23 +27,27 @@ pub struct GlareParams {
 pub fn apply_glare(pixels: &mut [[f32; 4]], width: usize, height: usize, p: &GlareParams) -> bool {
     // Split each pixel into what the display shows and the excess, by the
     // same factor on all channels so the excess keeps the pixel's colour.
-    let excess: Vec<[f32; 4]> = pixels
-        .par_iter_mut()
-        .map(|px| {
-            let y = px[1] as f64;
-            if y > p.threshold && y.is_finite() {
-                let f = ((y - p.threshold) / y) as f32;
-                let e = px.map(|v| v * f);
-                for c in 0..4 {
-                    px[c] -= e[c];
-                }
-                e
-            } else {
-                [0.0; 4]
+    // The excess is recomputed from the pixel where needed rather than
+    // stored: a full-size excess image is mostly zeros, and a fresh
+    // process pays for each of its pages.
+    let excess = |px: &[f32; 4]| -> [f32; 4] {
+        let y = px[1] as f64;
+        if y > p.threshold && y.is_finite() {
+            let f = ((y - p.threshold) / y) as f32;
+            px.map(|v| v * f)
+        } else {
+            [0.0; 4]
+        }
+    };
+    if pixels.par_iter().all(|px| excess(px)[1] == 0.0) {
+        // Nothing glares; what an excess of no luminance would take from
+        // the other channels is still taken, as when it is spread.
+        pixels.par_iter_mut().for_each(|px| {
+            let e = excess(px);
+            for c in 0..4 {
+                px[c] -= e[c];
             }
-        })
-        .collect();
-    if excess.par_iter().all(|e| e[1] == 0.0) {
+        });
         return false;
     }
     // The PSF beyond its central pixel is smooth, so on large images it is
@@ -59,7 +63,8 @@ pub fn apply_glare(pixels: &mut [[f32; 4]], width: usize, height: usize, p: &Gla
         .enumerate()
         .for_each(|(cy, cells)| {
             for y in cy * f..((cy + 1) * f).min(height) {
-                for (x, e) in excess[y * width..(y + 1) * width].iter().enumerate() {
+                for (x, px) in pixels[y * width..(y + 1) * width].iter().enumerate() {
+                    let e = excess(px);
                     let cell = &mut cells[x / f];
                     for c in 0..4 {
                         cell[c] += e[c];
@@ -73,25 +78,28 @@ pub fn apply_glare(pixels: &mut [[f32; 4]], width: usize, height: usize, p: &Gla
     let kernels = KernelSpectra::new(&fft, p.degrees_per_pixel * f as f64, p.s, f > 1);
     let kept = if f > 1 { kernels.centre } else { [0.0; 4] };
     let glare = convolve(&coarse, cw, ch, &fft, &kernels);
-    // Per pixel: the coarse glare (per coarse cell, so shared by its f²
-    // pixels) brought back up, plus the kept central share.
+    // Per pixel: what the display shows, the coarse glare (per coarse
+    // cell, so shared by its f² pixels) brought back up, plus the kept
+    // central share.
     let up = Bilinear::new((cw, ch), (width, height));
     let scale = 1.0 / (f * f) as f32;
-    pixels
-        .par_chunks_mut(width)
-        .zip(excess.par_chunks(width))
-        .enumerate()
-        .for_each_init(
-            || vec![0.0f32; width],
-            |row_glare, (y, (row, ex))| {
+    pixels.par_chunks_mut(width).enumerate().for_each_init(
+        || (vec![0.0f32; width], vec![[0.0f32; 4]; width]),
+        |(row_glare, ex), (y, row)| {
+            for (px, e) in row.iter_mut().zip(ex.iter_mut()) {
+                *e = excess(px);
                 for c in 0..4 {
-                    up.row(&glare[c], y, row_glare);
-                    for ((px, e), g) in row.iter_mut().zip(ex).zip(row_glare.iter()) {
-                        px[c] += g * scale + kept[c] * e[c];
-                    }
+                    px[c] -= e[c];
                 }
-            },
-        );
+            }
+            for c in 0..4 {
+                up.row(&glare[c], y, row_glare);
+                for ((px, e), g) in row.iter_mut().zip(ex.iter()).zip(row_glare.iter()) {
+                    px[c] += g * scale + kept[c] * e[c];
+                }
+            }
+        },
+    );
     true
 }
 
@@ -112,28 +120,26 @@ fn convolve(
     let norm = 1.0 / (pw * ph) as f32;
     let mut out: [Vec<f32>; 4] = Default::default();
     for (a, b) in [(0, 1), (2, 3)] {
-        let mut packed = vec![Complex32::new(0.0, 0.0); pw * ch];
-        packed.par_chunks_mut(pw).enumerate().for_each(|(y, row)| {
-            for (v, px) in row.iter_mut().zip(&img[y * cw..(y + 1) * cw]) {
-                *v = Complex32::new(px[a], px[b]);
+        // Buffers are made in parallel, each value written once (zeroing
+        // them first would run on one thread).
+        let mut packed = Vec::with_capacity(pw * ph);
+        packed.par_extend((0..pw * ph).into_par_iter().map(|i| {
+            let (x, y) = (i % pw, i / pw);
+            match img.get(y * cw + x).filter(|_| x < cw) {
+                Some(px) => Complex32::new(px[a], px[b]),
+                None => Complex32::new(0.0, 0.0),
             }
-        });
-        packed.resize(pw * ph, Complex32::new(0.0, 0.0));
+        }));
         let spectrum = fft.forward(&mut packed, ch);
         let (ka, kb) = (kernels.channel(a), kernels.channel(b));
         // Column-major: index kx·ph + ky; −k wraps on both axes.
-        let mut filtered = vec![Complex32::new(0.0, 0.0); pw * ph];
-        filtered
-            .par_chunks_mut(ph)
-            .enumerate()
-            .for_each(|(kx, col)| {
-                let mirror = ((pw - kx) % pw) * ph;
-                for (ky, r) in col.iter_mut().enumerate() {
-                    let k = kx * ph + ky;
-                    let conj_neg = spectrum[mirror + (ph - ky) % ph].conj();
-                    *r = spectrum[k] * (0.5 * (ka[k] + kb[k])) + conj_neg * (0.5 * (ka[k] - kb[k]));
-                }
-            });
+        let mut filtered = Vec::with_capacity(pw * ph);
+        filtered.par_extend((0..pw * ph).into_par_iter().map(|k| {
+            let (kx, ky) = (k / ph, k % ph);
+            let mirror = ((pw - kx) % pw) * ph;
+            let conj_neg = spectrum[mirror + (ph - ky) % ph].conj();
+            spectrum[k] * (0.5 * (ka[k] + kb[k])) + conj_neg * (0.5 * (ka[k] - kb[k]))
+        }));
         let result = fft.inverse(&mut filtered, ch);
         let plane = |part: fn(&Complex32) -> f32| -> Vec<f32> {
             result

@@ -38,12 +38,18 @@ impl Fft2 {
     pub fn forward(&self, data: &mut [Complex32], filled_rows: usize) -> Vec<Complex32> {
         let (w, h) = (self.width, self.height);
         run(&self.rows, &mut data[..filled_rows * w], w);
-        let mut spectrum = vec![Complex32::new(0.0, 0.0); w * h];
-        spectrum.par_chunks_mut(h).enumerate().for_each(|(x, col)| {
-            for (y, v) in col.iter_mut().enumerate().take(filled_rows) {
-                *v = data[y * w + x];
+        // Transposed as it is made, in parallel (not zeroed first on one
+        // thread).
+        let data = &*data;
+        let mut spectrum = Vec::with_capacity(w * h);
+        spectrum.par_extend((0..w * h).into_par_iter().map(|i| {
+            let (x, y) = (i / h, i % h);
+            if y < filled_rows {
+                data[y * w + x]
+            } else {
+                Complex32::new(0.0, 0.0)
             }
-        });
+        }));
         run(&self.cols, &mut spectrum, h);
         spectrum
     }
@@ -54,12 +60,13 @@ impl Fft2 {
     pub fn inverse(&self, spectrum: &mut [Complex32], rows: usize) -> Vec<Complex32> {
         let (w, h) = (self.width, self.height);
         run(&self.cols_inverse, spectrum, h);
-        let mut out = vec![Complex32::new(0.0, 0.0); w * rows];
-        out.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
-            for (x, v) in row.iter_mut().enumerate() {
-                *v = spectrum[x * h + y];
-            }
-        });
+        let spectrum = &*spectrum;
+        let mut out = Vec::with_capacity(w * rows);
+        out.par_extend(
+            (0..w * rows)
+                .into_par_iter()
+                .map(|i| spectrum[(i % w) * h + i / w]),
+        );
         run(&self.rows_inverse, &mut out, w);
         out
     }

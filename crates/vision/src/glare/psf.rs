@@ -15,6 +15,7 @@
 //! Mixture weights by visual state (photopic, mesopic, scotopic) from the
 //! same sheet, marked unverified there (docs/vision.md).
 
+use rayon::prelude::*;
 use scotopia_color::cie;
 
 /// The core, flare and bloom terms f0, f1, f2 at θ degrees.
@@ -81,24 +82,31 @@ impl Halo {
     pub fn new() -> Self {
         let n = (Self::MAX / Self::STEP) as usize + 1;
         let lambdas: Vec<f64> = (380..=780).step_by(2).map(|l| l as f64).collect();
-        let table = std::array::from_fn(|c| {
-            let weight: Vec<f64> = lambdas
+        let weights: [Vec<f64>; 4] = std::array::from_fn(|c| {
+            lambdas
                 .iter()
                 .map(|&l| cie::observers(l as f32)[c] as f64)
-                .collect();
-            let total: f64 = weight.iter().sum();
-            (0..n)
-                .map(|i| {
-                    let theta = i as f64 * Self::STEP;
-                    lambdas
-                        .iter()
-                        .zip(&weight)
-                        .map(|(&l, w)| w * halo_term(theta, l))
-                        .sum::<f64>()
-                        / total
-                })
                 .collect()
         });
+        let totals: [f64; 4] = std::array::from_fn(|c| weights[c].iter().sum());
+        // Each f3(θ, λ) once for the four channels (it does not depend on
+        // the channel), each θ on its own, in parallel: it runs in every
+        // fresh process that shows a dark scene.
+        let rows: Vec<[f64; 4]> = (0..n)
+            .into_par_iter()
+            .map(|i| {
+                let theta = i as f64 * Self::STEP;
+                let mut sums = [0.0f64; 4];
+                for (k, &l) in lambdas.iter().enumerate() {
+                    let f = halo_term(theta, l);
+                    for c in 0..4 {
+                        sums[c] += weights[c][k] * f;
+                    }
+                }
+                std::array::from_fn(|c| sums[c] / totals[c])
+            })
+            .collect();
+        let table = std::array::from_fn(|c| rows.iter().map(|r| r[c]).collect());
         Self { table }
     }
 

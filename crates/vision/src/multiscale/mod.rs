@@ -43,7 +43,7 @@ use scotopia_color::space::Cat;
 use scotopia_color::{Mat3, RgbSpace};
 
 use crate::mode::image_statistics;
-use crate::pyramid::{collapse_with, gaussian, Bilinear, Plane};
+use crate::pyramid::{collapse_with, gaussian, reduce4, zeroed, Bilinear, Plane};
 
 /// What the eye adapts to in the model's gain control.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -152,6 +152,14 @@ impl Matrices {
     }
 }
 
+/// A pixel's receptor signals [L, M, S, R] (non-finite and negative
+/// values as 0).
+fn receptors(m: &Matrices, px: &[f32; 4]) -> [f32; 4] {
+    let clean = px.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 });
+    let [l, mm, s] = apply(&m.lms, [clean[0], clean[1], clean[2]]);
+    [l, mm, s, clean[3]]
+}
+
 fn apply(m: &[[f32; 3]; 3], v: [f32; 3]) -> [f32; 3] {
     m.map(|row| row[0] * v[0] + row[1] * v[1] + row[2] * v[2])
 }
@@ -170,14 +178,26 @@ pub fn multiscale(
     height: usize,
     p: &MultiscaleParams,
 ) -> Vec<[f32; 3]> {
+    let mut out = pixels.to_vec();
+    Model::new(pixels, width, height, p)
+        .display(&mut out, |o, xyz| *o = [xyz[0], xyz[1], xyz[2], 0.0]);
+    out.into_iter().map(|q| [q[0], q[1], q[2]]).collect()
+}
+
+/// As [`multiscale`], writing pixel i's result `finish(&pixels[i],
+/// display X, Y, Z)` over `pixels[i]`: the pipeline's tone operator, with
+/// no full-size output buffer.
+pub fn multiscale_in_place(
+    pixels: &mut [[f32; 4]],
+    width: usize,
+    height: usize,
+    p: &MultiscaleParams,
+    finish: impl Fn(&[f32; 4], [f32; 3]) -> [f32; 4] + Sync,
+) {
+    // The model keeps no reference to the pixels once its pyramids are
+    // built, so they can be overwritten.
     let model = Model::new(pixels, width, height, p);
-    // Combining a display band with the collapsed coarser levels: one gain
-    // per receptor scales bands and mean alike, so a plain sum is exact
-    // and cannot undershoot; local gains need the contrast roll-off.
-    match model.fixed_gains {
-        Some(_) => model.display(|m, b| m + b),
-        None => model.display(add_contrast),
-    }
+    model.display(pixels, |q, xyz| *q = finish(q, xyz));
 }
 
 /// The model's state: receptor pyramids and the gains that depend on them.
@@ -199,14 +219,17 @@ struct Model<'a> {
     display_gain: f32,
 }
 
-/// Per-thread rows of the expanded local means.
+/// Per-thread rows: a level's receptor signals and the expanded local
+/// means of the next coarser level.
 struct Scratch {
+    fine: [Vec<f32>; 4],
     mean: [Vec<f32>; 4],
 }
 
 impl Scratch {
     fn new(width: usize) -> Self {
         Self {
+            fine: std::array::from_fn(|_| vec![0.0; width]),
             mean: std::array::from_fn(|_| vec![0.0; width]),
         }
     }
@@ -215,24 +238,39 @@ impl Scratch {
 impl<'a> Model<'a> {
     fn new(pixels: &[[f32; 4]], width: usize, height: usize, p: &'a MultiscaleParams) -> Self {
         let m = Matrices::new();
-        let mut planes: [Vec<f32>; 4] = std::array::from_fn(|_| vec![0.0f32; pixels.len()]);
-        {
-            let [l, mm, s, r] = &mut planes;
-            l.par_iter_mut()
-                .zip(mm.par_iter_mut())
-                .zip(s.par_iter_mut())
-                .zip(r.par_iter_mut())
-                .zip(pixels.par_iter())
-                .for_each(|((((l, mm), s), r), px)| {
-                    let clean = px.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 });
-                    [*l, *mm, *s] = apply(&m.lms, [clean[0], clean[1], clean[2]]);
-                    *r = clean[3];
-                });
-        }
-        let pyramids: Vec<Vec<Plane>> = planes
-            .into_par_iter()
-            .map(|data| gaussian(Plane::new(width, height, data), p.levels))
-            .collect();
+        // Level 0 is the pixels themselves, read again where a band needs
+        // them; only its shape is kept, unless it is the only level.
+        let levels = p.levels.max(1);
+        let pyramids: Vec<Vec<Plane>> = if levels > 1 && width >= 4 && height >= 4 {
+            let finer = reduce4(width, height, |y, rows| {
+                for (x, px) in pixels[y * width..(y + 1) * width].iter().enumerate() {
+                    let r = receptors(&m, px);
+                    for c in 0..4 {
+                        rows[c][x] = r[c];
+                    }
+                }
+            });
+            finer
+                .into_par_iter()
+                .map(|level1| {
+                    let shape = Plane {
+                        width,
+                        height,
+                        data: Vec::new(),
+                    };
+                    let mut pyramid = vec![shape];
+                    pyramid.extend(gaussian(level1, levels - 1));
+                    pyramid
+                })
+                .collect()
+        } else {
+            (0..4)
+                .map(|c| {
+                    let data = pixels.iter().map(|px| receptors(&m, px)[c]).collect();
+                    vec![Plane::new(width, height, data)]
+                })
+                .collect()
+        };
         let n = pyramids[0].len();
         let size = |l: usize| (pyramids[0][l].width, pyramids[0][l].height);
         let up = (0..n - 1)
@@ -301,9 +339,9 @@ impl<'a> Model<'a> {
     }
 
     /// Row `y` of band `level` as display cones, given to `emit(x, cones)`:
-    /// each receptor's band (the level minus the next coarser one
-    /// expanded) gain-controlled at that local mean, rods joined, over the
-    /// display's gain.
+    /// each receptor's band (the level, whose row the caller has put in
+    /// `scratch.fine`, minus the next coarser one expanded) gain-controlled
+    /// at that local mean, rods joined, over the display's gain.
     fn band_row(
         &self,
         level: usize,
@@ -320,9 +358,8 @@ impl<'a> Model<'a> {
         for (x, (((&l, &m), &s), &r)) in means.enumerate() {
             let local = [l, m, s, r];
             let gains = self.gains(local);
-            let i = y * w + x;
             let band: [f32; 4] =
-                std::array::from_fn(|c| (self.pyramids[c][level].data[i] - local[c]) * gains[c]);
+                std::array::from_fn(|c| (scratch.fine[c][x] - local[c]) * gains[c]);
             emit(
                 x,
                 to_display_cones(&self.m, band).map(|v| v / self.display_gain),
@@ -330,11 +367,29 @@ impl<'a> Model<'a> {
         }
     }
 
+    /// Display X, Y, Z of each pixel of `pixels` (the image the model was
+    /// built from), given to `put` with the pixel to overwrite.
+    fn display(&self, pixels: &mut [[f32; 4]], put: impl Fn(&mut [f32; 4], [f32; 3]) + Sync) {
+        // Combining a display band with the collapsed coarser levels: one
+        // gain per receptor scales bands and mean alike, so a plain sum is
+        // exact and cannot undershoot; local gains need the contrast
+        // roll-off.
+        match self.fixed_gains {
+            Some(_) => self.display_with(|m, b| m + b, pixels, put),
+            None => self.display_with(add_contrast, pixels, put),
+        }
+    }
+
     /// Display X, Y, Z: the coarsest level's display cones, every band
     /// but the finest collapsed onto it with `combine`, and the finest band
     /// fused with the last collapse step and the return to X, Y, Z so no
     /// full-size band plane is ever stored.
-    fn display(&self, combine: impl Fn(f32, f32) -> f32 + Sync + Copy) -> Vec<[f32; 3]> {
+    fn display_with(
+        &self,
+        combine: impl Fn(f32, f32) -> f32 + Sync + Copy,
+        out: &mut [[f32; 4]],
+        put: impl Fn(&mut [f32; 4], [f32; 3]) + Sync,
+    ) {
         let (width, height) = self.size(0);
         let n = self.pyramids[0].len();
         // The display cones of the coarsest level, then every band but the
@@ -363,12 +418,11 @@ impl<'a> Model<'a> {
             // bright edge); clamping there, not in XYZ, keeps hues.
             apply(&self.m.xyz, cones.map(|v| v.max(0.0))).map(|c| c.max(0.0))
         };
-        let mut out = vec![[0.0f32; 3]; width * height];
         if n == 1 {
             for (i, o) in out.iter_mut().enumerate() {
-                *o = to_xyz(std::array::from_fn(|c| coarser[c].data[i]));
+                put(o, to_xyz(std::array::from_fn(|c| coarser[c].data[i])));
             }
-            return out;
+            return;
         }
         let up = Bilinear::new(self.size(1), (width, height));
         out.par_chunks_mut(width).enumerate().for_each_init(
@@ -377,18 +431,28 @@ impl<'a> Model<'a> {
                 for (c, m) in mean.iter_mut().enumerate() {
                     up.row(&coarser[c].data, y, m);
                 }
+                // Level 0 is the row's own pixels, read before any of
+                // them is overwritten.
+                for (x, px) in row.iter().enumerate() {
+                    let r = receptors(&self.m, px);
+                    for (fine, v) in scratch.fine.iter_mut().zip(r) {
+                        fine[x] = v;
+                    }
+                }
                 self.band_row(0, y, scratch, |x, band| {
-                    row[x] = to_xyz(std::array::from_fn(|c| combine(mean[c][x], band[c])));
+                    put(
+                        &mut row[x],
+                        to_xyz(std::array::from_fn(|c| combine(mean[c][x], band[c]))),
+                    );
                 });
             },
         );
-        out
     }
 
     /// Band `level`'s display cone signals as three planes.
     fn band_planes(&self, level: usize) -> [Plane; 3] {
         let (w, h) = self.size(level);
-        let mut out: [Vec<f32>; 3] = std::array::from_fn(|_| vec![0.0f32; w * h]);
+        let mut out: [Vec<f32>; 3] = std::array::from_fn(|_| zeroed(w * h));
         let [l, m, s] = &mut out;
         l.par_chunks_mut(w)
             .zip(m.par_chunks_mut(w))
@@ -397,6 +461,9 @@ impl<'a> Model<'a> {
             .for_each_init(
                 || Scratch::new(w),
                 |scratch, (y, ((l, m), s))| {
+                    for (c, fine) in scratch.fine.iter_mut().enumerate() {
+                        fine.copy_from_slice(&self.pyramids[c][level].data[y * w..(y + 1) * w]);
+                    }
                     self.band_row(level, y, scratch, |x, cones| {
                         [l[x], m[x], s[x]] = cones;
                     })
