@@ -151,7 +151,7 @@ pub(super) fn parse(lines: &[&str], file: &str) -> Result<Photometry, LuminaireE
 
     // Which of the C angles the stored planes are, by Isym.
     let multiple = |k: usize| {
-        if mc % k == 0 {
+        if mc.is_multiple_of(k) {
             Ok(())
         } else {
             Err(error(

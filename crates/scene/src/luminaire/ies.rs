@@ -227,22 +227,25 @@ pub(super) fn parse(lines: &[&str], file: &str) -> Result<Photometry, LuminaireE
 /// 90°–270° case from LM-63-1995).
 fn horizontal_symmetry(h: &[(usize, f64)], file: &str) -> Result<Symmetry, LuminaireError> {
     let (first, last) = (h[0].1, h[h.len() - 1].1);
-    Ok(match (first, last) {
-        _ if h.len() == 1 => Symmetry::Rotational,
-        (f, l) if f == 0.0 && l == 90.0 => Symmetry::Quadrant,
-        (f, l) if f == 0.0 && l == 180.0 => Symmetry::AboutC0C180,
-        (f, _) if f == 0.0 => Symmetry::None,
-        (f, l) if f == 90.0 && l == 270.0 => Symmetry::AboutC90C270,
-        _ => {
-            return Err(error(
-                file,
-                h[0].0,
-                format!(
-                    "type C horizontal angles run from {first}° to {last}° (expected to start \
-                     at 0° and end at 0°, 90°, 180° or 360°, or to run from 90° to 270°)"
-                ),
-            ))
-        }
+    Ok(if h.len() == 1 {
+        Symmetry::Rotational
+    } else if first == 0.0 && last == 90.0 {
+        Symmetry::Quadrant
+    } else if first == 0.0 && last == 180.0 {
+        Symmetry::AboutC0C180
+    } else if first == 0.0 {
+        Symmetry::None
+    } else if first == 90.0 && last == 270.0 {
+        Symmetry::AboutC90C270
+    } else {
+        return Err(error(
+            file,
+            h[0].0,
+            format!(
+                "type C horizontal angles run from {first}° to {last}° (expected to start \
+                 at 0° and end at 0°, 90°, 180° or 360°, or to run from 90° to 270°)"
+            ),
+        ));
     })
 }
 
