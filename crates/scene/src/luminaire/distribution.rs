@@ -147,14 +147,15 @@ impl Photometry {
                         if 360.0 - a < 1e-9 {
                             a = 0.0;
                         }
-                        // An angle already there (a plane on a mirror, or
-                        // 360° repeating 0°) keeps the first column given.
-                        if !full.iter().any(|(b, _)| (a - b).abs() < 1e-6) {
-                            full.push((a, column));
-                        }
+                        full.push((a, column));
                     }
                 }
+                // An angle there twice (a plane on a mirror, or 360°
+                // repeating 0°) keeps the first column given: the sort is
+                // stable. Sorting, not searching, keeps a file of many
+                // planes linear-logarithmic.
                 full.sort_by(|a, b| a.0.total_cmp(&b.0));
+                full.dedup_by(|later, kept| (later.0 - kept.0).abs() < 1e-6);
             }
         }
         match full.first() {
