@@ -5,6 +5,7 @@
 mod build;
 mod checkpoint_key;
 mod info;
+pub mod luminaire;
 pub mod materials;
 pub mod mesh;
 pub mod mitsuba;
