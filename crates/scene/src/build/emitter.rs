@@ -124,8 +124,9 @@ pub fn build_emitter(b: &mut Builder, node: &Node) -> Result<Light, SceneError> 
             }
             Light::Projector(Box::new(ProjectorLight::new(camera, irradiance, scale)))
         }
+        "ies" => Light::Goniometric(super::luminaire::build_ies(&p, node)?),
         "area" => return Err(node.error("an area emitter must be nested in a <shape>")),
-        other => return Err(node.error(format!("emitter type '{other}' is not supported (area, point, spot, projector, directional, constant, envmap)"))),
+        other => return Err(node.error(format!("emitter type '{other}' is not supported (area, point, spot, projector, directional, constant, envmap, ies)"))),
     };
     b.report_unused(&p);
     check_power(b, node, &light)?;

@@ -8,6 +8,7 @@ mod bsdf_principled;
 mod emitter;
 mod integrator;
 mod ior;
+mod luminaire;
 mod mesh_attribute;
 pub mod registry;
 mod sensor;
