@@ -51,6 +51,7 @@ fn example(kind: &str, name: &str) -> String {
         ("emitter", "point" | "spot") => format!(r#"<emitter type="{name}"><rgb name="intensity" value="1"/></emitter>"#),
         ("emitter", "directional") => r#"<emitter type="directional"><rgb name="irradiance" value="1"/></emitter>"#.into(),
         ("emitter", "envmap") => r#"<emitter type="envmap"><string name="filename" value="flat.png"/></emitter>"#.into(),
+        ("emitter", "ies") => r#"<emitter type="ies"><string name="filename" value="lamp.ies"/></emitter>"#.into(),
         ("emitter", _) => format!(r#"<emitter type="{name}"/>"#),
         ("integrator", "moment" | "aov" | "stokes") => format!(r#"<integrator type="{name}"><integrator type="path"/></integrator>"#),
         ("integrator", _) => format!(r#"<integrator type="{name}"/>"#),
@@ -110,6 +111,12 @@ fn every_plugin_loads_as_the_registry_says() {
     std::fs::write(
         dir.join("quad.serialized"),
         write(&[quad("q", 0.0)], 4, false),
+    )
+    .unwrap();
+    // An isotropic 1000 cd lamp, IES LM-63-2002.
+    std::fs::write(
+        dir.join("lamp.ies"),
+        "IESNA:LM-63-2002\nTILT=NONE\n1 -1 1 2 1 1 2 0 0 0\n1 1 100\n0 180\n0\n1000 1000\n",
     )
     .unwrap();
     image::RgbImage::from_pixel(1, 1, image::Rgb([128, 128, 255]))

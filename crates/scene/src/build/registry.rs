@@ -121,6 +121,7 @@ pub const PLUGINS: &[Plugin] = &[
     p("emitter", "constant", Full, "radiance (Mitsuba's default: unit D65)", ""),
     p("emitter", "envmap", Full, "filename, scale, to_world", "interpolated as Mitsuba 3: the texels' unit spectra and their scales blended apart"),
     p("emitter", "projector", Full, "irradiance (texture or spectrum), scale, fov, fov_axis, focal_length, to_world", "light paths start uniformly over the image, not by texel power"),
+    p("emitter", "ies", Full, "filename (IES LM-63 or EULUMDAT), spectrum (default Planck 4000 K), scale, to_world", "scotopia's own: a goniometric point light with the file's candela (nadir along local +z, C 0° along +x); docs/lighting.md"),
     p("emitter", "directionalarea", Unsupported, "", ""),
     p("emitter", "sunsky", Unsupported, "", ""),
     p("emitter", "timed_sunsky", Unsupported, "", ""),
