@@ -138,16 +138,31 @@ impl Renderer<'_> {
         let surface = self.scene.geometry.surface(&hit, &camera.ray);
         let ng = surface.n_geometric;
         let n = if ng.dot(camera.ray.d) <= 0.0 { ng } else { -ng };
+        let mut path = self.receiver_path(sampler, surface.p, n, camera.wl, rays);
+        path.l *= std::f32::consts::PI;
+        Self::finish(&path)
+    }
+
+    /// One path from a white receiver at `p` facing `n` (unit), as if a
+    /// camera ray had just arrived there from straight above: its `l` is
+    /// the receiver's radiance L = E/π.
+    fn receiver_path<const K: usize>(
+        &self,
+        sampler: &mut Sampler,
+        p: Vec3,
+        n: Vec3,
+        wl: SampledWavelengths<K>,
+        rays: &mut u64,
+    ) -> PathState<K> {
         let frame = Frame::from_normal(n);
         let at = ShadingPoint::at([0.0f32; 2], n, n, frame.s, frame.t).1;
-        let mut path = PathState::<K>::at_receiver(surface.p, n, camera.wl);
+        let mut path = PathState::<K>::at_receiver(p, n, wl);
         let u = [sampler.get_4d(), sampler.get_4d()];
-        let b = self.scatter(&mut path, u, (surface.p, n), (frame, at), &self.white);
+        let b = self.scatter(&mut path, u, (p, n), (frame, at), &self.white);
         if self.settle(&mut path, b, rays) {
             self.trace(sampler, &mut path, rays);
         }
-        path.l *= std::f32::consts::PI;
-        Self::finish(&path)
+        path
     }
 
     /// `spp` samples of receiver number `index` (its place in the sampler's
@@ -161,8 +176,6 @@ impl Renderer<'_> {
         cancel: &AtomicBool,
     ) -> Measured {
         let n = r.n.normalize();
-        let frame = Frame::from_normal(n);
-        let at = ShadingPoint::at([0.0f32; 2], n, n, frame.s, frame.t).1;
         let mut sampler = Sampler::new(seed);
         let (mut sum, mut sum2) = ([0.0f64; 2], [0.0f64; 2]);
         let mut samples = 0u32;
@@ -173,14 +186,7 @@ impl Renderer<'_> {
             sampler.start([index, 0], i);
             let sets = [sampler.get_4d(), sampler.get_4d()];
             let (_, _, wl, _) = self.start_sample_with::<K>([index, 0], sets);
-            // Arrived from straight above the receiver.
-            let mut path = PathState::<K>::at_receiver(r.p, n, wl);
-            let u = [sampler.get_4d(), sampler.get_4d()];
-            let b = self.scatter(&mut path, u, (r.p, n), (frame, at), &self.white);
-            let mut rays = 0;
-            if self.settle(&mut path, b, &mut rays) {
-                self.trace(&mut sampler, &mut path, &mut rays);
-            }
+            let path = self.receiver_path(&mut sampler, r.p, n, wl, &mut 0);
             let [_, y, _, v] = estimate_xyzv(&path.l, &path.wl);
             let (e, es) = (
                 std::f64::consts::PI * y as f64,
