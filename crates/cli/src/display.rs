@@ -250,6 +250,10 @@ fn info_text(shown: &Displayed, p: &DisplayParams) -> String {
     }
     t += &format!("s (Jensen)    {:.4}\n", r.state.s);
     t += &format!("m (CIE 191)   {:.4}\n", r.state.m);
+    t += &format!(
+        "L_mes         {:.4e} cd/m² (CIE 191 mesopic luminance of the adaptation level)\n",
+        scotopia_vision::mode::mesopic_luminance(r.state.luminance, s.sp_ratio)
+    );
     t += &format!("mode          {}\n", r.state.mode.name());
     t += &format!(
         "glare         {}\n",

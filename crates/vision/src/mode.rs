@@ -30,14 +30,13 @@ pub fn scotopic_sensitivity(luminance: f64) -> f64 {
 pub fn mesopic_coefficient(photopic: f64, sp_ratio: f64) -> f64 {
     const A: f64 = 0.7670;
     const B: f64 = 0.3334;
-    const V_LAMBDA0: f64 = 683.0 / 1699.0;
     if photopic.is_nan() || photopic <= 0.0 {
         return 0.0;
     }
     let scotopic = sp_ratio.max(0.0) * photopic;
     let mut m = 0.5;
     for _ in 0..100 {
-        let l_mes = (m * photopic + (1.0 - m) * scotopic * V_LAMBDA0) / (m + (1.0 - m) * V_LAMBDA0);
+        let l_mes = mesopic_at(m, photopic, scotopic);
         let next = if l_mes > 0.0 {
             (A + B * l_mes.log10()).clamp(0.0, 1.0)
         } else {
@@ -49,6 +48,28 @@ pub fn mesopic_coefficient(photopic: f64, sp_ratio: f64) -> f64 {
         m = next;
     }
     m
+}
+
+/// CIE 191:2010's V′(λ₀) = 683/1699: V′ at 555 nm, where V = 1.
+const V_LAMBDA0: f64 = 683.0 / 1699.0;
+
+/// CIE 191:2010's mesopic luminance at adaptation coefficient m, from
+/// photopic luminance L_p (cd/m²) and scotopic L_s (scotopic cd/m²):
+/// [m·L_p + (1−m)·L_s·V′(λ₀)] / [m + (1−m)·V′(λ₀)].
+fn mesopic_at(m: f64, photopic: f64, scotopic: f64) -> f64 {
+    (m * photopic + (1.0 - m) * scotopic * V_LAMBDA0) / (m + (1.0 - m) * V_LAMBDA0)
+}
+
+/// CIE 191:2010's mesopic luminance L_mes (cd/m²) of photopic luminance
+/// `photopic` with S/P ratio `sp_ratio`: at the m of
+/// [`mesopic_coefficient`]. L_p itself when photopic (m = 1), L_s when
+/// scotopic (m = 0).
+pub fn mesopic_luminance(photopic: f64, sp_ratio: f64) -> f64 {
+    if photopic.is_nan() || photopic <= 0.0 {
+        return 0.0;
+    }
+    let m = mesopic_coefficient(photopic, sp_ratio);
+    mesopic_at(m, photopic, sp_ratio.max(0.0) * photopic)
 }
 
 /// The visual mode's name, by CIE 191's range.
@@ -225,6 +246,25 @@ mod tests {
             let s = scotopic_sensitivity(10f64.powf(-3.0 + i as f64 * 0.01));
             assert!(s >= prev);
             prev = s;
+        }
+    }
+
+    #[test]
+    fn mesopic_luminance_is_the_iterations_fixed_point() {
+        // Photopic: L_p; scotopic: L_s = (S/P)·L_p; between, the fixed
+        // point m = 0.7670 + 0.3334·log₁₀ L_mes of CIE 191:2010.
+        assert!((mesopic_luminance(100.0, 2.0) - 100.0).abs() < 1e-9);
+        assert!((mesopic_luminance(0.001, 2.0) - 0.002).abs() < 1e-12);
+        for (lp, sp) in [(0.1, 1.5), (0.5, 0.25), (1.0, 2.5)] {
+            let m = mesopic_coefficient(lp, sp);
+            let l = mesopic_luminance(lp, sp);
+            assert!(m > 0.0 && m < 1.0, "{lp} {sp}: m {m}");
+            assert!(
+                (m - (0.7670 + 0.3334 * l.log10())).abs() < 1e-6,
+                "{lp} {sp}"
+            );
+            // Between L_p and L_s.
+            assert!((l - lp) * (l - sp * lp) <= 0.0, "{lp} {sp}: {l}");
         }
     }
 
