@@ -10,7 +10,6 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use scotopia_render::integrator::{measure as measure_points, Receiver, RenderOptions};
 use scotopia_render::math::Vec3;
-use scotopia_render::wavelength::WavelengthStrategy;
 use scotopia_scene::load_scene_with;
 
 /// Measures illuminance at points of a Mitsuba 3 XML scene (the `scotopia
@@ -35,12 +34,7 @@ fn measure<'py>(
     params: Option<HashMap<String, String>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let err = |e: String| PyValueError::new_err(e);
-    scotopia_render::simd::Level::init().map_err(|e| err(e.to_string()))?;
-    let strategy = WavelengthStrategy::from_name(wavelengths).ok_or_else(|| {
-        err(format!(
-            "wavelengths '{wavelengths}': use swc, hero or single"
-        ))
-    })?;
+    let strategy = crate::render::wavelength_strategy(wavelengths)?;
     let a = points.as_array();
     if a.ncols() != 6 || a.nrows() == 0 {
         return Err(err(format!(

@@ -60,12 +60,7 @@ fn render<'py>(
     quantity: &str,
 ) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
     let err = |e: String| PyValueError::new_err(e);
-    scotopia_render::simd::Level::init().map_err(|e| err(e.to_string()))?;
-    let strategy = WavelengthStrategy::from_name(wavelengths).ok_or_else(|| {
-        err(format!(
-            "wavelengths '{wavelengths}': use swc, hero or single"
-        ))
-    })?;
+    let strategy = wavelength_strategy(wavelengths)?;
     let integrator = match integrator {
         Some(name) => Some(
             IntegratorKind::from_name(name)
@@ -153,6 +148,15 @@ fn render<'py>(
     d.set_item("nonfiniteSplats", rendered.nonfinite_splats)?;
     d.set_item("collapsedFraction", rendered.collapsed_fraction())?;
     Ok((image.into_pyarray(py), d))
+}
+
+/// What `render` and `measure` check first: the SIMD level
+/// (`SCOTOPIA_SIMD`) and the wavelength strategy's name.
+pub(crate) fn wavelength_strategy(name: &str) -> PyResult<WavelengthStrategy> {
+    scotopia_render::simd::Level::init().map_err(|e| PyValueError::new_err(e.to_string()))?;
+    WavelengthStrategy::from_name(name).ok_or_else(|| {
+        PyValueError::new_err(format!("wavelengths '{name}': use swc, hero or single"))
+    })
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

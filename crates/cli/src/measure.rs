@@ -3,18 +3,17 @@
 
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::atomic::Ordering;
 
 use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use scotopia_render::integrator::{measure, Receiver, RenderOptions, CLUSTER_SIZES};
+use scotopia_render::integrator::{measure, Receiver, RenderOptions};
 use scotopia_render::math::Vec3;
-use scotopia_render::wavelength::WavelengthStrategy;
 use scotopia_scene::load_scene_with;
 
 use crate::info::{load_options, parameters};
+use crate::render::{cancel_on_interrupt, sampling_options};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -104,16 +103,7 @@ pub fn read_points(path: &Path) -> Result<Vec<Receiver>> {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    scotopia_render::simd::Level::init().map_err(anyhow::Error::msg)?;
-    let strategy = WavelengthStrategy::from_name(&args.wavelengths).with_context(|| {
-        format!(
-            "--wavelengths {}: use swc, hero or single",
-            args.wavelengths
-        )
-    })?;
-    if !CLUSTER_SIZES.contains(&args.cluster) {
-        bail!("--cluster {}: use one of 1, 2, 4, 8, 16", args.cluster);
-    }
+    let strategy = sampling_options(&args.wavelengths, args.cluster)?;
     if args.spp == Some(0) {
         bail!("--spp must be positive");
     }
@@ -133,12 +123,7 @@ pub fn run(args: Args) -> Result<()> {
         cluster: args.cluster,
         ..RenderOptions::default()
     };
-    let cancel = Arc::new(AtomicBool::new(false));
-    {
-        let cancel = cancel.clone();
-        ctrlc::set_handler(move || cancel.store(true, Ordering::Relaxed))
-            .context("cannot install the Ctrl-C handler")?;
-    }
+    let cancel = cancel_on_interrupt()?;
     let bar = ProgressBar::new(receivers.len() as u64);
     bar.set_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} points  {elapsed} elapsed, {eta} left")

@@ -104,18 +104,30 @@ pub struct Args {
     vision: VisionArgs,
 }
 
-pub fn run(args: Args) -> Result<()> {
-    // SCOTOPIA_SIMD, checked before anything is loaded.
+/// What `render` and `measure` check before loading anything: the SIMD
+/// level (`SCOTOPIA_SIMD`), `--wavelengths` and `--cluster`.
+pub fn sampling_options(wavelengths: &str, cluster: usize) -> Result<WavelengthStrategy> {
     scotopia_render::simd::Level::init().map_err(anyhow::Error::msg)?;
-    let strategy = WavelengthStrategy::from_name(&args.wavelengths).with_context(|| {
-        format!(
-            "--wavelengths {}: use swc, hero or single",
-            args.wavelengths
-        )
-    })?;
-    if !CLUSTER_SIZES.contains(&args.cluster) {
-        bail!("--cluster {}: use one of 1, 2, 4, 8, 16", args.cluster);
+    let strategy = WavelengthStrategy::from_name(wavelengths)
+        .with_context(|| format!("--wavelengths {wavelengths}: use swc, hero or single"))?;
+    if !CLUSTER_SIZES.contains(&cluster) {
+        bail!("--cluster {cluster}: use one of 1, 2, 4, 8, 16");
     }
+    Ok(strategy)
+}
+
+/// A flag that Ctrl-C or SIGTERM sets: long work stops at its next
+/// boundary and says so.
+pub fn cancel_on_interrupt() -> Result<Arc<AtomicBool>> {
+    let cancel = Arc::new(AtomicBool::new(false));
+    let flag = cancel.clone();
+    ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed))
+        .context("cannot install the Ctrl-C handler")?;
+    Ok(cancel)
+}
+
+pub fn run(args: Args) -> Result<()> {
+    let strategy = sampling_options(&args.wavelengths, args.cluster)?;
     let integrator = match &args.integrator {
         Some(name) => Some(
             IntegratorKind::from_name(name)
@@ -174,12 +186,7 @@ pub fn run(args: Args) -> Result<()> {
     };
 
     // Ctrl-C or SIGTERM: finish the current pass, write, exit non-zero.
-    let cancel = Arc::new(AtomicBool::new(false));
-    {
-        let cancel = cancel.clone();
-        ctrlc::set_handler(move || cancel.store(true, Ordering::Relaxed))
-            .context("cannot install the Ctrl-C handler")?;
-    }
+    let cancel = cancel_on_interrupt()?;
 
     let total = options.spp.unwrap_or(if time_limit.is_some() {
         0

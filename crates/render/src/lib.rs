@@ -14,5 +14,7 @@ pub mod output;
 pub mod sampling;
 pub mod scene;
 pub mod simd;
+#[cfg(test)]
+mod test_rng;
 pub mod texture;
 pub mod wavelength;

@@ -8,21 +8,7 @@ use std::sync::Arc;
 use super::*;
 use crate::geometry::{Cylinder, Planar, PlanarKind, Sphere, TriangleMesh};
 use crate::math::Transform;
-
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f32 {
-        self.0 = self
-            .0
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        ((self.0 >> 40) as f32) / (1u64 << 24) as f32
-    }
-    fn vec(&mut self, lo: f32, hi: f32) -> Vec3 {
-        Vec3::new(self.next(), self.next(), self.next()) * (hi - lo) + Vec3::splat(lo)
-    }
-}
+use crate::test_rng::Rng;
 
 fn mesh(positions: Vec<Vec3>, indices: Vec<[u32; 3]>) -> Shape {
     Shape::Mesh(TriangleMesh::new(positions, None, None, indices, &Transform::IDENTITY).unwrap())

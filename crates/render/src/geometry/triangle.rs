@@ -248,13 +248,7 @@ mod tests {
             (v(-2.0, -2.0), v(2.0, -2.0), v(2.0, 2.0)),
             (v(-2.0, -2.0), v(2.0, 2.0), v(-2.0, 2.0)),
         ];
-        let mut state = 1u64;
-        let mut r = || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut r = crate::test_rng::uniforms(1);
         let mut found = 0;
         for _ in 0..20_000 {
             let p = v(r() * 4.0 - 2.0, r() * 4.0 - 2.0);

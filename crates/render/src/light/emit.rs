@@ -34,6 +34,22 @@ pub struct Emission<const K: usize> {
     pub pdf_dir: f32,
 }
 
+impl<const K: usize> Emission<K> {
+    /// Emission from a point-like light at `p` in direction `d` (its
+    /// position a delta distribution: density 1 as the marker).
+    fn from_point(p: Vec3, d: Vec3, le: SampledSpectrum<K>, pdf_dir: f32) -> Self {
+        Self {
+            p,
+            n: None,
+            uv: [0.0; 2],
+            d,
+            le,
+            pdf_pos: 1.0,
+            pdf_dir,
+        }
+    }
+}
+
 /// Densities of a light emitting from a point in a direction.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EmissionPdf {
@@ -69,15 +85,12 @@ impl Light {
         match self {
             Light::Point(l) => {
                 let d = square_to_uniform_sphere(u_dir);
-                Some(Emission {
-                    p: l.position,
-                    n: None,
-                    uv: [0.0; 2],
+                Some(Emission::from_point(
+                    l.position,
                     d,
-                    le: l.intensity.sample(wl),
-                    pdf_pos: 1.0,
-                    pdf_dir: UNIFORM_SPHERE_PDF,
-                })
+                    l.intensity.sample(wl),
+                    UNIFORM_SPHERE_PDF,
+                ))
             }
             Light::Spot(l) => {
                 let one_minus_cos = 1.0 - l.cutoff.cos();
@@ -86,39 +99,24 @@ impl Light {
                     uniform_cone_pdf(one_minus_cos),
                 );
                 let d = l.frame.to_world(local);
-                (l.falloff(local.z) > 0.0).then(|| Emission {
-                    p: l.position,
-                    n: None,
-                    uv: [0.0; 2],
-                    d,
-                    le: l.intensity_towards(wl, d),
-                    pdf_pos: 1.0,
-                    pdf_dir,
+                (l.falloff(local.z) > 0.0).then(|| {
+                    Emission::from_point(l.position, d, l.intensity_towards(wl, d), pdf_dir)
                 })
             }
             Light::Projector(l) => {
                 let (d, pdf_dir) = l.sample_direction(u_dir);
-                (pdf_dir > 0.0).then(|| Emission {
-                    p: l.position,
-                    n: None,
-                    uv: [0.0; 2],
-                    d,
-                    le: l.intensity_towards(wl, d),
-                    pdf_pos: 1.0,
-                    pdf_dir,
+                (pdf_dir > 0.0).then(|| {
+                    Emission::from_point(l.position, d, l.intensity_towards(wl, d), pdf_dir)
                 })
             }
             Light::Goniometric(l) => {
                 let (d, pdf_dir) = l.sample_direction(u_dir)?;
-                Some(Emission {
-                    p: l.position,
-                    n: None,
-                    uv: [0.0; 2],
+                Some(Emission::from_point(
+                    l.position,
                     d,
-                    le: l.intensity_towards(wl, d),
-                    pdf_pos: 1.0,
+                    l.intensity_towards(wl, d),
                     pdf_dir,
-                })
+                ))
             }
             Light::Directional(l) => {
                 let (p, pdf_pos) = scene.sample_disk(l.direction, u_pos);

@@ -129,25 +129,7 @@ impl SceneExtent<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A fixed-seed generator of numbers in [0, 1) (SplitMix64).
-    fn uniforms(seed: u64) -> impl FnMut() -> f32 {
-        let mut s = seed;
-        move || {
-            s = s.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = s;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
-        }
-    }
-
-    fn mean_and_se(x: &[f64]) -> (f64, f64) {
-        let n = x.len() as f64;
-        let m = x.iter().sum::<f64>() / n;
-        let var = x.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / (n - 1.0);
-        (m, (var / n).sqrt())
-    }
+    use crate::test_rng::{mean_and_se, uniforms};
 
     const CENTER: Vec3 = Vec3::new(1.0, 2.0, -3.0);
     const RADIUS: f32 = 8.0;

@@ -18,7 +18,7 @@ use std::sync::Arc;
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
 
-use super::simple::towards;
+use super::simple::point_sample;
 use super::{spectral_power, LightSample, Power};
 use crate::math::{Frame, Vec3};
 use crate::sampling::distribution::Distribution2D;
@@ -183,19 +183,7 @@ impl GoniometricLight {
         wl: &SampledWavelengths<K>,
         p: Vec3,
     ) -> Option<LightSample<K>> {
-        let (wi, dist, dist2) = towards(self.position, p)?;
-        let intensity = self.intensity_towards(wl, -wi);
-        if intensity.is_zero() {
-            return None;
-        }
-        Some(LightSample {
-            n: Vec3::ZERO,
-            wi,
-            distance: dist,
-            radiance: intensity / dist2,
-            pdf: 1.0,
-            delta: true,
-        })
+        point_sample(self.position, p, |d| self.intensity_towards(wl, d))
     }
 
     /// A world direction for a light path and its density per solid angle.

@@ -11,7 +11,7 @@
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
 
-use super::simple::towards;
+use super::simple::point_sample;
 use super::{spectral_power, LightSample, Power};
 use crate::camera::Camera;
 use crate::math::Vec3;
@@ -69,19 +69,7 @@ impl ProjectorLight {
         wl: &SampledWavelengths<K>,
         p: Vec3,
     ) -> Option<LightSample<K>> {
-        let (wi, dist, dist2) = towards(self.position, p)?;
-        let radiance = self.intensity_towards(wl, -wi);
-        if radiance.is_zero() {
-            return None;
-        }
-        Some(LightSample {
-            n: Vec3::ZERO,
-            wi,
-            distance: dist,
-            radiance: radiance / dist2,
-            pdf: 1.0,
-            delta: true,
-        })
+        point_sample(self.position, p, |d| self.intensity_towards(wl, d))
     }
 
     /// A direction uniform over the image (`u` ∈ [0, 1)²) and its density

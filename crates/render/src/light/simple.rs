@@ -10,7 +10,7 @@ use crate::texture::Texture;
 /// Unit direction, distance and squared distance from `p` to `position`;
 /// `None` when they coincide.
 #[inline]
-pub(super) fn towards(position: Vec3, p: Vec3) -> Option<(Vec3, f32, f32)> {
+fn towards(position: Vec3, p: Vec3) -> Option<(Vec3, f32, f32)> {
     let d = position - p;
     let dist2 = d.length_squared();
     if dist2 == 0.0 {
@@ -18,6 +18,31 @@ pub(super) fn towards(position: Vec3, p: Vec3) -> Option<(Vec3, f32, f32)> {
     }
     let dist = dist2.sqrt();
     Some((d / dist, dist, dist2))
+}
+
+/// Incident light at `p` from a point-like light at `position` (a delta
+/// distribution): the direction towards it and I(d)/distance², with
+/// `intensity` given the direction d light leaves the light in. `None`
+/// when the points coincide or nothing is emitted towards `p`.
+#[inline]
+pub(super) fn point_sample<const K: usize>(
+    position: Vec3,
+    p: Vec3,
+    intensity: impl FnOnce(Vec3) -> SampledSpectrum<K>,
+) -> Option<LightSample<K>> {
+    let (wi, dist, dist2) = towards(position, p)?;
+    let i = intensity(-wi);
+    if i.is_zero() {
+        return None;
+    }
+    Some(LightSample {
+        n: Vec3::ZERO,
+        wi,
+        distance: dist,
+        radiance: i / dist2,
+        pdf: 1.0,
+        delta: true,
+    })
 }
 
 /// Isotropic point light of spectral intensity I.
@@ -33,15 +58,7 @@ impl PointLight {
         wl: &SampledWavelengths<K>,
         p: Vec3,
     ) -> Option<LightSample<K>> {
-        let (wi, dist, dist2) = towards(self.position, p)?;
-        Some(LightSample {
-            n: Vec3::ZERO,
-            wi,
-            distance: dist,
-            radiance: self.intensity.sample(wl) / dist2,
-            pdf: 1.0,
-            delta: true,
-        })
+        point_sample(self.position, p, |_| self.intensity.sample(wl))
     }
 
     /// Φ = 4π ∫ I dλ.
@@ -144,18 +161,7 @@ impl SpotLight {
         wl: &SampledWavelengths<K>,
         p: Vec3,
     ) -> Option<LightSample<K>> {
-        let (wi, dist, dist2) = towards(self.position, p)?;
-        if self.falloff(self.frame.n.dot(-wi)) == 0.0 {
-            return None;
-        }
-        Some(LightSample {
-            n: Vec3::ZERO,
-            wi,
-            distance: dist,
-            radiance: self.intensity_towards(wl, -wi) / dist2,
-            pdf: 1.0,
-            delta: true,
-        })
+        point_sample(self.position, p, |d| self.intensity_towards(wl, d))
     }
 
     /// Φ = 2π ∫ falloff(θ) sin θ dθ · ∫ I dλ: the full cone 2π(1 − cos θ_b)

@@ -138,8 +138,8 @@ mod tests {
 
     use scotopia_color::{cie, io, Spectrum};
 
-    use super::super::tests::Rng;
     use super::*;
+    use crate::test_rng::Rng;
 
     fn lamp(name: &str) -> Spectrum {
         let p = Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -9,23 +9,12 @@ use scotopia_color::{cie, io, Spectrum};
 use super::*;
 use crate::light::{ConstantLight, PointLight, SceneExtent};
 use crate::math::Vec3;
+use crate::test_rng::Rng;
 
 fn sodium() -> Spectrum {
     let p =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/lamps/low-pressure-sodium.csv");
     Spectrum::from(io::read_spectrum_file(&p).unwrap())
-}
-
-/// SplitMix64 in [0, 1) (the wavelength tests' generator).
-pub(super) struct Rng(pub(super) u64);
-impl Rng {
-    pub(super) fn next(&mut self) -> f32 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
-    }
 }
 
 /// Mean and standard error of each channel's estimate over `n` clusters.

@@ -221,27 +221,12 @@ pub(super) fn parse(lines: &[&str], file: &str) -> Result<Photometry, LuminaireE
         let c = c_angles[index].1;
         let mut column = Vec::with_capacity(ng);
         for (i, &(_, g)) in gammas.iter().enumerate() {
-            let what = format!(
-                "intensity {} of {total} (C {c}°, γ {g}°, in cd/klm)",
-                p * ng + i + 1
-            );
-            let (line, v) = t.number(&what)?;
-            if v < 0.0 {
-                return Err(error(
-                    file,
-                    line,
-                    format!("negative intensity {v} (the {what})"),
-                ));
-            }
-            let cd = (v * factor) as f32;
-            if !cd.is_finite() {
-                return Err(error(
-                    file,
-                    line,
-                    format!("intensity {v} × {factor} exceeds single precision"),
-                ));
-            }
-            column.push(cd);
+            column.push(t.intensity(factor, "intensity", || {
+                format!(
+                    "intensity {} of {total} (C {c}°, γ {g}°, in cd/klm)",
+                    p * ng + i + 1
+                )
+            })?);
         }
         planes.push((c, column));
     }

@@ -158,27 +158,12 @@ pub(super) fn parse(lines: &[&str], file: &str) -> Result<Photometry, LuminaireE
     for (j, &(_, h)) in horizontal.iter().enumerate() {
         let mut column = Vec::with_capacity(nv);
         for (i, &(_, v)) in vertical.iter().enumerate() {
-            let what = format!(
-                "candela value {} of {total} (horizontal angle {h}°, vertical angle {v}°)",
-                j * nv + i + 1
-            );
-            let (line, cd) = t.number(&what)?;
-            if cd < 0.0 {
-                return Err(error(
-                    file,
-                    line,
-                    format!("negative candela {cd} (the {what})"),
-                ));
-            }
-            let scaled = (cd * factor) as f32;
-            if !scaled.is_finite() {
-                return Err(error(
-                    file,
-                    line,
-                    format!("candela {cd} × multipliers {factor} exceeds single precision"),
-                ));
-            }
-            column.push(scaled);
+            column.push(t.intensity(factor, "candela", || {
+                format!(
+                    "candela value {} of {total} (horizontal angle {h}°, vertical angle {v}°)",
+                    j * nv + i + 1
+                )
+            })?);
         }
         planes.push(column);
     }

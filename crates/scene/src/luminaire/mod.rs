@@ -159,6 +159,38 @@ impl<'a> Tokens<'a> {
         }
     }
 
+    /// The next intensity of a table: a non-negative number times
+    /// `factor`, finite in f32. `what` names it for an error (and is only
+    /// formatted for one: tables run to millions of values); `unit` is the
+    /// file's word for it.
+    pub(crate) fn intensity(
+        &mut self,
+        factor: f64,
+        unit: &str,
+        what: impl Fn() -> String,
+    ) -> Result<f32, LuminaireError> {
+        let (line, v) = match self.peek().map(|(_, token)| parse_number(token)) {
+            Some(Some(_)) => self.number("")?,
+            _ => self.number(&what())?,
+        };
+        if v < 0.0 {
+            return Err(error(
+                self.file,
+                line,
+                format!("negative {unit} {v} (the {})", what()),
+            ));
+        }
+        let scaled = (v * factor) as f32;
+        if !scaled.is_finite() {
+            return Err(error(
+                self.file,
+                line,
+                format!("{unit} {v} × {factor} exceeds single precision"),
+            ));
+        }
+        Ok(scaled)
+    }
+
     /// The next number as a whole number within `min..=max`.
     pub(crate) fn integer(
         &mut self,
