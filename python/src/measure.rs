@@ -10,18 +10,22 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use scotopia_render::integrator::{measure as measure_points, Receiver, RenderOptions};
 use scotopia_render::math::Vec3;
-use scotopia_scene::load_scene_with;
+use scotopia_scene::{load_scene_with, LoadOptions};
+use scotopia_vision::mode::Mesopic;
 
 /// Measures illuminance at points of a Mitsuba 3 XML scene (the `scotopia
 /// measure` verb) with the path tracer's own transport. `points`: an
 /// N × 6 array of x, y, z, nx, ny, nz (the normal is the side each
 /// receiver faces). Returns a dict of length-N float64 arrays: `E_lx`
 /// (photopic illuminance, lx), `E_lx_se` (its standard error), `Es_lx`
-/// (scotopic, K′m = 1700 lm/W), `Es_lx_se`, `SP` (their ratio). `spp`:
-/// samples per point (default: the scene's samples per pixel). The GIL is
-/// released while measuring.
+/// (scotopic, K′m = 1700 lm/W), `Es_lx_se`, `SP` (their ratio), and CIE
+/// 191:2010 figures of a Lambertian surface of `reflectance` there:
+/// `L_cdm2` (its luminance ρE/π), `m` (the adaptation coefficient at it)
+/// and `Lmes_cdm2` (the mesopic luminance). `spp`: samples per point
+/// (default: the scene's samples per pixel). The scene needs no sensor.
+/// The GIL is released while measuring.
 #[pyfunction]
-#[pyo3(signature = (path, points, spp = None, seed = 0, wavelengths = "swc", cluster = 4, params = None))]
+#[pyo3(signature = (path, points, spp = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, reflectance = 1.0))]
 #[allow(clippy::too_many_arguments)]
 fn measure<'py>(
     py: Python<'py>,
@@ -32,8 +36,14 @@ fn measure<'py>(
     wavelengths: &str,
     cluster: usize,
     params: Option<HashMap<String, String>>,
+    reflectance: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let err = |e: String| PyValueError::new_err(e);
+    if !(0.0..=1.0).contains(&reflectance) {
+        return Err(err(format!(
+            "reflectance {reflectance}: give a value from 0 to 1"
+        )));
+    }
     let strategy = crate::render::wavelength_strategy(wavelengths)?;
     let a = points.as_array();
     if a.ncols() != 6 || a.nrows() == 0 {
@@ -53,7 +63,11 @@ fn measure<'py>(
             }
         })
         .collect();
-    let scene = load_scene_with(&path, &params.unwrap_or_default(), &Default::default())
+    let load = LoadOptions {
+        sensor_optional: true,
+        ..LoadOptions::default()
+    };
+    let scene = load_scene_with(&path, &params.unwrap_or_default(), &load)
         .map_err(|e| err(e.to_string()))?;
     let options = RenderOptions {
         spp,
@@ -86,6 +100,15 @@ fn measure<'py>(
     d.set_item("Es_lx", column(|m| m.es))?;
     d.set_item("Es_lx_se", column(|m| m.es_se))?;
     d.set_item("SP", column(|m| m.sp()))?;
+    let mesopic: Vec<Mesopic> = measured
+        .iter()
+        .map(|m| Mesopic::of_surface(m.e, m.sp(), reflectance))
+        .collect();
+    let figure =
+        |f: fn(&Mesopic) -> f64| mesopic.iter().map(f).collect::<Vec<f64>>().into_pyarray(py);
+    d.set_item("L_cdm2", figure(|m| m.luminance))?;
+    d.set_item("m", figure(|m| m.m))?;
+    d.set_item("Lmes_cdm2", figure(|m| m.mesopic))?;
     Ok(d)
 }
 

@@ -28,6 +28,7 @@ pub fn load_options(res: Option<&Bound<'_, PyAny>>) -> PyResult<LoadOptions> {
     let resolution = Resolution::parse(&text).map_err(PyValueError::new_err)?;
     Ok(LoadOptions {
         resolution: Some(resolution),
+        ..LoadOptions::default()
     })
 }
 

@@ -87,11 +87,11 @@ def test_a_checkpointed_render_resumes_to_the_same_bits(tmp_path):
 
 
 def test_measure_gives_the_inverse_square_law_and_its_standard_errors(tmp_path):
-    # A 1000 cd point source 3 m above the floor: E = I cos θ / d².
+    # A 1000 cd point source 3 m above the floor: E = I cos θ / d². The
+    # scene has no sensor: a measurement needs none.
     scene = tmp_path / "point.xml"
     scene.write_text(
-        '<scene version="3.0.0"><sensor type="perspective"><film type="hdrfilm">'
-        '<integer name="width" value="4"/><integer name="height" value="4"/></film></sensor>'
+        '<scene version="3.0.0">'
         '<integrator type="path"><integer name="max_depth" value="2"/></integrator>'
         '<emitter type="point"><point name="position" x="0" y="3" z="0"/>'
         '<spectrum name="intensity" type="d65"><float name="luminance" value="1000"/></spectrum>'
@@ -99,10 +99,17 @@ def test_measure_gives_the_inverse_square_law_and_its_standard_errors(tmp_path):
     )
     x = np.array([0.0, 2.0, 4.0])
     points = np.stack([x, 0 * x, 0 * x, 0 * x, 1 + 0 * x, 0 * x], -1)
-    m = scotopia.measure(str(scene), points, spp=256)
+    m = scotopia.measure(str(scene), points, spp=256, reflectance=0.02)
     d2 = x**2 + 9.0
     expected = 1000.0 * 3.0 / d2**1.5
     assert np.all(np.abs(m["E_lx"] - expected) <= 4 * m["E_lx_se"] + 5e-3 * expected)
     assert np.all(m["E_lx_se"] > 0) and np.allclose(m["SP"], m["Es_lx"] / m["E_lx"])
+    # CIE 191 of a dark surface (reflectance 0.02) there: L = 0.02 E/π, the
+    # mesopic range's m, and a D65 light (S/P 2.47) looks brighter to it.
+    np.testing.assert_allclose(m["L_cdm2"], 0.02 * m["E_lx"] / np.pi, rtol=1e-12)
+    assert np.all((m["m"] > 0) & (m["m"] < 1)), m["m"]
+    assert np.all(m["Lmes_cdm2"] > m["L_cdm2"])
+    with pytest.raises(ValueError, match="reflectance"):
+        scotopia.measure(str(scene), points, reflectance=1.5)
     with pytest.raises(ValueError, match="N × 6"):
         scotopia.measure(str(scene), points[:, :5])

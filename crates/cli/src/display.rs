@@ -136,9 +136,11 @@ pub struct Args {
     #[arg(long, default_value = "srgb", value_name = "srgb|acescg")]
     input_space: String,
     /// Instead of what the eye sees, write (-o, PNG) a false-colour map of
-    /// luminance (cd/m²) or of illuminance (lx: an image made by `render
-    /// --quantity illuminance`), with a labelled scale bar.
-    #[arg(long, value_name = "luminance|illuminance")]
+    /// luminance (cd/m²), of CIE 191 mesopic luminance (cd/m², each pixel
+    /// at the adaptation coefficient of its own luminance and S/P), or of
+    /// illuminance (lx: an image made by `render --quantity illuminance`),
+    /// with a labelled scale bar.
+    #[arg(long, value_name = "luminance|mesopic|illuminance")]
     pub false_colour: Option<String>,
     /// The false-colour range LO:HI (default: 0 to the 99th percentile;
     /// with --log, the three decades below it).

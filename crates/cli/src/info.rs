@@ -44,7 +44,10 @@ pub fn load_options(res: Option<&str>) -> Result<LoadOptions> {
         Some(r) => Some(Resolution::parse(r).map_err(|e| anyhow::anyhow!("--res: {e}"))?),
         None => None,
     };
-    Ok(LoadOptions { resolution })
+    Ok(LoadOptions {
+        resolution,
+        ..LoadOptions::default()
+    })
 }
 
 pub fn run(args: Args) -> Result<()> {

@@ -10,14 +10,15 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use scotopia_render::integrator::{measure, Receiver, RenderOptions};
 use scotopia_render::math::Vec3;
-use scotopia_scene::load_scene_with;
+use scotopia_scene::{load_scene_with, LoadOptions};
+use scotopia_vision::mode::Mesopic;
 
 use crate::info::{load_options, parameters};
 use crate::render::{cancel_on_interrupt, sampling_options};
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// The scene (Mitsuba 3 XML). Its sensor is not used.
+    /// The scene (Mitsuba 3 XML). Its sensor is not used and may be absent.
     scene: PathBuf,
     /// The points: CSV rows `x,y,z,nx,ny,nz` (scene units; the normal is
     /// the side the receiver faces). A header line, blank lines and lines
@@ -25,10 +26,18 @@ pub struct Args {
     #[arg(long, value_name = "POINTS.csv")]
     points: PathBuf,
     /// The output: the points with photopic and scotopic illuminance, their
-    /// standard errors and the S/P ratio, as CSV with the header
-    /// x,y,z,nx,ny,nz,E_lx,E_lx_se,Es_lx,Es_lx_se,SP.
+    /// standard errors and the S/P ratio, then CIE 191 mesopic figures of
+    /// the surface there (see --reflectance), as CSV with the header
+    /// x,y,z,nx,ny,nz,E_lx,E_lx_se,Es_lx,Es_lx_se,SP,L_cdm2,m,Lmes_cdm2.
     #[arg(short, long, value_name = "OUT.csv")]
     output: PathBuf,
+    /// Reflectance of the (Lambertian) surface at the points, for the
+    /// mesopic columns: its luminance L = ρE/π (cd/m²), CIE 191's
+    /// adaptation coefficient m at L and the mesopic luminance L_mes. The
+    /// default 1 (the white receiver) errs towards photopic; an asphalt
+    /// road is about 0.1.
+    #[arg(long, default_value_t = 1.0, value_name = "ρ", value_parser = reflectance)]
+    reflectance: f64,
     /// Samples per point (default: the scene's samples per pixel).
     #[arg(long)]
     spp: Option<u32>,
@@ -54,6 +63,8 @@ pub fn read_points(path: &Path) -> Result<Vec<Receiver>> {
     let text = std::fs::read_to_string(path)
         .with_context(|| format!("{}: cannot read the points", path.display()))?;
     let mut out = Vec::new();
+    // One header line, before the first point.
+    let mut header = false;
     for (i, line) in text.lines().enumerate() {
         let line = line.trim();
         if line.is_empty() || line.starts_with('#') {
@@ -63,8 +74,9 @@ pub fn read_points(path: &Path) -> Result<Vec<Receiver>> {
         let numbers: Option<Vec<f32>> = fields.iter().map(|f| f.parse::<f32>().ok()).collect();
         let at = || format!("{}:{}", path.display(), i + 1);
         let Some(v) = numbers else {
-            if out.is_empty() && i == 0 {
-                continue; // a header
+            if out.is_empty() && !header {
+                header = true;
+                continue;
             }
             bail!(
                 "{}: expected six numbers x,y,z,nx,ny,nz, found {line:?}",
@@ -102,17 +114,28 @@ pub fn read_points(path: &Path) -> Result<Vec<Receiver>> {
     Ok(out)
 }
 
+/// The output's columns.
+pub const HEADER: &str = "x,y,z,nx,ny,nz,E_lx,E_lx_se,Es_lx,Es_lx_se,SP,L_cdm2,m,Lmes_cdm2\n";
+
+fn reflectance(text: &str) -> Result<f64, String> {
+    text.trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|r| (0.0..=1.0).contains(r))
+        .ok_or_else(|| format!("'{text}': give a reflectance from 0 to 1"))
+}
+
 pub fn run(args: Args) -> Result<()> {
     let strategy = sampling_options(&args.wavelengths, args.cluster)?;
     if args.spp == Some(0) {
         bail!("--spp must be positive");
     }
     let receivers = read_points(&args.points)?;
-    let scene = load_scene_with(
-        &args.scene,
-        &parameters(&args.define)?,
-        &load_options(None)?,
-    )?;
+    let load = LoadOptions {
+        sensor_optional: true,
+        ..load_options(None)?
+    };
+    let scene = load_scene_with(&args.scene, &parameters(&args.define)?, &load)?;
     for w in &scene.warnings {
         eprintln!("scotopia: warning: {w}");
     }
@@ -142,11 +165,12 @@ pub fn run(args: Args) -> Result<()> {
     if cancel.load(Ordering::Relaxed) {
         bail!("interrupted: nothing written");
     }
-    let mut csv = String::from("x,y,z,nx,ny,nz,E_lx,E_lx_se,Es_lx,Es_lx_se,SP\n");
+    let mut csv = String::from(HEADER);
     for (r, m) in receivers.iter().zip(&measured) {
+        let mes = Mesopic::of_surface(m.e, m.sp(), args.reflectance);
         let _ = writeln!(
             csv,
-            "{},{},{},{},{},{},{:.6e},{:.3e},{:.6e},{:.3e},{:.4}",
+            "{},{},{},{},{},{},{:.6e},{:.3e},{:.6e},{:.3e},{:.4},{:.6e},{:.4},{:.6e}",
             r.p.x,
             r.p.y,
             r.p.z,
@@ -157,7 +181,10 @@ pub fn run(args: Args) -> Result<()> {
             m.e_se,
             m.es,
             m.es_se,
-            m.sp()
+            m.sp(),
+            mes.luminance,
+            mes.m,
+            mes.mesopic
         );
     }
     scotopia_image::write_atomic(&args.output, csv.as_bytes())

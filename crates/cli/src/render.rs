@@ -286,6 +286,14 @@ pub fn run(args: Args) -> Result<()> {
         "scotopia: {:.2} % of samples had their wavelength cluster collapsed by a dispersive refraction",
         100.0 * rendered.collapsed_fraction()
     );
+    if scene.meter.is_some() {
+        // The one reading a lighting designer wants, without opening the EXR.
+        let [_, y, _, v] = rendered.film.xyzv()[0];
+        eprintln!(
+            "scotopia: irradiancemeter: E = {y:.6e} lx, scotopic E′ = {v:.6e} lx (S/P {:.3})",
+            if y > 0.0 { v / y } else { 0.0 }
+        );
+    }
     if rendered.nonfinite > 0 {
         eprintln!(
             "scotopia: warning: {} samples had NaN or infinite values and were dropped",

@@ -25,11 +25,16 @@ fn measures_the_night_street_and_writes_the_documented_columns() {
         out.to_str().unwrap(),
         "--spp",
         "64",
+        "--reflectance",
+        "0.1",
     ]);
     assert_eq!(code, 0, "{err}");
     let csv = std::fs::read_to_string(&out).unwrap();
     let lines: Vec<&str> = csv.lines().collect();
-    assert_eq!(lines[0], "x,y,z,nx,ny,nz,E_lx,E_lx_se,Es_lx,Es_lx_se,SP");
+    assert_eq!(
+        lines[0],
+        "x,y,z,nx,ny,nz,E_lx,E_lx_se,Es_lx,Es_lx_se,SP,L_cdm2,m,Lmes_cdm2"
+    );
     assert_eq!(lines.len(), 3, "{csv}");
     let row = |i: usize| -> Vec<f64> { lines[i].split(',').map(|v| v.parse().unwrap()).collect() };
     let (sodium, led) = (row(1), row(2));
@@ -41,6 +46,61 @@ fn measures_the_night_street_and_writes_the_documented_columns() {
         sodium[10],
         led[10]
     );
+    // CIE 191 on a road of reflectance 0.1: L = 0.1 E/π; the mesopic eye
+    // sees the sodium-lit road darker than photopic L, the LED-lit brighter.
+    for r in [&sodium, &led] {
+        let l = 0.1 * r[6] / std::f64::consts::PI;
+        assert!((r[11] / l - 1.0).abs() < 1e-4, "{csv}");
+        assert!(r[12] > 0.0 && r[12] < 1.0, "m {}: {csv}", r[12]);
+    }
+    assert!(sodium[13] < sodium[11] && led[13] > led[11], "{csv}");
+}
+
+#[test]
+fn a_scene_without_a_sensor_can_be_measured() {
+    // A lighting model need not have a camera.
+    let dir = out_dir("measure", "no-sensor");
+    let scene = dir.join("lamp.xml");
+    std::fs::write(
+        &scene,
+        r#"<scene version="3.0.0"><emitter type="point"><point name="position" x="0" y="2" z="0"/>
+          <spectrum name="intensity" type="d65"><float name="luminance" value="400"/></spectrum></emitter></scene>"#,
+    )
+    .unwrap();
+    let points = dir.join("points.csv");
+    // A header after comment lines is still a header.
+    std::fs::write(&points, "# one point\nx,y,z,nx,ny,nz\n0,0,0,0,1,0\n").unwrap();
+    let out = dir.join("out.csv");
+    let (code, _, err) = scotopia(&[
+        "measure",
+        scene.to_str().unwrap(),
+        "--points",
+        points.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--spp",
+        "256",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let csv = std::fs::read_to_string(&out).unwrap();
+    let row: Vec<f64> = csv
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    // 400 cd at 2 m: 100 lx (the noise is the wavelengths').
+    assert!((row[6] - 100.0).abs() <= 4.0 * row[7] + 0.5, "{csv}");
+    // render still needs a sensor.
+    let (code, _, err) = scotopia(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        dir.join("x.exr").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 1);
+    assert!(err.contains("no <sensor>"), "{err}");
 }
 
 #[test]
@@ -128,4 +188,48 @@ fn an_illuminance_image_becomes_a_false_colour_map_with_a_scale_bar() {
     ]);
     assert_eq!(code, 1);
     assert!(err.contains("LO < HI"), "{err}");
+}
+
+#[test]
+fn a_radiance_image_gives_a_mesopic_false_colour_map() {
+    let dir = out_dir("measure", "mesopic");
+    let scene = scenes().join("night-street.xml");
+    let (exr, png) = (dir.join("street.exr"), dir.join("mesopic.png"));
+    let s = |p: &std::path::Path| p.to_str().unwrap().to_string();
+    let (code, _, err) = scotopia(&[
+        "render",
+        &s(&scene),
+        "--res",
+        "32",
+        "--spp",
+        "2",
+        "-o",
+        &s(&exr),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (code, _, err) = scotopia(&[
+        "display",
+        &s(&exr),
+        "--false-colour",
+        "mesopic",
+        "--log",
+        "-o",
+        &s(&png),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("false colour of mesopic") && err.contains("cd/m2"),
+        "{err}"
+    );
+    assert!(std::fs::metadata(&png).unwrap().len() > 100);
+    let (code, _, err) = scotopia(&[
+        "display",
+        &s(&exr),
+        "--false-colour",
+        "photons",
+        "-o",
+        &s(&png),
+    ]);
+    assert_eq!(code, 1);
+    assert!(err.contains("luminance, mesopic or illuminance"), "{err}");
 }

@@ -32,13 +32,13 @@ pub fn render_metadata(
         ("renderSeconds", Meta::F32(rendered.elapsed.as_secs_f32())),
         ("raysTraced", Meta::Text(rendered.rays.to_string())),
         ("sceneFile", Meta::Text(scene_file.into())),
-        ("quantity", Meta::Text(match options.quantity {
+        ("quantity", Meta::Text(match rendered.quantity {
             Quantity::Radiance => "radiance".into(),
             Quantity::Illuminance => "illuminance".into(),
         })),
         (
             "units",
-            Meta::Text(match options.quantity {
+            Meta::Text(match rendered.quantity {
                 Quantity::Radiance => "X, Y, Z in cd/m2 (CIE 1931, Km = 683 lm/W); V in scotopic cd/m2 (CIE 1951, K'm = 1700 lm/W)".into(),
                 Quantity::Illuminance => "illuminance at the surface each pixel sees: X, Y, Z with Y in lx (CIE 1931, Km = 683 lm/W); V in scotopic lx (CIE 1951, K'm = 1700 lm/W)".into(),
             }),

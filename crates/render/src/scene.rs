@@ -3,7 +3,7 @@
 
 use crate::accel::Aggregate;
 use crate::bsdf::Bsdf;
-use crate::camera::Camera;
+use crate::camera::{Camera, IrradianceMeter};
 use crate::light::Light;
 
 /// The film's reconstruction filter (Mitsuba's `rfilter`).
@@ -56,7 +56,11 @@ pub struct IntegratorSettings {
 
 #[derive(Debug, Clone)]
 pub struct Scene {
+    /// The film's size; its rays unless `meter` is set.
     pub camera: Camera,
+    /// An irradiancemeter measures instead of the camera: the image is its
+    /// one value, the illuminance over its shape.
+    pub meter: Option<IrradianceMeter>,
     pub filter: Filter,
     pub samples_per_pixel: u32,
     pub integrator: IntegratorSettings,

@@ -33,6 +33,7 @@ fn scene(
     let n = shapes.len();
     Scene {
         camera,
+        meter: None,
         filter: Filter::Box,
         samples_per_pixel: 64,
         integrator: IntegratorSettings {

@@ -70,6 +70,7 @@ fn lit_floor(filter: Option<Bsdf>) -> Scene {
     let n = shapes.len();
     let light = Light::Area(AreaLight::new(1, &shapes[1], radiance()));
     Scene {
+        meter: None,
         camera: camera(
             Vec3::new(0.0, -3.0, 0.8),
             Vec3::ZERO,
@@ -107,6 +108,7 @@ fn light_overhead(filter: Option<Bsdf>) -> Scene {
     let n = shapes.len();
     let light = Light::Area(AreaLight::new(0, &shapes[0], radiance()));
     Scene {
+        meter: None,
         camera: camera(
             Vec3::ZERO,
             Vec3::new(0.0, 0.0, 1.0),

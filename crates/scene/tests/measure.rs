@@ -282,3 +282,126 @@ fn the_bidirectional_tracer_sees_an_ies_lamp_as_the_path_tracer_does() {
         "path {path} ± {se_p}, bdpt {bdpt} ± {se_b}"
     );
 }
+
+/// Mitsuba's irradiancemeter on `shape` (its one pixel, as rendered),
+/// over `seeds` renders of `spp` each: the mean and its standard error.
+fn meter_reading(name: &str, body: &str, spp: u32, seeds: u32) -> (f64, f64) {
+    use scotopia_render::integrator::{render, Quantity};
+    let s = scene(name, body);
+    assert!(s.meter.is_some(), "{name}: no meter");
+    assert!(s.warnings.is_empty(), "{name}: {:?}", s.warnings);
+    let y: Vec<f64> = (0..seeds)
+        .map(|seed| {
+            let options = RenderOptions {
+                spp: Some(spp),
+                seed,
+                ..RenderOptions::default()
+            };
+            let r = render(&s, &options, &AtomicBool::new(false), &|_, _| {}).unwrap();
+            assert_eq!((r.film.width, r.film.height), (1, 1));
+            assert_eq!(r.quantity, Quantity::Illuminance);
+            r.film.xyzv()[0][1] as f64
+        })
+        .collect();
+    let n = y.len() as f64;
+    let mean = y.iter().sum::<f64>() / n;
+    let var = y.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    (mean, (var / n).sqrt())
+}
+
+#[test]
+fn an_irradiancemeter_averages_the_illuminance_over_its_shape() {
+    // 1000 cd 1 m above the centre of a 2 × 2 m meter facing it. The
+    // irradiance I h / (h² + r²)^{3/2} integrates over an a × b rectangle
+    // seen from above its corner to I atan(ab / (h √(h² + a² + b²))) (its
+    // solid angle): over four 1 × 1 quarters at h = 1, 4 I atan(1/√3) =
+    // 4 I π/6, so the mean over the 4 m² is I π/6 = 523.6 lx.
+    let (mean, se) = meter_reading(
+        "meter",
+        r#"<integrator type="path"><integer name="max_depth" value="2"/></integrator>
+        <emitter type="point"><point name="position" x="0" y="0" z="1"/>
+          <spectrum name="intensity" type="d65"><float name="luminance" value="1000"/></spectrum></emitter>
+        <shape type="rectangle"><sensor type="irradiancemeter">
+          <film type="hdrfilm"><integer name="width" value="1"/><integer name="height" value="1"/></film>
+          <sampler type="independent"><integer name="sample_count" value="16"/></sampler></sensor></shape>"#,
+        1024,
+        8,
+    );
+    let expected = 1000.0 * std::f64::consts::PI / 6.0;
+    assert!(
+        (mean - expected).abs() <= 4.0 * se + 5e-3 * expected,
+        "{mean} ± {se} lx, expected {expected}"
+    );
+}
+
+#[test]
+fn an_irradiancemeter_on_a_mesh_samples_every_triangle() {
+    // A cube (12 triangles) under a uniform sky of luminance L: every face
+    // of a convex shape sees a whole hemisphere of it, E = π L.
+    let l = 100.0;
+    let (mean, se) = meter_reading(
+        "meter-cube",
+        &format!(
+            r#"<integrator type="path"><integer name="max_depth" value="2"/></integrator>
+        <emitter type="constant"><spectrum name="radiance" type="d65"><float name="luminance" value="{l}"/></spectrum></emitter>
+        <shape type="cube"><sensor type="irradiancemeter">
+          <film type="hdrfilm"><integer name="width" value="1"/><integer name="height" value="1"/></film></sensor></shape>"#
+        ),
+        256,
+        8,
+    );
+    let expected = std::f64::consts::PI * l;
+    assert!(
+        (mean - expected).abs() <= 4.0 * se + 5e-3 * expected,
+        "{mean} ± {se} lx, expected {expected}"
+    );
+}
+
+#[test]
+fn an_irradiancemeter_is_read_as_mitsuba_defines_it() {
+    use scotopia_scene::load_scene as load;
+    let dir = std::env::temp_dir().join(format!("scotopia-meter-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let write = |name: &str, body: &str| {
+        let f = dir.join(name);
+        std::fs::write(&f, format!(r#"<scene version="3.0.0">{body}</scene>"#)).unwrap();
+        f
+    };
+    // A larger film is warned about and measured as one pixel.
+    let f = write(
+        "wide.xml",
+        r#"<shape type="rectangle"><sensor type="irradiancemeter">
+          <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor></shape>"#,
+    );
+    let s = load(&f, &Parameters::new()).unwrap();
+    assert_eq!((s.camera.width, s.camera.height), (1, 1));
+    assert!(
+        s.warnings.iter().any(|w| w.contains("8×8 film")),
+        "{:?}",
+        s.warnings
+    );
+    // Errors name the line: a placement of its own, another sensor type
+    // on a shape, a meter at the top level.
+    for (name, body, message) in [
+        (
+            "placed.xml",
+            "<shape type=\"rectangle\">\n<sensor type=\"irradiancemeter\"><transform name=\"to_world\"><translate x=\"1\"/></transform></sensor></shape>",
+            "has no to_world",
+        ),
+        (
+            "camera-on-shape.xml",
+            "<shape type=\"rectangle\">\n<sensor type=\"perspective\"/></shape>",
+            "only an 'irradiancemeter'",
+        ),
+        (
+            "top-level.xml",
+            "\n<sensor type=\"irradiancemeter\"/>",
+            "child of a shape",
+        ),
+    ] {
+        let e = load(&write(name, body), &Parameters::new()).unwrap_err();
+        let text = e.to_string();
+        assert!(text.contains(message), "{name}: {text}");
+        assert!(text.contains(&format!("{name}:2")), "{name}: {text}");
+    }
+}

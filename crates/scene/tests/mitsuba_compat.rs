@@ -266,6 +266,7 @@ fn res_overrides_the_film_keeping_the_field_of_view() {
     let with = |r: &str| {
         let options = LoadOptions {
             resolution: Some(Resolution::parse(r).unwrap()),
+            ..LoadOptions::default()
         };
         load_scene_with(&f, &Parameters::new(), &options).unwrap()
     };
@@ -310,6 +311,7 @@ fn a_film_crop_renders_a_window_of_the_film() {
     );
     let options = LoadOptions {
         resolution: Some(Resolution::parse("80").unwrap()),
+        ..LoadOptions::default()
     };
     let big = load_scene_with(&f, &Parameters::new(), &options).unwrap();
     assert_eq!(

@@ -74,17 +74,20 @@ fn example(kind: &str, name: &str) -> String {
         // Sensor-side plugins replace the default sensor (below).
         _ => String::new(),
     };
-    let sensor = match kind {
-        "sensor" => format!(
+    let sensor = match (kind, name) {
+        ("sensor", "irradiancemeter") => {
+            r#"<shape type="rectangle"><sensor type="irradiancemeter"><film type="hdrfilm"><integer name="width" value="1"/><integer name="height" value="1"/></film></sensor></shape>"#.into()
+        }
+        ("sensor", _) => format!(
             r#"<sensor type="{name}"><film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>"#
         ),
-        "film" => format!(
+        ("film", _) => format!(
             r#"<sensor type="perspective"><film type="{name}"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>"#
         ),
-        "rfilter" => format!(
+        ("rfilter", _) => format!(
             r#"<sensor type="perspective"><film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/><rfilter type="{name}"/></film></sensor>"#
         ),
-        "sampler" => format!(
+        ("sampler", _) => format!(
             r#"<sensor type="perspective"><film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film><sampler type="{name}"><integer name="sample_count" value="4"/></sampler></sensor>"#
         ),
         _ => SENSOR.to_string(),

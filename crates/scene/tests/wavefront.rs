@@ -17,6 +17,7 @@ fn scene(name: &str) -> scotopia_render::scene::Scene {
         .join(name);
     let load = LoadOptions {
         resolution: Some(Resolution::parse("20").unwrap()),
+        ..LoadOptions::default()
     };
     load_scene_with(&path, &Parameters::new(), &load).unwrap()
 }

@@ -72,6 +72,30 @@ pub fn mesopic_luminance(photopic: f64, sp_ratio: f64) -> f64 {
     mesopic_at(m, photopic, sp_ratio.max(0.0) * photopic)
 }
 
+/// CIE 191:2010's figures for a surface: its photopic luminance (cd/m²),
+/// the adaptation coefficient m and the mesopic luminance (cd/m²).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Mesopic {
+    pub luminance: f64,
+    pub m: f64,
+    pub mesopic: f64,
+}
+
+impl Mesopic {
+    /// Of a Lambertian surface of `reflectance` under illuminance
+    /// `illuminance_lx` with S/P ratio `sp_ratio`: L = ρE/π (a diffuser
+    /// keeps the light's S/P), and m and L_mes from L as the eye adapted to
+    /// it would see them.
+    pub fn of_surface(illuminance_lx: f64, sp_ratio: f64, reflectance: f64) -> Self {
+        let luminance = (reflectance * illuminance_lx / std::f64::consts::PI).max(0.0);
+        Self {
+            luminance,
+            m: mesopic_coefficient(luminance, sp_ratio),
+            mesopic: mesopic_luminance(luminance, sp_ratio),
+        }
+    }
+}
+
 /// The visual mode's name, by CIE 191's range.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum VisualMode {
@@ -266,6 +290,21 @@ mod tests {
             // Between L_p and L_s.
             assert!((l - lp) * (l - sp * lp) <= 0.0, "{lp} {sp}: {l}");
         }
+    }
+
+    #[test]
+    fn a_surfaces_mesopic_figures_come_from_its_luminance() {
+        // 10 lx on a road of reflectance 0.1: L = 1/π cd/m², mesopic.
+        let f = Mesopic::of_surface(10.0, 2.0, 0.1);
+        let l = 1.0 / std::f64::consts::PI;
+        assert!((f.luminance - l).abs() < 1e-12);
+        assert_eq!(f.m, mesopic_coefficient(l, 2.0));
+        assert_eq!(f.mesopic, mesopic_luminance(l, 2.0));
+        assert!(f.m > 0.0 && f.m < 1.0, "{f:?}");
+        // Rich in blue (S/P 2): brighter to the mesopic eye than photopic L.
+        assert!(f.mesopic > f.luminance);
+        // A dark point is scotopic and black.
+        assert_eq!(Mesopic::of_surface(0.0, 2.0, 0.1).mesopic, 0.0);
     }
 
     #[test]

@@ -10,8 +10,10 @@
 //! from `crop_offset` of a `full_size` film whose field of view is given.
 
 mod importance;
+mod meter;
 
 pub use importance::LensConnection;
+pub use meter::IrradianceMeter;
 
 use crate::math::{Ray, Transform, Vec3};
 use crate::sampling::warp::square_to_disk_concentric;

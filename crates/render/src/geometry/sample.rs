@@ -16,6 +16,17 @@ pub struct SurfacePoint {
 }
 
 impl Shape {
+    /// The table `sample_area` chooses a mesh's triangles by (their areas);
+    /// `None` for other shapes.
+    pub fn area_table(&self) -> Option<Distribution1D> {
+        match self {
+            Shape::Mesh(m) => Some(Distribution1D::new(
+                (0..m.triangle_count()).map(|f| m.face_area(f)).collect(),
+            )),
+            _ => None,
+        }
+    }
+
     /// A point uniformly distributed over the shape's area (density 1/area).
     /// `cdf` is the mesh's triangle-area table (ignored for other shapes).
     pub fn sample_area(

@@ -143,6 +143,28 @@ impl Renderer<'_> {
         Self::finish(&path)
     }
 
+    /// One sample of an irradiancemeter (`Scene::meter`): the illuminance
+    /// at a point of its shape chosen uniformly by area (the lens sample
+    /// places it, the spare one chooses a mesh's triangle), measured over
+    /// the hemisphere of the shape's normal there, as Mitsuba's
+    /// `irradiancemeter` does with cosine-distributed rays.
+    pub(super) fn sample_meter<const K: usize>(
+        &self,
+        sampler: &mut Sampler,
+        pixel: [u32; 2],
+        index: u32,
+        rays: &mut u64,
+    ) -> Option<CameraSample<K>> {
+        let meter = self.scene.meter.as_ref()?;
+        sampler.start(pixel, index);
+        let sets = [sampler.get_4d(), sampler.get_4d()];
+        let (_, lens, wl, spare) = self.start_sample_with::<K>(pixel, sets);
+        let s = meter.sample(&self.scene.geometry.shapes, spare, lens)?;
+        let mut path = self.receiver_path(sampler, s.p, s.n, wl, rays);
+        path.l *= std::f32::consts::PI;
+        Self::finish(&path)
+    }
+
     /// One path from a white receiver at `p` facing `n` (unit), as if a
     /// camera ray had just arrived there from straight above: its `l` is
     /// the receiver's radiance L = E/π.

@@ -144,6 +144,9 @@ pub struct Rendered {
     pub elapsed: Duration,
     /// Stopped by `cancel` rather than by `spp` or time.
     pub cancelled: bool,
+    /// What the pixels hold: `RenderOptions::quantity`, or illuminance
+    /// when the scene's sensor is an irradiancemeter.
+    pub quantity: Quantity,
 }
 
 impl Rendered {
@@ -435,6 +438,9 @@ impl<'a> Renderer<'a> {
                         let pixel = [x as u32, y as u32];
                         let sample = match (&mut batch, self.integrator) {
                             (Some(done), _) => done.next().flatten(),
+                            _ if self.scene.meter.is_some() => {
+                                self.sample_meter::<K>(&mut sampler, pixel, i, &mut counts.rays)
+                            }
                             _ if self.quantity == Quantity::Illuminance => self
                                 .sample_illuminance::<K>(&mut sampler, pixel, i, &mut counts.rays),
                             (None, IntegratorKind::Path) => {
@@ -555,6 +561,11 @@ fn render_k<const K: usize>(
     }
     let start = Instant::now();
     let integrator = options.integrator.unwrap_or(scene.integrator.kind);
+    // An irradiancemeter is measured by the path tracer's receiver.
+    let integrator = match scene.meter {
+        Some(_) => IntegratorKind::Path,
+        None => integrator,
+    };
     if integrator == IntegratorKind::Bdpt && scene.camera.projection != Projection::Perspective {
         return Err(RenderError::BdptProjection);
     }
@@ -566,7 +577,10 @@ fn render_k<const K: usize>(
         renderer.only_strategy = Some([s, t]);
     }
     renderer.tracer = options.tracer;
-    renderer.quantity = options.quantity;
+    renderer.quantity = match scene.meter {
+        Some(_) => Quantity::Illuminance,
+        None => options.quantity,
+    };
     let bands = match options.bands {
         Some(n) if (1..=471).contains(&n) => Some(Bands(n)),
         Some(_) => return Err(RenderError::Bands),
@@ -666,6 +680,7 @@ fn render_k<const K: usize>(
         collapsed,
         elapsed: start.elapsed(),
         cancelled,
+        quantity: renderer.quantity,
     })
 }
 

@@ -41,12 +41,7 @@ impl AreaLight {
     /// `radiance`: a spectrum or a texture.
     pub fn new(shape_index: u32, shape: &Shape, radiance: impl Into<Texture>) -> Self {
         let radiance = radiance.into();
-        let cdf = match shape {
-            Shape::Mesh(m) => Some(Distribution1D::new(
-                (0..m.triangle_count()).map(|f| m.face_area(f)).collect(),
-            )),
-            _ => None,
-        };
+        let cdf = shape.area_table();
         let mean = radiance.mean_spectrum(&surface_uvs(shape, cdf.as_ref(), &radiance));
         Self {
             shape: shape_index,

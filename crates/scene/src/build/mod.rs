@@ -177,6 +177,9 @@ pub struct LoadOptions {
     /// Overrides the film size (`--res`), keeping the field of view along
     /// the film's `fov_axis`, as Mitsuba does when width and height change.
     pub resolution: Option<Resolution>,
+    /// A scene without a `<sensor>` loads with Mitsuba's default one (for
+    /// `measure`, which needs no camera) instead of being an error.
+    pub sensor_optional: bool,
 }
 
 /// Loads a Mitsuba 3 scene file with parameters (`$name` values). On
@@ -219,7 +222,14 @@ pub fn load_scene_with(
         }
     }
     if world.sensor.is_none() && b.errors.is_empty() {
-        b.errors.push(root.error("the scene has no <sensor>"));
+        if options.sensor_optional {
+            match sensor::default_sensor() {
+                Ok(s) => world.sensor = Some(s),
+                Err(e) => b.errors.push(root.error(e.to_string())),
+            }
+        } else {
+            b.errors.push(root.error("the scene has no <sensor>"));
+        }
     }
     match world.sensor.take() {
         Some(sensor) if b.errors.is_empty() => Ok(world.scene(sensor, b.warnings)),

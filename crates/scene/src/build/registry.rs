@@ -130,7 +130,7 @@ pub const PLUGINS: &[Plugin] = &[
     p("sensor", "thinlens", Full, "the above, aperture_radius, focus_distance", ""),
     p("sensor", "orthographic", Partial, "near_clip, far_clip, to_world (its scale sets the extent)", "path tracer only: bdpt refuses it"),
     p("sensor", "radiancemeter", Unsupported, "", ""),
-    p("sensor", "irradiancemeter", Unsupported, "", ""),
+    p("sensor", "irradiancemeter", Full, "a shape's child; its film and sampler", "E over the shape in lx (Y), by the path tracer's receiver; a film larger than 1×1 is read as 1×1 with a warning"),
     p("sensor", "distant", Unsupported, "", ""),
     p("sensor", "batch", Unsupported, "", ""),
     // Films, filters, samplers

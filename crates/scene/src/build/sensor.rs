@@ -1,7 +1,9 @@
-//! `<sensor>` with its `<film>`, `<sampler>` and `<rfilter>`.
+//! `<sensor>` with its `<film>`, `<sampler>` and `<rfilter>`, and the
+//! `irradiancemeter` a shape can hold.
 
 use scotopia_render::camera::{Camera, FovAxis};
 use scotopia_render::film::Film;
+use scotopia_render::math::Transform;
 use scotopia_render::scene::Filter;
 
 use super::Builder;
@@ -11,10 +13,18 @@ pub struct Sensor {
     pub camera: Camera,
     pub filter: Filter,
     pub spp: u32,
+    /// An irradiancemeter's shape (its index among the scene's shapes).
+    pub meter: Option<u32>,
 }
 
 pub fn build_sensor(b: &mut Builder, node: &Node) -> Result<Sensor, SceneError> {
     let kind = node.require("type")?;
+    if kind == "irradiancemeter" {
+        return Err(node.error(
+            "an irradiancemeter is the child of a shape (<shape …><sensor type=\"irradiancemeter\">), \
+             as in Mitsuba: it measures over that shape",
+        ));
+    }
     if !["perspective", "thinlens", "orthographic"].contains(&kind) {
         return Err(node.error(format!(
             "sensor type '{kind}' is not supported (perspective, thinlens, orthographic)"
@@ -39,7 +49,112 @@ pub fn build_sensor(b: &mut Builder, node: &Node) -> Result<Sensor, SceneError> 
     } else {
         (0.0, 1.0)
     };
-    // Film and sampler, with Mitsuba's defaults.
+    let FilmSettings {
+        mut width,
+        mut height,
+        filter,
+        mut crop,
+        spp,
+    } = film_and_sampler(b, node)?;
+    b.report_unused(&p);
+    // A resolution override scales the film, and any crop with it.
+    if let Some(res) = b.resolution {
+        let (w, h) = res.size(width, height);
+        crop = crop.map(|(o, s): Crop| {
+            let sx = |v: u32| (v as u64 * w as u64 / width as u64) as u32;
+            let sy = |v: u32| (v as u64 * h as u64 / height as u64) as u32;
+            ([sx(o[0]), sy(o[1])], [sx(s[0]).max(1), sy(s[1]).max(1)])
+        });
+        (width, height) = (w, h);
+    }
+    // Checked here, so the error names the scene's line.
+    Film::check_size(width, height, None).map_err(|e| node.error(e.to_string()))?;
+    let camera = if orthographic {
+        Camera::orthographic(to_world, width, height, near, far)
+    } else {
+        Camera::new(
+            to_world, width, height, fov, axis, near, far, aperture, focus,
+        )
+    };
+    let mut camera = camera.map_err(|e| node.error(e.to_string()))?;
+    if let Some((offset, size)) = crop {
+        camera = camera
+            .with_crop(offset, size)
+            .map_err(|e| node.error(e.to_string()))?;
+    }
+    Ok(Sensor {
+        camera,
+        filter,
+        spp,
+        meter: None,
+    })
+}
+
+/// Mitsuba's `irradiancemeter`, a child of the shape numbered `shape`: it
+/// measures the irradiance averaged over the shape's surface, on the side
+/// its normals point to, as one pixel (Mitsuba refuses other film sizes;
+/// scotopia warns and renders one pixel). It has no placement of its own.
+pub fn build_meter(b: &mut Builder, node: &Node, shape: u32) -> Result<Sensor, SceneError> {
+    let p = Props::new(node);
+    if p.get("to_world").is_some() {
+        return Err(node.error(
+            "an irradiancemeter has no to_world: it takes its shape's placement (as in Mitsuba)",
+        ));
+    }
+    let film = film_and_sampler(b, node)?;
+    if (film.width, film.height) != (1, 1) || film.crop.is_some() {
+        b.warn(
+            node,
+            format!(
+                "the irradiancemeter measures one value: its {}×{} film is rendered as 1×1",
+                film.width, film.height
+            ),
+        );
+    }
+    b.report_unused(&p);
+    let camera = Camera::orthographic(Transform::IDENTITY, 1, 1, 1e-2, 1e4)
+        .map_err(|e| node.error(e.to_string()))?;
+    Ok(Sensor {
+        camera,
+        filter: film.filter,
+        spp: film.spp,
+        meter: Some(shape),
+    })
+}
+
+/// Mitsuba's sensor when a scene has none: a perspective camera at the
+/// origin looking along +z, 50 mm on a 768 × 576 film, 4 samples per pixel.
+pub fn default_sensor() -> Result<Sensor, scotopia_render::camera::CameraError> {
+    let diagonal = (36.0f32 * 36.0 + 24.0 * 24.0).sqrt();
+    let fov = 2.0 * (diagonal / 100.0).atan().to_degrees();
+    Ok(Sensor {
+        camera: Camera::new(
+            Transform::IDENTITY,
+            768,
+            576,
+            fov,
+            FovAxis::Diagonal,
+            1e-2,
+            1e4,
+            0.0,
+            1.0,
+        )?,
+        filter: Filter::Gaussian { stddev: 0.5 },
+        spp: 4,
+        meter: None,
+    })
+}
+
+/// A sensor's film and sampler settings, with Mitsuba's defaults.
+struct FilmSettings {
+    width: u32,
+    height: u32,
+    filter: Filter,
+    crop: Option<Crop>,
+    spp: u32,
+}
+
+fn film_and_sampler(b: &mut Builder, node: &Node) -> Result<FilmSettings, SceneError> {
     let (mut width, mut height, mut filter) = (768, 576, Filter::Gaussian { stddev: 0.5 });
     let mut crop = None;
     let mut spp = 4;
@@ -91,35 +206,11 @@ pub fn build_sensor(b: &mut Builder, node: &Node) -> Result<Sensor, SceneError> 
             _ => {}
         }
     }
-    b.report_unused(&p);
-    // A resolution override scales the film, and any crop with it.
-    if let Some(res) = b.resolution {
-        let (w, h) = res.size(width, height);
-        crop = crop.map(|(o, s): Crop| {
-            let sx = |v: u32| (v as u64 * w as u64 / width as u64) as u32;
-            let sy = |v: u32| (v as u64 * h as u64 / height as u64) as u32;
-            ([sx(o[0]), sy(o[1])], [sx(s[0]).max(1), sy(s[1]).max(1)])
-        });
-        (width, height) = (w, h);
-    }
-    // Checked here, so the error names the scene's line.
-    Film::check_size(width, height, None).map_err(|e| node.error(e.to_string()))?;
-    let camera = if orthographic {
-        Camera::orthographic(to_world, width, height, near, far)
-    } else {
-        Camera::new(
-            to_world, width, height, fov, axis, near, far, aperture, focus,
-        )
-    };
-    let mut camera = camera.map_err(|e| node.error(e.to_string()))?;
-    if let Some((offset, size)) = crop {
-        camera = camera
-            .with_crop(offset, size)
-            .map_err(|e| node.error(e.to_string()))?;
-    }
-    Ok(Sensor {
-        camera,
+    Ok(FilmSettings {
+        width,
+        height,
         filter,
+        crop,
         spp,
     })
 }

@@ -1,6 +1,6 @@
 //! Elements no builder reads, warned about with their location: an unknown
 //! tag (`<foo name="fov" …/>`), or an object where scotopia takes none of
-//! its kind (`<bsdf name="fov">` in a `<sensor>`, a `<sensor>` on a shape).
+//! its kind (`<bsdf name="fov">` in a `<sensor>`, a `<film>` in a `<shape>`).
 //! Without this they would be dropped without a word and the default used.
 //! (Properties of a known tag that are never read are reported by
 //! `Builder::report_unused`; top-level elements by `World::add`; media by
@@ -15,7 +15,7 @@ use crate::mitsuba::PROPERTY_TAGS;
 const HOLDS: [(&str, &[&str]); 8] = [
     ("sensor", &["film", "sampler"]),
     ("film", &["rfilter"]),
-    ("shape", &["bsdf", "emitter", "shape"]),
+    ("shape", &["bsdf", "emitter", "shape", "sensor"]),
     ("bsdf", &["bsdf"]),
     ("emitter", &[]),
     ("integrator", &["integrator"]),

@@ -7,6 +7,7 @@ use std::sync::Arc;
 
 use scotopia_render::accel::{Aggregate, Instance, ShapeGroup};
 use scotopia_render::bsdf::{Bsdf, Diffuse};
+use scotopia_render::camera::IrradianceMeter;
 use scotopia_render::geometry::Shape;
 use scotopia_render::light::{AreaLight, Light};
 use scotopia_render::math::Transform;
@@ -16,7 +17,7 @@ use scotopia_render::texture::Texture;
 use super::integrator::{build_integrator, DEFAULT};
 use super::mesh_attribute::OnShape;
 use super::registry::{self, Support};
-use super::sensor::{build_sensor, Sensor};
+use super::sensor::{build_meter, build_sensor, Sensor};
 use super::{emitter, shape, Builder};
 use crate::mitsuba::{Node, Props, SceneError};
 
@@ -42,6 +43,8 @@ struct Member {
     shape: Shape,
     material: u32,
     emitters: Vec<Node>,
+    /// An `irradiancemeter` the shape holds.
+    sensor: Option<Node>,
 }
 
 /// The shapes of a `shapegroup` and their materials.
@@ -152,9 +155,14 @@ impl World {
         let shape = shape::build_shape(b, n)?;
         let mut bsdf: Option<(&Node, Option<String>)> = None;
         let mut emitters = Vec::new();
+        let mut sensor = None;
         for c in &n.children {
             match c.tag.as_str() {
                 "bsdf" => set_bsdf(&mut bsdf, c, None)?,
+                "sensor" if sensor.is_some() => {
+                    return Err(c.error("a shape can hold one sensor"));
+                }
+                "sensor" => sensor = Some(c.clone()),
                 "emitter" => emitters.push(c.clone()),
                 // An unnamed reference (or Mitsuba's name="bsdf") is an
                 // object the shape holds: a BSDF or an emitter.
@@ -195,6 +203,7 @@ impl World {
             shape,
             material,
             emitters,
+            sensor,
         }])
     }
 
@@ -216,6 +225,16 @@ impl World {
             emitter::check_power(b, e, &area)?;
             self.lights.push(area);
             light = Some((self.lights.len() - 1) as u32);
+        }
+        if let Some(s) = &m.sensor {
+            if s.require("type")? != "irradiancemeter" {
+                return Err(s.error("a shape can hold only an 'irradiancemeter' sensor"));
+            }
+            if self.sensor.is_some() {
+                b.warn(s, "more than one sensor: using the first".into());
+            } else {
+                self.sensor = Some(build_meter(b, s, index)?);
+            }
         }
         self.shapes.push(m.shape);
         self.shape_material.push(m.material);
@@ -270,6 +289,12 @@ impl World {
                 return Err(member.error("a shapegroup cannot hold groups or instances"));
             }
             for m in self.build_members(b, member)? {
+                if let Some(s) = &m.sensor {
+                    return Err(s.error(
+                        "a shape in a shapegroup cannot hold a sensor: place the measuring \
+                         shape outside the group",
+                    ));
+                }
                 if let Some(e) = m.emitters.first() {
                     return Err(e.error(
                         "a shape in a shapegroup cannot hold an emitter (Mitsuba does not \
@@ -308,8 +333,12 @@ impl World {
             .into_iter()
             .map(|(g, world_from_object)| Instance::new(groups[g].clone(), world_from_object))
             .collect();
+        let meter = sensor
+            .meter
+            .map(|i| IrradianceMeter::new(i, &self.shapes[i as usize]));
         Scene {
             camera: sensor.camera,
+            meter,
             filter: sensor.filter,
             samples_per_pixel: sensor.spp,
             integrator: self.integrator,
