@@ -111,7 +111,7 @@ gallery:
 ## luminance map), its illuminance image in false colour, and the
 ## illuminance on EN 13201-3's grid between two poles with the EN 13201
 ## figures: average and minimum E and the overall uniformity U0 =
-## Emin/Eavg (about a minute and a half on 2 cores).
+## Emin/Eavg (about 75 s on 2 cores).
 LIGHT_OUT := out/lighting
 STREET    := scenes/ies-street.xml
 
