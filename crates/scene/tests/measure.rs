@@ -405,3 +405,63 @@ fn an_irradiancemeter_is_read_as_mitsuba_defines_it() {
         assert!(text.contains(&format!("{name}:2")), "{name}: {text}");
     }
 }
+
+#[test]
+fn an_ies_lamp_in_a_black_enclosure_delivers_the_files_flux_to_its_walls() {
+    // The example street's luminaire (asymmetric, full cut-off) at the
+    // centre of a black sphere of radius R: receivers on the wall at the
+    // midpoints of 2° × 10° cells in (γ, C), facing the lamp, give
+    // Φ = Σ E R² sin γ Δγ ΔC, the flux its walls receive; it must be the
+    // file's (CIE 171:2006 checks energy conservation this way).
+    let lamp = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenes/lamps/street-type2.ies")
+        .canonicalize()
+        .unwrap();
+    let r = 5.0f32;
+    let s = scene(
+        "enclosure",
+        &format!(
+            r#"<integrator type="path"><integer name="max_depth" value="-1"/></integrator>
+        <emitter type="ies"><string name="filename" value="{}"/></emitter>
+        <shape type="sphere"><float name="radius" value="{r}"/><boolean name="flip_normals" value="true"/>
+          <bsdf type="diffuse"><float name="reflectance" value="0"/></bsdf></shape>"#,
+            lamp.display()
+        ),
+    );
+    let (n_gamma, n_c) = (90usize, 36usize);
+    let (dg, dc) = (
+        std::f64::consts::PI / n_gamma as f64,
+        2.0 * std::f64::consts::PI / n_c as f64,
+    );
+    let mut rs = Vec::new();
+    let mut weights = Vec::new();
+    for i in 0..n_gamma {
+        let g = (i as f64 + 0.5) * dg;
+        for j in 0..n_c {
+            let c = (j as f64 + 0.5) * dc;
+            // Nadir is the emitter's +z, C = 0 its +x.
+            let d = Vec3::new(
+                (g.sin() * c.cos()) as f32,
+                (g.sin() * c.sin()) as f32,
+                g.cos() as f32,
+            );
+            rs.push(Receiver { p: d * r, n: -d });
+            weights.push((r * r) as f64 * g.sin() * dg * dc);
+        }
+    }
+    let measured = run(&s, &rs, 8);
+    let flux: f64 = measured.iter().zip(&weights).map(|(m, w)| m.e * w).sum();
+    let se = measured
+        .iter()
+        .zip(&weights)
+        .map(|(m, w)| (m.e_se * w).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    let file = scotopia_scene::luminaire::read_luminaire(&lamp)
+        .unwrap()
+        .total_flux_lm();
+    assert!(
+        (flux - file).abs() <= 4.0 * se + 5e-3 * file,
+        "walls receive {flux} ± {se} lm, the file emits {file} lm"
+    );
+}
