@@ -8,8 +8,10 @@ The colour-science core: spectra (``Spectrum``), the CIE observers
 ``spectrum(...)`` is the Python form of the ``scotopia spectrum`` command,
 ``scene_info(path)`` of ``scotopia info``, ``render(path, ...)`` of
 ``scotopia render`` (an H × W × 4 array of X, Y, Z, V′ and a metadata dict),
-``display(image_or_path, ...)`` of ``scotopia display``, ``measure(path,
-points, ...)`` of ``scotopia measure`` (illuminance at points, in lx);
+``display(image_or_path, ...)`` of ``scotopia display``,
+``false_colour(image_or_path, quantity, ...)`` of ``scotopia display
+--false-colour``, ``measure(path, points, ...)`` of ``scotopia measure``
+(illuminance at points, in lx);
 ``scotopia.vision``
 holds each stage of the vision pipeline as a function on arrays;
 ``scotopia.bsdf`` evaluates and samples one BSDF given as Mitsuba XML.
@@ -20,6 +22,7 @@ import warnings
 
 from . import bsdf, vision  # noqa: F401
 from ._scotopia import display as _display
+from ._scotopia import false_colour as _false_colour
 from ._scotopia import (  # noqa: F401
     K_M,
     K_M_SCOTOPIC,
@@ -157,6 +160,33 @@ def display(
     if report.get("left_out"):
         warnings.warn(report["left_out"], stacklevel=2)
     return rgb, report
+
+
+def false_colour(image, quantity="luminance", *, range=None, log=False, output=None):
+    """A false-colour map with a labelled scale bar: ``scotopia display
+    --false-colour``.
+
+    ``image`` is an H × W × 4 array of X, Y, Z, V′ or the path of an
+    OpenEXR. ``quantity``: "luminance" (cd/m²), "mesopic" (CIE 191 mesopic
+    luminance per pixel, cd/m²) or "illuminance" (lx, of an image rendered
+    with ``quantity="illuminance"``). ``range`` is (lo, hi); by default 0
+    to the 99th percentile, or with ``log`` the three decades below it.
+    Returns the picture, scale bar included, as an uint8 array
+    (H + bar) × W × 3; ``output`` also writes it as a PNG.
+    """
+    import numpy as np
+
+    if isinstance(image, (str, os.PathLike)):
+        image, _, notes = vision.read_image(image, None, "srgb")
+        for note in notes:
+            warnings.warn(note, stacklevel=2)
+    return _false_colour(
+        np.ascontiguousarray(image, dtype=np.float32),
+        quantity,
+        None if range is None else (float(range[0]), float(range[1])),
+        log,
+        None if output is None else str(output),
+    )
 
 
 __all__ = [

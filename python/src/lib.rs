@@ -4,6 +4,7 @@
 mod arrays;
 mod bsdf;
 mod colour;
+mod false_colour;
 mod measure;
 mod render;
 mod report;
@@ -39,5 +40,6 @@ fn _scotopia(m: &Bound<'_, PyModule>) -> PyResult<()> {
     render::register(m)?;
     measure::register(m)?;
     vision::register(m)?;
+    false_colour::register(m)?;
     Ok(())
 }

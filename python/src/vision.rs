@@ -39,7 +39,9 @@ fn finite_in(name: &str, value: f64, lo: f64, hi: f64) -> PyResult<()> {
     }
 }
 
-fn pixels<const C: usize>(a: &PyReadonlyArray3<f32>) -> PyResult<(usize, usize, Vec<[f32; C]>)> {
+pub(crate) fn pixels<const C: usize>(
+    a: &PyReadonlyArray3<f32>,
+) -> PyResult<(usize, usize, Vec<[f32; C]>)> {
     let a = a.as_array();
     let (h, w, c) = a.dim();
     if c != C {

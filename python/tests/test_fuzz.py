@@ -110,9 +110,16 @@ ENTRIES = {
     "measure": (
         scotopia.measure,
         [CORNELL, np.array([[0.0, 0.01, 0.0, 0.0, 1.0, 0.0]])],
-        dict(spp=4, seed=0, wavelengths="swc", cluster=4, params=None),
+        dict(spp=4, seed=0, wavelengths="swc", cluster=4, params=None, reflectance=1.0),
         {"path"},
         set(),
+    ),
+    "false_colour": (
+        scotopia.false_colour,
+        [IMAGE],
+        dict(quantity="luminance", range=None, log=False, output=None),
+        {"image"},
+        {"output"},
     ),
     "display": (
         scotopia.display,
@@ -213,6 +220,7 @@ ENTRIES = {
 
 # Arguments named by position, for the path sets above.
 POSITIONAL_NAMES = {"render": ["path"], "scene_info": ["path"], "display": ["image"],
+                    "false_colour": ["image"],
                     "measure": ["path", "points"],
                     "Spectrum.from_file": ["path"], "vision.read_image": ["path"]}
 

@@ -113,3 +113,19 @@ def test_measure_gives_the_inverse_square_law_and_its_standard_errors(tmp_path):
         scotopia.measure(str(scene), points, reflectance=1.5)
     with pytest.raises(ValueError, match="N × 6"):
         scotopia.measure(str(scene), points[:, :5])
+
+
+def test_false_colour_maps_luminance_mesopic_and_illuminance(tmp_path):
+    img, _ = scotopia.render(str(SCENES / "night-street.xml"), spp=2, res=32)
+    out = tmp_path / "map.png"
+    lum = scotopia.false_colour(img, "luminance", range=(0, 5), output=out)
+    # The picture, then the scale bar below it; written as a PNG too.
+    assert lum.dtype == np.uint8 and lum.shape[1] == 32 and lum.shape[0] > 32 + 20
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    # Mesopic and photopic maps differ where the light is mesopic.
+    mes = scotopia.false_colour(img, "mesopic", range=(0, 5))
+    assert mes.shape == lum.shape and np.any(mes[:32] != lum[:32])
+    with pytest.raises(ValueError, match="luminance, mesopic or illuminance"):
+        scotopia.false_colour(img, "photons")
+    with pytest.raises(ValueError, match="lo < hi"):
+        scotopia.false_colour(img, range=(5, 1))

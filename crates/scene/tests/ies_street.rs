@@ -119,7 +119,7 @@ fn under_a_lamp_the_road_receives_the_files_intensity_over_the_height_squared() 
             n: up,
         })
         .collect();
-    // Direct light only (max_depth 2: camera vertex, receiver, light),
+    // Direct light only (max_depth 1: the receiver's segment to a light),
     // against Σ I(γ, C) cos γ / d² from the file, within 4 standard
     // errors + 0.5 % (as tests/measure.rs). The lamp overhead gives
     // I(0°)/h² = 1910 cd / 64 m² = 29.8 lx, each neighbour 30 m away
@@ -127,7 +127,7 @@ fn under_a_lamp_the_road_receives_the_files_intensity_over_the_height_squared() 
     // 0.001 cd/m² adds at most π × 0.001 = 0.003 lx, inside the 0.5 %.
     let nadir = file.intensity(0.0, 0.0) as f64 / 64.0;
     assert!((nadir - 1910.0 / 64.0).abs() < 0.01, "I(0)/h² = {nadir}");
-    let direct = street(Some("2"));
+    let direct = street(Some("1"));
     let measured = run(&direct, &rs, 1024);
     for (r, m) in rs.iter().zip(&measured) {
         let expected = expected_direct(&file, r.p, up);
@@ -187,6 +187,7 @@ fn the_wavefront_tracer_renders_the_street_as_the_scalar_one_does() {
     use scotopia_scene::{load_scene_with, LoadOptions, Resolution};
     let load = LoadOptions {
         resolution: Some(Resolution::parse("20").unwrap()),
+        ..LoadOptions::default()
     };
     let s = load_scene_with(&scenes().join("ies-street.xml"), &Parameters::new(), &load).unwrap();
     for quantity in [Quantity::Radiance, Quantity::Illuminance] {

@@ -1,6 +1,7 @@
-//! False-colour maps of one photometric quantity (luminance in cd/m² or
-//! illuminance in lx), with a labelled scale bar below the image, as
-//! lighting designers read them (Radiance's `falsecolor`).
+//! False-colour maps of one photometric quantity (luminance or CIE 191
+//! mesopic luminance in cd/m², illuminance in lx), with a labelled scale
+//! bar below the image, as lighting designers read them (Radiance's
+//! `falsecolor`).
 //!
 //! The palette is viridis (van der Walt & Smith, matplotlib 1.5, 2015):
 //! perceptually uniform and readable by most colour-blind viewers; its
@@ -28,6 +29,68 @@ const MARGIN: usize = 8;
 const LABELS: usize = 20;
 const BACKGROUND: [u8; 3] = [24, 24, 24];
 const INK: [u8; 3] = [235, 235, 235];
+
+/// What a map shows, from an X, Y, Z, V′ image.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mapped {
+    /// Y of a radiance image, cd/m².
+    Luminance,
+    /// CIE 191:2010's mesopic luminance of each pixel, at the adaptation
+    /// coefficient of its own luminance and S/P (V′/Y), cd/m².
+    Mesopic,
+    /// Y of an illuminance image (`render --quantity illuminance`), lx.
+    Illuminance,
+}
+
+impl Mapped {
+    pub const NAMES: &'static str = "luminance, mesopic or illuminance";
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name.trim() {
+            "luminance" => Some(Self::Luminance),
+            "mesopic" => Some(Self::Mesopic),
+            "illuminance" => Some(Self::Illuminance),
+            _ => None,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Luminance => "luminance",
+            Self::Mesopic => "mesopic",
+            Self::Illuminance => "illuminance",
+        }
+    }
+
+    pub fn unit(self) -> &'static str {
+        match self {
+            Self::Illuminance => "lx",
+            _ => "cd/m2",
+        }
+    }
+
+    /// The quantity the image must hold (its EXR's `quantity`).
+    pub fn needs(self) -> &'static str {
+        match self {
+            Self::Illuminance => "illuminance",
+            _ => "radiance",
+        }
+    }
+
+    /// The value of each pixel.
+    pub fn values(self, pixels: &[[f32; 4]]) -> Vec<f32> {
+        match self {
+            Self::Mesopic => pixels
+                .iter()
+                .map(|p| {
+                    let sp = if p[1] > 0.0 { p[3] / p[1] } else { 0.0 };
+                    crate::mode::mesopic_luminance(p[1] as f64, sp as f64) as f32
+                })
+                .collect(),
+            _ => pixels.iter().map(|p| p[1]).collect(),
+        }
+    }
+}
 
 /// How values map onto the palette.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -59,6 +122,16 @@ impl Scale {
             hi,
             log,
         }
+    }
+
+    /// `LO:HI`, e.g. `0:50`; `None` if it is not two numbers.
+    pub fn parse(text: &str, log: bool) -> Option<Self> {
+        let (a, b) = text.split_once(':')?;
+        Some(Self {
+            lo: a.trim().parse().ok()?,
+            hi: b.trim().parse().ok()?,
+            log,
+        })
     }
 
     /// Where `v` falls in [0, 1].
@@ -127,7 +200,10 @@ pub fn false_colour(
         px[i * 3..i * 3 + 3].copy_from_slice(&c);
     }
     // The bar, inset by the margin, and five labels under it.
-    let (x0, x1) = (MARGIN, width.saturating_sub(MARGIN).max(MARGIN + 1));
+    // (Without the inset on pictures too narrow for it, so the bar stays
+    // in its rows.)
+    let inset = if width > 2 * MARGIN + 1 { MARGIN } else { 0 };
+    let (x0, x1) = (inset, width.saturating_sub(inset).max(inset + 1));
     for y in height + MARGIN..height + MARGIN + BAR {
         for x in x0..x1 {
             let t = (x - x0) as f64 / (x1 - x0 - 1).max(1) as f64;
@@ -231,5 +307,27 @@ mod tests {
         let (w, h, px) = false_colour(&values, 200, 50, &scale, "cd/m2");
         let ink = (50 + MARGIN + BAR..h).any(|y| (0..w).any(|x| px[(y * w + x) * 3..][..3] == INK));
         assert!(ink);
+    }
+    #[test]
+    fn a_narrow_picture_keeps_its_bar_in_its_own_rows() {
+        // 4 pixels wide: the bar spans the width from the first column.
+        let (w, h, px) = false_colour(&[1.0; 8], 4, 2, &Scale::auto(&[1.0], false), "lx");
+        let row = 2 + MARGIN;
+        assert_eq!(&px[row * w * 3..][..3], &palette(0.0));
+        assert_eq!(&px[(row * w + 3) * 3..][..3], &palette(1.0));
+        assert_eq!(px.len(), w * h * 3);
+    }
+
+    #[test]
+    fn mesopic_values_are_cie_191s_of_each_pixel() {
+        let px = [[0.0, 0.1, 0.0, 0.25], [0.0, 100.0, 0.0, 250.0], [0.0; 4]];
+        let v = Mapped::Mesopic.values(&px);
+        assert_eq!(v[0], crate::mode::mesopic_luminance(0.1, 2.5) as f32);
+        assert!(v[0] > 0.1); // blue-rich light, mesopic: brighter
+        assert_eq!(v[1], 100.0); // photopic: L itself
+        assert_eq!(v[2], 0.0);
+        assert_eq!(Mapped::Luminance.values(&px)[1], 100.0);
+        assert_eq!(Mapped::from_name("mesopic"), Some(Mapped::Mesopic));
+        assert_eq!(Mapped::Illuminance.unit(), "lx");
     }
 }

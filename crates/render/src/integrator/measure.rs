@@ -254,7 +254,10 @@ impl<const K: usize> PathState<K> {
             delta: true,
             bsdf_pdf: 0.0,
             prev: p + n,
-            depth: 1,
+            // The receiver is the instrument, not a scattering vertex:
+            // max_depth counts segments from it, as from Mitsuba's
+            // irradiancemeter (1: light straight from emitters).
+            depth: 0,
             whole: !wl.secondary_terminated(),
         }
     }
