@@ -56,6 +56,7 @@ fn scene_info<'py>(
     let camera = PyDict::new(py);
     camera.set_item("fov_degrees", [i.fov_degrees.0, i.fov_degrees.1])?;
     camera.set_item("thin_lens", i.thin_lens)?;
+    camera.set_item("irradiancemeter_shape", i.meter_shape)?;
     d.set_item("camera", camera)?;
     let film = PyDict::new(py);
     film.set_item("width", i.width)?;

@@ -64,6 +64,7 @@ pub fn run(args: Args) -> Result<()> {
             "camera": {
                 "fov_degrees": [i.fov_degrees.0, i.fov_degrees.1],
                 "thin_lens": i.thin_lens,
+                "irradiancemeter_shape": i.meter_shape,
             },
             "film": {"width": i.width, "height": i.height, "filter": i.filter},
             "samples_per_pixel": i.samples_per_pixel,
@@ -81,17 +82,23 @@ pub fn run(args: Args) -> Result<()> {
         }
         writeln!(o, "  materials   {}", i.materials)?;
         writeln!(o, "  emitters    {}", i.emitters)?;
-        writeln!(
-            o,
-            "  camera      {}, fov {:.2}° × {:.2}°",
-            if i.thin_lens {
-                "thin lens"
-            } else {
-                "perspective"
-            },
-            i.fov_degrees.0,
-            i.fov_degrees.1
-        )?;
+        match i.meter_shape {
+            Some(shape) => writeln!(
+                o,
+                "  sensor      irradiancemeter on shape {shape}: its average illuminance, lx"
+            )?,
+            None => writeln!(
+                o,
+                "  camera      {}, fov {:.2}° × {:.2}°",
+                if i.thin_lens {
+                    "thin lens"
+                } else {
+                    "perspective"
+                },
+                i.fov_degrees.0,
+                i.fov_degrees.1
+            )?,
+        }
         writeln!(
             o,
             "  film        {}×{}, {} filter, {} spp",

@@ -25,6 +25,8 @@ pub struct SceneInfo {
     pub height: u32,
     pub fov_degrees: (f32, f32),
     pub thin_lens: bool,
+    /// The shape an irradiancemeter measures over, if that is the sensor.
+    pub meter_shape: Option<u32>,
     pub samples_per_pixel: u32,
     pub filter: String,
     pub max_depth: i32,
@@ -79,6 +81,7 @@ impl SceneInfo {
             height: scene.camera.height,
             fov_degrees: scene.camera.fov_degrees(),
             thin_lens: scene.camera.aperture_radius > 0.0,
+            meter_shape: scene.meter.as_ref().map(|m| m.shape),
             samples_per_pixel: scene.samples_per_pixel,
             filter: match scene.filter {
                 Filter::Box => "box".into(),
