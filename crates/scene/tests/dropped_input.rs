@@ -89,14 +89,14 @@ fn an_object_where_none_is_read_is_a_located_warning() {
         "misplaced",
         &scene(
             "<bsdf type=\"diffuse\" name=\"fov\"/>",
-            "<shape type=\"sphere\"><sensor type=\"perspective\"/>\
+            "<shape type=\"sphere\"><film type=\"hdrfilm\"/>\
              <bsdf type=\"diffuse\"><bar/></bsdf></shape>",
         ),
     );
     let w = warnings(&f);
     let expected = [
         "s.xml:2:28: <bsdf>: a <bsdf> (named 'fov') in a <sensor> is not read",
-        "s.xml:3:22: <sensor>: a <sensor> in a <shape> is not read",
+        "s.xml:3:22: <film>: a <film> in a <shape> is not read",
         "<bar>: unknown element <bar> is not read",
     ];
     for e in expected {
