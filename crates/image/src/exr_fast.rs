@@ -131,6 +131,10 @@ impl Layout {
         rows: &mut [[f32; 4]],
     ) -> Option<()> {
         let start = *offsets.first()?;
+        // No more than the band's blocks can hold, whatever lies between
+        // (a forged offset, trailing bytes): a block is at most a raw line.
+        let most = (offsets.len() as u64).checked_mul(8 + self.line_bytes as u64)?;
+        let end = end.min(start.checked_add(most)?);
         let len = usize::try_from(end.checked_sub(start)?).ok()?;
         let mut file = File::open(path).ok()?;
         file.seek(SeekFrom::Start(start)).ok()?;
@@ -344,6 +348,18 @@ mod tests {
         (0..e.width * e.height)
             .map(|i| [x[i], y[i], z[i], v[i]])
             .collect()
+    }
+
+    #[test]
+    fn trailing_bytes_are_not_read() {
+        let path = tmp("trailing.exr");
+        let chans = write(&path, 9, 5, &[]);
+        let mut bytes = std::fs::read(&path).unwrap();
+        bytes.extend(std::iter::repeat_n(0xAB, 100_000));
+        std::fs::write(&path, bytes).unwrap();
+        let x: Vec<u32> = fast(&path).iter().map(|p| p[0].to_bits()).collect();
+        let want: Vec<u32> = chans[0].1.iter().map(|v| v.to_bits()).collect();
+        assert_eq!(x, want);
     }
 
     #[test]
