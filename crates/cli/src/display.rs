@@ -154,6 +154,7 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<()> {
+    let mut clock = PhaseClock::from_env();
     if args.output.is_none() && args.compare.is_none() && !args.info {
         bail!("nothing to do: give -o OUT.png, --compare OUT.png or --info");
     }
@@ -166,6 +167,7 @@ pub fn run(args: Args) -> Result<()> {
             space,
         },
     )?;
+    clock.mark("read EXR");
     if let Some(k) = args.scale {
         if !(k.is_finite() && k > 0.0) {
             bail!("--scale {k}: must be a positive factor");
@@ -196,14 +198,39 @@ pub fn run(args: Args) -> Result<()> {
         // The image is not needed after: the pipeline works in its memory.
         None => display_owned(image.pixels, image.width, image.height, &params),
     };
+    clock.mark("pipeline");
     say_left_out(&shown);
     if let Some(out) = &args.output {
         write_shown(out, &shown, &params, png)?;
+        clock.mark("write PNG");
     }
     if args.info {
         crate::print(&info_text(&shown, &params))?;
     }
+    drop(shown);
+    clock.mark("free");
     Ok(())
+}
+
+/// With `SCOTOPIA_TIMES` set, each phase's wall time on stderr (for
+/// `bench/vision.py` and profiling the whole process; off by default).
+struct PhaseClock(Option<std::time::Instant>);
+
+impl PhaseClock {
+    fn from_env() -> Self {
+        Self(std::env::var_os("SCOTOPIA_TIMES").map(|_| std::time::Instant::now()))
+    }
+
+    fn mark(&mut self, phase: &str) {
+        if let Some(start) = &mut self.0 {
+            let now = std::time::Instant::now();
+            eprintln!(
+                "scotopia: time: {phase:<10} {:6.1} ms",
+                (now - *start).as_secs_f64() * 1e3
+            );
+            *start = now;
+        }
+    }
 }
 
 /// Says once, on stderr, which pixels the pipeline left out of its

@@ -90,7 +90,19 @@ pub fn read_xyzv(path: &Path, rgb: RgbInput) -> Result<XyzvImage, ImageError> {
                 notes.push("--units ignored: an XYZ image is already absolute".into());
             }
             match channel("V") {
-                Some(v) => read_four(path, [x, y, z, v])?,
+                Some(v) => {
+                    let index = |n: &Text| header.channels.list.iter().position(|c| c.name == *n);
+                    let fast = match [&x, &y, &z, &v].map(index) {
+                        [Some(a), Some(b), Some(c), Some(d)] => {
+                            crate::exr_fast::read_own_layout(path, &meta, [a, b, c, d])
+                        }
+                        _ => None,
+                    };
+                    match fast {
+                        Some(pixels) => pixels,
+                        None => read_four(path, [x, y, z, v])?,
+                    }
+                }
                 None => {
                     notes.push(
                         "no V channel: V′ estimated from X, Y, Z with Pattanaik et al. 1998's \
