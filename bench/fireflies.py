@@ -1,0 +1,127 @@
+"""Counts fireflies: pixels whose luminance exceeds k× the median of their
+5×5 neighbours (the pixel itself left out), for k = 2, 3, 5, 10, 20.
+
+    python bench/fireflies.py IMAGE.exr|IMAGE.png [...] [--lamp CD] [--halo PX]
+
+An EXR is read as scotopia writes it: channel Y (cd/m²), or the one
+--channel names (X, Z, or V for scotopic V′; the lamps are found by Y
+whichever is counted). A PNG (8-bit grey, RGB or RGBA, as `scotopia
+display` writes it) is read by its Rec. 709 luma of the decoded sRGB
+values. The lamps and their halos are left out: every pixel within
+--halo pixels of one brighter than --lamp cd/m² (EXR) or of a saturated
+one (PNG), where a lamp's edge and glare are sharp by nature. Values
+below a floor count as the floor (EXR: 1e-6 of the maximum outside the
+lamps; PNG: linear luma 0.01, sRGB code 25), so that a dim pixel among
+black ones, or one 8-bit step, is not an outlier.
+"""
+
+import argparse
+import struct
+import sys
+import zlib
+from pathlib import Path
+
+import numpy as np
+from scipy import ndimage
+
+
+def read_exr(path, channel):
+    """The EXR's `channel` and its Y."""
+    import OpenEXR
+
+    with OpenEXR.File(str(path)) as f:
+        ch = f.channels()
+        if channel not in ch:
+            sys.exit(f"{path}: no channel {channel} (has {', '.join(ch)})")
+        return (np.asarray(ch[channel].pixels, dtype=np.float64),
+                np.asarray(ch["Y"].pixels, dtype=np.float64))
+
+
+def read_png_luma(path):
+    """The PNG's luma, 0–1 (non-interlaced, 8 bits per sample)."""
+    data = Path(path).read_bytes()
+    if data[:8] != b"\x89PNG\r\n\x1a\n":
+        sys.exit(f"{path}: not a PNG")
+    pos, idat, head = 8, b"", None
+    while pos < len(data):
+        (n,) = struct.unpack(">I", data[pos:pos + 4])
+        kind, body = data[pos + 4:pos + 8], data[pos + 8:pos + 8 + n]
+        if kind == b"IHDR":
+            head = struct.unpack(">IIBBBBB", body)
+        elif kind == b"IDAT":
+            idat += body
+        pos += 12 + n
+    w, h, depth, colour, _, _, interlace = head
+    channels = {0: 1, 2: 3, 4: 2, 6: 4}.get(colour)
+    if depth != 8 or channels is None or interlace:
+        sys.exit(f"{path}: only 8-bit non-interlaced grey/RGB/RGBA PNGs are read")
+    raw = zlib.decompress(idat)
+    stride, bpp = w * channels, channels
+    out = np.zeros((h, stride), dtype=np.int32)
+    prev = np.zeros(stride, dtype=np.int32)
+    for y in range(h):
+        row = raw[y * (stride + 1):(y + 1) * (stride + 1)]
+        f, line = row[0], np.frombuffer(row[1:], dtype=np.uint8).astype(np.int32)
+        if f == 0:
+            cur = line
+        elif f == 2:
+            cur = (line + prev) & 255
+        else:  # Sub, Average, Paeth depend on the bytes to the left: byte by byte.
+            cur = np.zeros(stride, dtype=np.int32)
+            for i in range(stride):
+                a = cur[i - bpp] if i >= bpp else 0
+                b, c = prev[i], (prev[i - bpp] if i >= bpp else 0)
+                if f == 1:
+                    p = a
+                elif f == 3:
+                    p = (a + b) // 2
+                else:
+                    pa, pb, pc = abs(b - c), abs(a - c), abs(a + b - 2 * c)
+                    p = a if pa <= pb and pa <= pc else (b if pb <= pc else c)
+                cur[i] = (line[i] + p) & 255
+        out[y], prev = cur, cur
+    px = out.reshape(h, w, channels)[..., : 3 if channels >= 3 else 1] / 255.0
+    lin = np.where(px <= 0.04045, px / 12.92, ((px + 0.055) / 1.055) ** 2.4)
+    if lin.shape[-1] == 1:
+        return lin[..., 0]
+    return lin @ np.array([0.2126, 0.7152, 0.0722])
+
+
+def count(y, lamps, halo, floor):
+    """Outliers of `y` above k× their neighbours' median, for each k, and
+    how many pixels the mask `lamps` (grown by `halo`) leaves out."""
+    yf = np.maximum(y, floor)
+    foot = np.ones((5, 5), dtype=bool)
+    foot[2, 2] = False
+    med = ndimage.median_filter(yf, footprint=foot, mode="nearest")
+    if halo:
+        lamps = ndimage.binary_dilation(lamps, iterations=halo)
+    ratio = np.where(lamps, 0.0, yf / med)
+    return {k: int((ratio > k).sum()) for k in (2, 3, 5, 10, 20)}, int(lamps.sum())
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("images", nargs="+")
+    ap.add_argument("--lamp", type=float, default=1000.0,
+                    help="EXR: luminance (cd/m²) from which a pixel is a lamp (default 1000)")
+    ap.add_argument("--halo", type=int, default=6,
+                    help="pixels around a lamp left out (default 6)")
+    ap.add_argument("--channel", default="Y", choices=["X", "Y", "Z", "V"],
+                    help="EXR: the channel counted (default Y)")
+    args = ap.parse_args()
+    for path in args.images:
+        if path.lower().endswith(".png"):
+            y = read_png_luma(path)
+            lamps, floor = y >= 0.999, 0.01
+        else:
+            y, lum = read_exr(path, args.channel)
+            lamps = lum >= args.lamp
+            floor = 1e-6 * np.max(y, where=~lamps, initial=0.0)
+        c, masked = count(y, lamps, args.halo, floor)
+        counts = "  ".join(f">{k}x {n}" for k, n in c.items())
+        print(f"{path}: {counts}  (lamp pixels left out: {masked})")
+
+
+if __name__ == "__main__":
+    main()
