@@ -7,8 +7,8 @@
 An EXR is read as scotopia writes it: channel Y (cd/m²), or the one
 --channel names (X, Z, or V for scotopic V′; the lamps are found by Y
 whichever is counted). A PNG (8-bit grey, RGB or RGBA, as `scotopia
-display` writes it) is read by its Rec. 709 luma of the decoded sRGB
-values. The lamps and their halos are left out: every pixel within
+display` writes it) is read by the relative luminance of its linearised
+sRGB values (Rec. 709 weights). The lamps and their halos are left out: every pixel within
 --halo pixels of one brighter than --lamp cd/m² (EXR) or of a saturated
 one (PNG), where a lamp's edge and glare are sharp by nature. Values
 below a floor count as the floor (EXR: 1e-6 of the maximum outside the
@@ -19,7 +19,8 @@ A thin bright line (a lamp post two pixels wide) also stands above its
 neighbours' median, in every render. With --structure OTHER (the same
 picture rendered with another --seed, same kind of file) the pixels more
 than 2× their neighbours' median there are structure, not noise, and are
-not counted (noise puts under 1 % of the night street's pixels there).
+not counted (noise puts 0.6 % of the night street's pixels there in Y,
+1.6 % in Z, at 256 spp).
 """
 
 import argparse
