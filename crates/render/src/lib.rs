@@ -10,6 +10,7 @@ pub mod geometry;
 pub mod integrator;
 pub mod light;
 pub mod math;
+pub mod medium;
 pub mod output;
 pub mod sampling;
 pub mod scene;
