@@ -9,6 +9,7 @@ pub mod luminaire;
 pub mod materials;
 pub mod mesh;
 pub mod mitsuba;
+pub mod volume;
 
 pub use build::registry;
 pub use build::{bsdf_from_xml, load_scene, load_scene_with, LoadOptions, Resolution};

@@ -12,11 +12,14 @@
 //! ratios along a whole path).
 //!
 //! Built so far: the phase functions and the homogeneous medium, with
-//! their sampling; the loader, the integrators and grid volumes are still
-//! to come (docs/media.md will say when).
+//! their sampling, and voxel grids (read from Mitsuba's `.vol` files by
+//! `scotopia_scene::volume`); the loader's media, heterogeneous tracking
+//! and the integrators are still to come.
 
+mod grid;
 mod homogeneous;
 mod phase;
 
+pub use grid::Grid;
 pub use homogeneous::{DistanceSample, Homogeneous};
 pub use phase::Phase;
