@@ -5,6 +5,7 @@ use crate::accel::Aggregate;
 use crate::bsdf::Bsdf;
 use crate::camera::{Camera, IrradianceMeter};
 use crate::light::Light;
+use crate::medium::{Medium, ShapeMedia};
 
 /// The film's reconstruction filter (Mitsuba's `rfilter`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -71,6 +72,12 @@ pub struct Scene {
     /// Area light of each shape, if it emits.
     pub shape_light: Vec<Option<u32>>,
     pub lights: Vec<Light>,
+    /// Participating media (read; the integrators do not trace them yet).
+    pub media: Vec<Medium>,
+    /// The media inside and outside each shape (empty: all vacuum).
+    pub shape_media: Vec<ShapeMedia>,
+    /// The medium the camera sits in.
+    pub camera_medium: Option<u32>,
     /// What the loader ignored or approximated, one line each.
     pub warnings: Vec<String>,
 }

@@ -34,6 +34,9 @@ fn scene(
     Scene {
         camera,
         meter: None,
+        media: Vec::new(),
+        shape_media: Vec::new(),
+        camera_medium: None,
         filter: Filter::Box,
         samples_per_pixel: 64,
         integrator: IntegratorSettings {

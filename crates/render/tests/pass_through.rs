@@ -71,6 +71,9 @@ fn lit_floor(filter: Option<Bsdf>) -> Scene {
     let light = Light::Area(AreaLight::new(1, &shapes[1], radiance()));
     Scene {
         meter: None,
+        media: Vec::new(),
+        shape_media: Vec::new(),
+        camera_medium: None,
         camera: camera(
             Vec3::new(0.0, -3.0, 0.8),
             Vec3::ZERO,
@@ -109,6 +112,9 @@ fn light_overhead(filter: Option<Bsdf>) -> Scene {
     let light = Light::Area(AreaLight::new(0, &shapes[0], radiance()));
     Scene {
         meter: None,
+        media: Vec::new(),
+        shape_media: Vec::new(),
+        camera_medium: None,
         camera: camera(
             Vec3::ZERO,
             Vec3::new(0.0, 0.0, 1.0),

@@ -21,5 +21,19 @@ mod homogeneous;
 mod phase;
 
 pub use grid::Grid;
+
+/// A medium a scene holds (`Scene::media`).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Medium {
+    Homogeneous(Homogeneous),
+}
+
+/// The media on either side of a shape's surface (Mitsuba's `interior`
+/// and `exterior`), as indices into `Scene::media`; `None` is vacuum.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct ShapeMedia {
+    pub interior: Option<u32>,
+    pub exterior: Option<u32>,
+}
 pub use homogeneous::{DistanceSample, Homogeneous};
 pub use phase::Phase;

@@ -9,6 +9,7 @@ mod emitter;
 mod integrator;
 mod ior;
 mod luminaire;
+mod medium;
 mod mesh_attribute;
 pub mod registry;
 mod sensor;

@@ -176,7 +176,7 @@ pub const PLUGINS: &[Plugin] = &[
     p("spectrum", "srgb", Full, "color, unbounded", ""),
     p("spectrum", "rawconstant", Full, "value", ""),
     // Participating media
-    p("medium", "homogeneous", Warned, "", "ignored: no media yet"),
+    p("medium", "homogeneous", Warned, "sigma_t, albedo, scale, phase (isotropic, hg); a shape's interior/exterior, the sensor's", "read and checked, not rendered yet (issue 25)"),
     p("medium", "heterogeneous", Warned, "", "ignored: no media yet"),
 ];
 

@@ -117,6 +117,10 @@ pub fn build_shape(b: &mut Builder, node: &Node) -> Result<Shape, SceneError> {
         }
         other => return Err(node.error(format!("shape type '{other}' is not supported"))),
     };
+    // Read by `Media::of_shape`.
+    for side in ["interior", "exterior"] {
+        let _ = p.get(side);
+    }
     b.report_unused(&p);
     Ok(shape)
 }

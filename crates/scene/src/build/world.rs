@@ -11,10 +11,12 @@ use scotopia_render::camera::IrradianceMeter;
 use scotopia_render::geometry::Shape;
 use scotopia_render::light::{AreaLight, Light};
 use scotopia_render::math::Transform;
+use scotopia_render::medium::ShapeMedia;
 use scotopia_render::scene::{IntegratorSettings, Scene};
 use scotopia_render::texture::Texture;
 
 use super::integrator::{build_integrator, DEFAULT};
+use super::medium::Media;
 use super::mesh_attribute::OnShape;
 use super::registry::{self, Support};
 use super::sensor::{build_meter, build_sensor, Sensor};
@@ -36,6 +38,7 @@ pub struct World {
     group_ids: HashMap<String, usize>,
     /// Each instance: its group and its placement.
     instances: Vec<(usize, Transform)>,
+    media: Media,
 }
 
 /// A shape built with its material, and the emitters it holds.
@@ -45,6 +48,7 @@ struct Member {
     emitters: Vec<Node>,
     /// An `irradiancemeter` the shape holds.
     sensor: Option<Node>,
+    media: ShapeMedia,
 }
 
 /// The shapes of a `shapegroup` and their materials.
@@ -68,6 +72,7 @@ impl Default for World {
             groups: Vec::new(),
             group_ids: HashMap::new(),
             instances: Vec::new(),
+            media: Media::default(),
         }
     }
 }
@@ -81,6 +86,7 @@ impl World {
                     b.warn(n, "more than one sensor: using the first".into());
                 } else {
                     self.sensor = Some(build_sensor(b, n)?);
+                    self.media.camera = self.media.of_sensor(b, n)?;
                 }
             }
             "integrator" => self.integrator = build_integrator(b, n)?,
@@ -199,11 +205,13 @@ impl World {
                 })),
             ),
         };
+        let media = self.media.of_shape(b, n)?;
         Ok(vec![Member {
             shape,
             material,
             emitters,
             sensor,
+            media,
         }])
     }
 
@@ -239,6 +247,7 @@ impl World {
         self.shapes.push(m.shape);
         self.shape_material.push(m.material);
         self.shape_light.push(light);
+        self.media.shape_media.push(m.media);
         Ok(())
     }
 
@@ -328,6 +337,9 @@ impl World {
                 Arc::new(ShapeGroup::new(g.shapes, first))
             })
             .collect();
+        // Shapes in groups are in vacuum (their media are not read).
+        let mut shape_media = self.media.shape_media;
+        shape_media.resize(shape_material.len(), ShapeMedia::default());
         let instances = self
             .instances
             .into_iter()
@@ -347,6 +359,9 @@ impl World {
             shape_material,
             shape_light,
             lights: self.lights,
+            media: self.media.list,
+            shape_media,
+            camera_medium: self.media.camera,
             warnings,
         }
     }
