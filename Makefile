@@ -62,11 +62,12 @@ demo:
 	@mkdir -p $(DEMO_OUT)
 	@# The showcase keeps `path` in its file so Mitsuba reads it; the sun's
 	@# caustics under the glass and gold balls need the bidirectional tracer.
-	@# The showcase and the night street get more samples than their files
-	@# ask for, so that their pictures are not grainy (about 4 minutes for
-	@# the whole demo on 2 cores).
+	@# The Cornell box, the showcase and the night street get more samples
+	@# than their files ask for, so that their pictures are not grainy as
+	@# the eye sees them (the Cornell box's 64 are, in its shadows: 512 take
+	@# about 30 s more; about 4½ minutes for the whole demo on 2 cores).
 	@for s in $(DEMO_SCENES); do \
-	  case $$s in material-showcase) i=bdpt; n=192;; night-street) i=; n=256;; *) i=; n=;; esac; \
+	  case $$s in cornell-box) i=; n=512;; material-showcase) i=bdpt; n=192;; night-street) i=; n=256;; *) i=; n=;; esac; \
 	  $(BIN) render scenes/$$s.xml $${i:+--integrator $$i} $${n:+--spp $$n} -o $(DEMO_OUT)/$$s.exr --preview $(DEMO_OUT)/$$s.png; done
 	@for lamp in A D65 F2 F11; do \
 	  $(BIN) spectrum --illuminant $$lamp --plot $(DEMO_OUT)/illuminant-$$lamp.png > /dev/null; done
