@@ -74,6 +74,17 @@ fn scene_info<'py>(
         lights.append(ld)?;
     }
     d.set_item("lights", lights)?;
+    let media = PyList::empty(py);
+    for m in &i.media {
+        let md = PyDict::new(py);
+        md.set_item("type", m.kind)?;
+        md.set_item("sigma_t_550", m.sigma_t)?;
+        md.set_item("albedo_550", m.albedo)?;
+        md.set_item("g", m.g)?;
+        md.set_item("optical_thickness", m.optical_thickness)?;
+        media.append(md)?;
+    }
+    d.set_item("media", media)?;
     d.set_item("warnings", &i.warnings)?;
     Ok(d)
 }

@@ -70,6 +70,7 @@ pub fn run(args: Args) -> Result<()> {
             "samples_per_pixel": i.samples_per_pixel,
             "max_depth": i.max_depth,
             "lights": i.lights.iter().map(|l| json!({"type": l.kind, "watts": l.power.watts, "lumens": l.power.lumens})).collect::<Vec<_>>(),
+            "media": i.media.iter().map(|m| json!({"type": m.kind, "sigma_t_550": m.sigma_t, "albedo_550": m.albedo, "g": m.g, "optical_thickness": m.optical_thickness})).collect::<Vec<_>>(),
             "warnings": i.warnings,
         });
         format!("{v}\n")
@@ -118,6 +119,13 @@ pub fn run(args: Args) -> Result<()> {
                 o,
                 "  light {k}     {}: {:.4e} W, {:.4e} lm",
                 l.kind, l.power.watts, l.power.lumens
+            )?;
+        }
+        for (k, m) in i.media.iter().enumerate() {
+            writeln!(
+                o,
+                "  medium {k}    {}: at 550 nm σt {:.4e} per unit, albedo {:.3}, g {:.2}; {:.3} mean free paths across the scene (not rendered yet)",
+                m.kind, m.sigma_t, m.albedo, m.g, m.optical_thickness
             )?;
         }
         for w in &i.warnings {

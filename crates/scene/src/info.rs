@@ -1,6 +1,8 @@
 //! What a loaded scene holds, for `scotopia info`.
 
+use scotopia_color::SampledWavelengths;
 use scotopia_render::light::{Light, Power, SceneExtent};
+use scotopia_render::medium::{Medium, Phase};
 use scotopia_render::scene::{Filter, Scene};
 
 /// One light's kind and power.
@@ -8,6 +10,20 @@ use scotopia_render::scene::{Filter, Scene};
 pub struct LightInfo {
     pub kind: &'static str,
     pub power: Power,
+}
+
+/// One participating medium, at 550 nm.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MediumInfo {
+    pub kind: &'static str,
+    /// Extinction per scene unit (scaled).
+    pub sigma_t: f32,
+    pub albedo: f32,
+    /// The phase function's mean cosine (0: isotropic).
+    pub g: f32,
+    /// σ_t times the diameter of the scene's bounding sphere: how many
+    /// mean free paths a ray across the scene meets.
+    pub optical_thickness: f32,
 }
 
 /// A summary of a scene.
@@ -31,6 +47,7 @@ pub struct SceneInfo {
     pub filter: String,
     pub max_depth: i32,
     pub lights: Vec<LightInfo>,
+    pub media: Vec<MediumInfo>,
     pub warnings: Vec<String>,
 }
 
@@ -89,7 +106,31 @@ impl SceneInfo {
             },
             max_depth: scene.integrator.max_depth,
             lights,
+            media: scene
+                .media
+                .iter()
+                .map(|m| medium_info(m, 2.0 * radius))
+                .collect(),
             warnings: scene.warnings.clone(),
+        }
+    }
+}
+
+fn medium_info(m: &Medium, diameter: f32) -> MediumInfo {
+    let wl = SampledWavelengths::<1>::new([550.0], [1.0]);
+    match m {
+        Medium::Homogeneous(h) => {
+            let sigma_t = h.sigma_t(&wl).0[0];
+            MediumInfo {
+                kind: "homogeneous",
+                sigma_t,
+                albedo: h.albedo.sample(&wl).0[0],
+                g: match h.phase {
+                    Phase::Isotropic => 0.0,
+                    Phase::HenyeyGreenstein { g } => g,
+                },
+                optical_thickness: sigma_t * diameter,
+            }
         }
     }
 }

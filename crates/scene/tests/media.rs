@@ -65,6 +65,16 @@ fn a_homogeneous_fog_is_read_and_attached_where_mitsuba_attaches_it() {
     assert_eq!(fog.phase, Phase::HenyeyGreenstein { g: 0.7 });
     let Medium::Homogeneous(inside) = &s.media[1];
     assert_eq!(inside.phase, Phase::Isotropic);
+    // `info`: at 550 nm, and the optical thickness across the scene's
+    // bounding sphere (the unit sphere and cube: a diameter of 2√3).
+    let info = scotopia_scene::SceneInfo::of(&s);
+    assert_eq!(info.media.len(), 2);
+    let m = &info.media[1];
+    assert_eq!((m.kind, m.sigma_t, m.g), ("homogeneous", 3.0, 0.0));
+    assert!(
+        (m.optical_thickness - 3.0 * 2.0 * 3f32.sqrt()).abs() < 1e-4,
+        "{m:?}"
+    );
     // Still said: media are read, not yet rendered.
     assert!(s
         .warnings
