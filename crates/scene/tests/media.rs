@@ -31,12 +31,12 @@ fn a_homogeneous_fog_is_read_and_attached_where_mitsuba_attaches_it() {
 <sensor type="perspective"><ref id="fog"/><film type="hdrfilm"><integer name="width" value="4"/><integer name="height" value="4"/></film></sensor>
 <shape type="sphere"><ref name="exterior" id="fog"/></shape>
 <shape type="cube"><medium type="homogeneous" name="interior"><float name="sigma_t" value="3"/></medium><ref name="exterior" id="fog"/></shape>
-<shape type="disk"/>"#
+<shape type="disk"><medium type="homogeneous" name="interior"><volume type="constvolume" name="sigma_t"><float name="value" value="0.25"/></volume></medium></shape>"#
         ),
     );
     let s = load_scene(&f, &Parameters::new()).unwrap();
-    // The fog once (shared by id), the cube's own medium.
-    assert_eq!(s.media.len(), 2, "{:?}", s.media);
+    // The fog once (shared by id), the cube's and the disk's own media.
+    assert_eq!(s.media.len(), 3, "{:?}", s.media);
     assert_eq!(s.camera_medium, Some(0));
     assert_eq!(
         s.shape_media,
@@ -49,7 +49,10 @@ fn a_homogeneous_fog_is_read_and_attached_where_mitsuba_attaches_it() {
                 interior: Some(1),
                 exterior: Some(0)
             },
-            ShapeMedia::default(),
+            ShapeMedia {
+                interior: Some(2),
+                exterior: None
+            },
         ]
     );
     let wl = SampledWavelengths::<4>::new([450.0, 520.0, 600.0, 650.0], [1.0 / 300.0; 4]);
@@ -63,12 +66,15 @@ fn a_homogeneous_fog_is_read_and_attached_where_mitsuba_attaches_it() {
         .iter()
         .all(|v| (v - 0.9).abs() < 2e-3));
     assert_eq!(fog.phase, Phase::HenyeyGreenstein { g: 0.7 });
+    // Mitsuba's constvolume holds a constant coefficient.
+    let Medium::Homogeneous(disk) = &s.media[2];
+    assert_eq!(disk.sigma_t(&wl).0, [0.25; 4]);
     let Medium::Homogeneous(inside) = &s.media[1];
     assert_eq!(inside.phase, Phase::Isotropic);
     // `info`: at 550 nm, and the optical thickness across the scene's
     // bounding sphere (the unit sphere and cube: a diameter of 2√3).
     let info = scotopia_scene::SceneInfo::of(&s);
-    assert_eq!(info.media.len(), 2);
+    assert_eq!(info.media.len(), 3);
     let m = &info.media[1];
     assert_eq!((m.kind, m.sigma_t, m.g), ("homogeneous", 3.0, 0.0));
     assert!(

@@ -19,16 +19,14 @@ pub fn build_medium(b: &mut Builder, node: &Node) -> Result<Option<Medium>, Scen
         return Ok(None);
     }
     let p = Props::new(node);
-    let sigma_t = p
-        .spectrum("sigma_t", Usage::Unbounded)?
-        .unwrap_or(Spectrum::Constant(1.0));
+    let sigma_t =
+        coefficient(b, &p, "sigma_t", Usage::Unbounded)?.unwrap_or(Spectrum::Constant(1.0));
     if let Some((l, v)) = negative(&sigma_t) {
         let at = p.get("sigma_t").unwrap_or(node);
         return Err(at.error(format!("sigma_t must not be negative, found {v} at {l} nm")));
     }
-    let albedo = p
-        .spectrum("albedo", Usage::Reflectance)?
-        .unwrap_or(Spectrum::Constant(0.75));
+    let albedo =
+        coefficient(b, &p, "albedo", Usage::Reflectance)?.unwrap_or(Spectrum::Constant(0.75));
     let scale = p.float("scale", 1.0)?;
     if !(scale.is_finite() && scale >= 0.0) {
         return Err(node.error(format!(
@@ -50,6 +48,33 @@ pub fn build_medium(b: &mut Builder, node: &Node) -> Result<Option<Medium>, Scen
         scale,
         phase,
     })))
+}
+
+/// A homogeneous medium's `name`: a spectrum, `<rgb>` or number, or
+/// Mitsuba's `<volume type="constvolume">` holding one as its `value`.
+fn coefficient(
+    b: &mut Builder,
+    p: &Props,
+    name: &str,
+    usage: Usage,
+) -> Result<Option<Spectrum>, SceneError> {
+    let volume = p
+        .node
+        .children
+        .iter()
+        .find(|c| c.tag == "volume" && c.attr("name") == Some(name));
+    let Some(v) = volume else {
+        return p.spectrum(name, usage);
+    };
+    if v.require("type")? != "constvolume" {
+        return Err(v.error(format!(
+            "a homogeneous medium's {name} is constant: give a spectrum, <rgb>, <float> or a constvolume"
+        )));
+    }
+    let vp = Props::new(v);
+    let value = vp.spectrum("value", usage)?;
+    b.report_unused(&vp);
+    Ok(value.or(Some(Spectrum::Constant(0.75))))
 }
 
 /// `<phase type="isotropic|hg">`.
