@@ -25,7 +25,7 @@ pub fn render_metadata(
         ("wavelengthStrategy", Meta::Text(options.strategy.name().into())),
         (
             "integrator",
-            Meta::Text(options.integrator.unwrap_or(scene.integrator.kind).name().into()),
+            Meta::Text(rendered.integrator.name().into()),
         ),
         ("clusterSize", Meta::I32(options.cluster as i32)),
         ("seed", Meta::I32(options.seed as i32)),

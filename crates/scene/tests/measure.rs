@@ -300,6 +300,7 @@ fn meter_reading(name: &str, body: &str, spp: u32, seeds: u32) -> (f64, f64) {
             let r = render(&s, &options, &AtomicBool::new(false), &|_, _| {}).unwrap();
             assert_eq!((r.film.width, r.film.height), (1, 1));
             assert_eq!(r.quantity, Quantity::Illuminance);
+            assert_eq!(r.integrator, scotopia_render::scene::IntegratorKind::Path);
             r.film.xyzv()[0][1] as f64
         })
         .collect();

@@ -132,7 +132,7 @@ fn round_code(x: f64) -> u8 {
 /// code) moves a dithered code by one in ~5 of a million samples (night
 /// street, 1920×1080), for under half the time of the f64 power.
 fn srgb_encode_f32(linear: f32) -> f32 {
-    if linear <= 0.003_130_8 {
+    if linear <= SRGB_KNEE {
         12.92 * linear
     } else {
         1.055 * linear.powf(1.0 / 2.4) - 0.055

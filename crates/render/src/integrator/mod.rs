@@ -144,6 +144,9 @@ pub struct Rendered {
     pub elapsed: Duration,
     /// Stopped by `cancel` rather than by `spp` or time.
     pub cancelled: bool,
+    /// The transport that rendered it: the options' or the scene's, or the
+    /// path tracer for an irradiancemeter.
+    pub integrator: IntegratorKind,
     /// What the pixels hold: `RenderOptions::quantity`, or illuminance
     /// when the scene's sensor is an irradiancemeter.
     pub quantity: Quantity,
@@ -560,11 +563,13 @@ fn render_k<const K: usize>(
         return Err(RenderError::Spp);
     }
     let start = Instant::now();
-    let integrator = options.integrator.unwrap_or(scene.integrator.kind);
-    // An irradiancemeter is measured by the path tracer's receiver.
-    let integrator = match scene.meter {
-        Some(_) => IntegratorKind::Path,
-        None => integrator,
+    // An irradiancemeter is measured by the path tracer's receiver, in lx.
+    let (integrator, quantity) = match scene.meter {
+        Some(_) => (IntegratorKind::Path, Quantity::Illuminance),
+        None => (
+            options.integrator.unwrap_or(scene.integrator.kind),
+            options.quantity,
+        ),
     };
     if integrator == IntegratorKind::Bdpt && scene.camera.projection != Projection::Perspective {
         return Err(RenderError::BdptProjection);
@@ -577,10 +582,7 @@ fn render_k<const K: usize>(
         renderer.only_strategy = Some([s, t]);
     }
     renderer.tracer = options.tracer;
-    renderer.quantity = match scene.meter {
-        Some(_) => Quantity::Illuminance,
-        None => options.quantity,
-    };
+    renderer.quantity = quantity;
     let bands = match options.bands {
         Some(n) if (1..=471).contains(&n) => Some(Bands(n)),
         Some(_) => return Err(RenderError::Bands),
@@ -680,7 +682,8 @@ fn render_k<const K: usize>(
         collapsed,
         elapsed: start.elapsed(),
         cancelled,
-        quantity: renderer.quantity,
+        integrator,
+        quantity,
     })
 }
 

@@ -74,7 +74,8 @@ fn coefficient(
     let vp = Props::new(v);
     let value = vp.spectrum("value", usage)?;
     b.report_unused(&vp);
-    Ok(value.or(Some(Spectrum::Constant(0.75))))
+    // Mitsuba's constvolume: 1 when no value is given.
+    Ok(value.or(Some(Spectrum::Constant(1.0))))
 }
 
 /// `<phase type="isotropic|hg">`.

@@ -224,9 +224,17 @@ pub fn load_scene_with(
     }
     if world.sensor.is_none() && b.errors.is_empty() {
         if options.sensor_optional {
-            match sensor::default_sensor() {
+            // Mitsuba's default sensor: an empty perspective one.
+            let implicit = Node {
+                tag: "sensor".into(),
+                attributes: vec![("type".into(), "perspective".into())],
+                children: Vec::new(),
+                location: root.location.clone(),
+                dir: root.dir.clone(),
+            };
+            match sensor::build_sensor(&mut b, &implicit) {
                 Ok(s) => world.sensor = Some(s),
-                Err(e) => b.errors.push(root.error(e.to_string())),
+                Err(e) => b.errors.push(e),
             }
         } else {
             b.errors.push(root.error("the scene has no <sensor>"));

@@ -122,29 +122,6 @@ pub fn build_meter(b: &mut Builder, node: &Node, shape: u32) -> Result<Sensor, S
     })
 }
 
-/// Mitsuba's sensor when a scene has none: a perspective camera at the
-/// origin looking along +z, 50 mm on a 768 × 576 film, 4 samples per pixel.
-pub fn default_sensor() -> Result<Sensor, scotopia_render::camera::CameraError> {
-    let diagonal = (36.0f32 * 36.0 + 24.0 * 24.0).sqrt();
-    let fov = 2.0 * (diagonal / 100.0).atan().to_degrees();
-    Ok(Sensor {
-        camera: Camera::new(
-            Transform::IDENTITY,
-            768,
-            576,
-            fov,
-            FovAxis::Diagonal,
-            1e-2,
-            1e4,
-            0.0,
-            1.0,
-        )?,
-        filter: Filter::Gaussian { stddev: 0.5 },
-        spp: 4,
-        meter: None,
-    })
-}
-
 /// A sensor's film and sampler settings, with Mitsuba's defaults.
 struct FilmSettings {
     width: u32,
