@@ -9,6 +9,7 @@
 //! sRGB between them.
 
 use font8x8::{UnicodeFonts, BASIC_FONTS};
+use rayon::prelude::*;
 
 /// viridis at 0, 1/8, …, 1 (matplotlib's `_viridis_data` rows 0, 32, …,
 /// 224, 255, rounded to 8 bits).
@@ -80,8 +81,9 @@ impl Mapped {
     /// The value of each pixel.
     pub fn values(self, pixels: &[[f32; 4]]) -> Vec<f32> {
         match self {
+            // CIE 191's iteration per pixel: in parallel.
             Self::Mesopic => pixels
-                .iter()
+                .par_iter()
                 .map(|p| {
                     let sp = if p[1] > 0.0 { p[3] / p[1] } else { 0.0 };
                     crate::mode::mesopic_luminance(p[1] as f64, sp as f64) as f32
