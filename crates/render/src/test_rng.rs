@@ -2,17 +2,17 @@
 //! and the mean of a sample with its standard error.
 
 use crate::math::Vec3;
+use crate::sampling::splitmix::SplitMix;
 
 /// SplitMix64 (Steele, Lea & Flood 2014), numbers in [0, 1).
 pub(crate) struct Rng(pub(crate) u64);
 
 impl Rng {
     pub(crate) fn next(&mut self) -> f32 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
+        let mut g = SplitMix(self.0);
+        let x = g.next_f32();
+        self.0 = g.0;
+        x
     }
 
     /// A point uniform in the box [lo, hi)³.

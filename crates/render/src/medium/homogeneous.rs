@@ -5,7 +5,7 @@
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
 
-use super::Phase;
+use super::{densities_from_logs, MediumEvent, Phase};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Homogeneous {
@@ -16,39 +16,6 @@ pub struct Homogeneous {
     /// Multiplies σ_t (Mitsuba's `scale`: the density of the medium).
     pub scale: f32,
     pub phase: Phase,
-}
-
-/// What a distance sample found along a segment of length `t_max`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct DistanceSample<const K: usize> {
-    /// Distance of the scattering event, or `t_max` when the segment was
-    /// passed.
-    pub t: f32,
-    /// Whether the path scatters in the medium at `t`.
-    pub scattered: bool,
-    /// The path's throughput factor for each wavelength, before the
-    /// density: T(t) σ_s at a scattering event, T(t_max) when passed.
-    pub f: SampledSpectrum<K>,
-    /// The density (or probability, when passed) of this outcome had each
-    /// wavelength been the one sampled; entry 0 is the one that was.
-    pub pdf: SampledSpectrum<K>,
-}
-
-impl<const K: usize> DistanceSample<K> {
-    /// The one-sample MIS (balance heuristic) weight over the `alive`
-    /// first wavelengths, for one event taken alone: f / mean(pdf). A path
-    /// with several events must combine the densities along the whole
-    /// path instead (the technique, wavelength 0, is the same for all of
-    /// them); this is that combination for a path of one event.
-    pub fn weight(&self, alive: usize) -> SampledSpectrum<K> {
-        let n = alive.clamp(1, K);
-        let mean = self.pdf.0[..n].iter().sum::<f32>() / n as f32;
-        if mean > 0.0 {
-            SampledSpectrum::from_fn(|k| if k < n { self.f.0[k] / mean } else { 0.0 })
-        } else {
-            SampledSpectrum::splat(0.0)
-        }
-    }
 }
 
 impl Homogeneous {
@@ -66,14 +33,17 @@ impl Homogeneous {
         self.sigma_t(wl).map(|s| beer(s, t))
     }
 
-    /// A free-flight distance for wavelength 0 along a segment of length
-    /// `t_max` (`f32::INFINITY` for a ray leaving the scene), from `u`.
-    pub fn sample_distance<const K: usize>(
+    /// The next event along a segment of length `t_max` (`f32::INFINITY`
+    /// for a ray leaving the scene): a free flight drawn from the first
+    /// wavelength's density σ_t e^{−σ_t t} with `u`. Scattering at t has
+    /// density σ_t,k e^{−σ_t,k t} for wavelength k, passing the segment
+    /// probability e^{−σ_t,k t_max}.
+    pub fn sample_event<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
         t_max: f32,
         u: f32,
-    ) -> DistanceSample<K> {
+    ) -> MediumEvent<K> {
         let st = self.sigma_t(wl);
         let t = if st.0[0] > 0.0 {
             -(1.0 - u).ln() / st.0[0]
@@ -81,21 +51,32 @@ impl Homogeneous {
             f32::INFINITY
         };
         if t < t_max {
-            let albedo = self.albedo.sample(wl).map(|a| a.clamp(0.0, 1.0));
-            let tr = st.map(|s| beer(s, t));
-            DistanceSample {
+            let logs = std::array::from_fn(|k| {
+                if st.0[k] > 0.0 {
+                    st.0[k].ln() - st.0[k] * t
+                } else {
+                    f32::NEG_INFINITY
+                }
+            });
+            MediumEvent {
                 t,
                 scattered: true,
-                f: SampledSpectrum::from_fn(|k| tr.0[k] * albedo.0[k] * st.0[k]),
-                pdf: SampledSpectrum::from_fn(|k| st.0[k] * tr.0[k]),
+                own: self.albedo.sample(wl).map(|a| a.clamp(0.0, 1.0)),
+                density: densities_from_logs(logs),
             }
         } else {
-            let tr = st.map(|s| beer(s, t_max));
-            DistanceSample {
+            let logs = std::array::from_fn(|k| {
+                if st.0[k] > 0.0 {
+                    -st.0[k] * t_max
+                } else {
+                    0.0
+                }
+            });
+            MediumEvent {
                 t: t_max,
                 scattered: false,
-                f: tr,
-                pdf: tr,
+                own: SampledSpectrum::splat(1.0),
+                density: densities_from_logs(logs),
             }
         }
     }
@@ -131,6 +112,13 @@ mod tests {
         }
     }
 
+    /// A path of one event's estimate per wavelength: f_k / mean(p), the
+    /// balance heuristic over the cluster (own · density / mean density).
+    fn one_event_weight(e: &MediumEvent<4>) -> SampledSpectrum<4> {
+        let mean = e.density.average();
+        SampledSpectrum::from_fn(|k| e.own.0[k] * e.density.0[k] / mean)
+    }
+
     fn cluster() -> SampledWavelengths<4> {
         SampledWavelengths::new([430.0, 510.0, 590.0, 680.0], [1.0 / 300.0; 4])
     }
@@ -164,8 +152,8 @@ mod tests {
             let mut wl = base;
             let first = i % 4;
             wl.rotate_to_front(first);
-            let s = m.sample_distance(&wl, length, u());
-            let w = s.weight(4);
+            let s = m.sample_event(&wl, length, u());
+            let w = one_event_weight(&s);
             for k in 0..4 {
                 // Back to the unrotated order.
                 let j = (k + first) % 4;
@@ -203,8 +191,8 @@ mod tests {
             scale: 1.0,
             phase: Phase::Isotropic,
         };
-        let s = m.sample_distance(&cluster(), f32::INFINITY, 0.5);
+        let s = m.sample_event(&cluster(), f32::INFINITY, 0.5);
         assert!(!s.scattered);
-        assert_eq!(s.weight(4), SampledSpectrum::splat(1.0));
+        assert_eq!(one_event_weight(&s), SampledSpectrum::splat(1.0));
     }
 }

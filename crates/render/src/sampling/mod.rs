@@ -3,4 +3,5 @@
 pub mod distribution;
 pub mod sobol;
 pub mod sobol_batch;
+pub mod splitmix;
 pub mod warp;
