@@ -53,6 +53,11 @@ pub struct IntegratorSettings {
     /// Always on when a scene is read; off only to check that it leaves
     /// the image's expectation as it was.
     pub aim_at_casters: bool,
+    /// Whether participating media are traced (Mitsuba's `volpath`):
+    /// then null surfaces bound media, neither counting towards
+    /// `max_depth` nor blocking shadow rays. Mitsuba's `path` ignores
+    /// media, and so does scotopia's.
+    pub media: bool,
 }
 
 #[derive(Debug, Clone)]
@@ -72,7 +77,7 @@ pub struct Scene {
     /// Area light of each shape, if it emits.
     pub shape_light: Vec<Option<u32>>,
     pub lights: Vec<Light>,
-    /// Participating media (read; the integrators do not trace them yet).
+    /// Participating media (traced when `integrator.media`).
     pub media: Vec<Medium>,
     /// The media inside and outside each shape (empty: all vacuum).
     pub shape_media: Vec<ShapeMedia>,

@@ -44,6 +44,7 @@ fn scene(
             max_depth: -1,
             rr_depth: 5,
             aim_at_casters: true,
+            media: false,
         },
         geometry: Aggregate::new(shapes),
         materials: vec![Bsdf::Diffuse(Diffuse {

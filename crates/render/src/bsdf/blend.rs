@@ -21,7 +21,7 @@ pub struct Blend {
 
 impl Blend {
     #[inline]
-    fn weight(&self, uv: TexPoint) -> f32 {
+    pub(super) fn weight(&self, uv: TexPoint) -> f32 {
         self.weight.eval_fraction(uv)
     }
 

@@ -111,6 +111,36 @@ pub struct ThinDielectric {
 }
 
 impl ThinDielectric {
+    /// The slab's reflectance at incidence cosine `cos`: R' = R + T²R /
+    /// (1 − R²) for T = 1 − R, the geometric series of inter-reflections
+    /// (Mitsuba's thindielectric).
+    pub(super) fn reflectance<const K: usize>(
+        &self,
+        wl: &SampledWavelengths<K>,
+        cos: f32,
+    ) -> SampledSpectrum<K> {
+        let eta = self.ior.eta(wl);
+        SampledSpectrum::from_fn(|i| {
+            let r = fresnel_dielectric(cos, eta[i]).0;
+            if r < 1.0 {
+                r + (1.0 - r) * (1.0 - r) * r / (1.0 - r * r)
+            } else {
+                r
+            }
+        })
+    }
+
+    /// What passes straight through (the slab's null lobe: Mitsuba's
+    /// volume path tracers let shadow rays through it).
+    pub(super) fn transmission<const K: usize>(
+        &self,
+        wl: &SampledWavelengths<K>,
+        uv: TexPoint,
+        cos: f32,
+    ) -> SampledSpectrum<K> {
+        self.reflectance(wl, cos).map(|r| 1.0 - r) * self.specular_transmittance.eval(wl, uv)
+    }
+
     pub fn sample<const K: usize>(
         &self,
         wl: &SampledWavelengths<K>,
@@ -121,17 +151,7 @@ impl ThinDielectric {
         if wi.z == 0.0 {
             return None;
         }
-        let eta = self.ior.eta(wl);
-        // R' = R + T²R / (1 − R²) for T = 1 − R: the geometric series of
-        // inter-reflections (Mitsuba's thindielectric).
-        let r = SampledSpectrum::from_fn(|i| {
-            let r = fresnel_dielectric(wi.z.abs(), eta[i]).0;
-            if r < 1.0 {
-                r + (1.0 - r) * (1.0 - r) * r / (1.0 - r * r)
-            } else {
-                r
-            }
-        });
+        let r = self.reflectance(wl, wi.z.abs());
         let (reflected, weight) = choose(&r, u);
         Some(if reflected {
             BsdfSample {

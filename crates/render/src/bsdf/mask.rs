@@ -21,7 +21,7 @@ pub struct Mask {
 
 impl Mask {
     #[inline]
-    fn opacity(&self, uv: TexPoint) -> f32 {
+    pub(super) fn opacity(&self, uv: TexPoint) -> f32 {
         self.opacity.eval_fraction(uv)
     }
 

@@ -22,6 +22,7 @@ mod mask;
 mod microfacet;
 mod normal_map;
 mod null;
+mod pass;
 mod perturbed;
 use perturbed::Perturbs;
 mod plastic;

@@ -27,6 +27,7 @@ use super::{RenderError, RenderOptions, Renderer};
 use crate::bsdf::{Bsdf, Diffuse, ShadingPoint};
 use crate::math::{Frame, Ray, Vec3};
 use crate::sampling::sobol::Sampler;
+use crate::sampling::splitmix::SplitMix;
 use crate::scene::{IntegratorKind, Scene};
 use crate::texture::Texture;
 
@@ -179,6 +180,10 @@ impl Renderer<'_> {
         let frame = Frame::from_normal(n);
         let at = ShadingPoint::at([0.0f32; 2], n, n, frame.s, frame.t).1;
         let mut path = PathState::<K>::at_receiver(p, n, wl);
+        // Receivers sit in the sensor's medium (Mitsuba's irradiancemeter
+        // takes its sensor's).
+        path.medium = self.scene.camera_medium;
+        path.rng = SplitMix(((sampler.pixel_key() as u64) << 32) | sampler.index() as u64);
         let u = [sampler.get_4d(), sampler.get_4d()];
         let b = self.scatter(&mut path, u, (p, n), (frame, at), &self.white);
         if self.settle(&mut path, b, rays) {
@@ -259,6 +264,9 @@ impl<const K: usize> PathState<K> {
             // irradiancemeter (1: light straight from emitters).
             depth: 0,
             whole: !wl.secondary_terminated(),
+            medium: None,
+            ratio: SampledSpectrum::splat(1.0),
+            rng: SplitMix(0),
         }
     }
 }

@@ -6,6 +6,7 @@ mod bdpt;
 mod light_choice;
 mod measure;
 mod path;
+mod volume;
 mod wavefront;
 
 pub use bdpt::Splat;
@@ -275,6 +276,11 @@ pub struct Renderer<'a> {
     quantity: Quantity,
     /// The white Lambertian surface of virtual receivers (`measure.rs`).
     white: crate::bsdf::Bsdf,
+    /// Whether paths are traced through media (`volume.rs`): the
+    /// integrator traces them and the scene has media or surfaces that
+    /// pass light (null lobes, which such an integrator treats as media
+    /// boundaries).
+    volumetric: bool,
 }
 
 impl<'a> Renderer<'a> {
@@ -337,6 +343,8 @@ impl<'a> Renderer<'a> {
             tracer: Tracer::default(),
             quantity: Quantity::default(),
             white: measure::white(),
+            volumetric: scene.integrator.media
+                && (!scene.media.is_empty() || scene.materials.iter().any(|m| m.may_pass())),
             filter: FilterSampler::new(scene.filter),
             infinite: (0..scene.lights.len())
                 .filter(|&i| scene.lights[i].is_infinite())
@@ -425,6 +433,7 @@ impl<'a> Renderer<'a> {
                 let mut splats = Vec::new();
                 let mut batch = (self.integrator == IntegratorKind::Path
                     && self.tracer == Tracer::Wavefront
+                    && !self.volumetric
                     && self.quantity == Quantity::Radiance)
                     .then(|| {
                         let work = wavefront::RowWork {

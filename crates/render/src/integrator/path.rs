@@ -13,6 +13,7 @@ use crate::geometry::Hit;
 use crate::light::{Light, LightSample};
 use crate::math::{offset_ray_origin, Frame, Ray, Vec3};
 use crate::sampling::sobol::Sampler;
+use crate::sampling::splitmix::SplitMix;
 
 /// What one camera sample found.
 pub struct CameraSample<const K: usize> {
@@ -26,7 +27,7 @@ pub struct CameraSample<const K: usize> {
 
 /// The power heuristic's weight of a strategy with density `a` against `b`.
 #[inline]
-fn power_heuristic(a: f32, b: f32) -> f32 {
+pub(super) fn power_heuristic(a: f32, b: f32) -> f32 {
     let (a2, b2) = (a * a, b * b);
     if a2 + b2 > 0.0 && a2.is_finite() {
         a2 / (a2 + b2)
@@ -89,13 +90,34 @@ pub struct PathState<const K: usize> {
     pub depth: i32,
     /// Whether the cluster had several wavelengths at the start.
     pub whole: bool,
+    /// The medium the ray travels in (`Scene::media`), when media are
+    /// traced (`volume.rs`).
+    pub medium: Option<u32>,
+    /// Each wavelength's density of the path's medium events relative to
+    /// the others, scaled to a mean of 1 over the live wavelengths: the
+    /// cluster's one-sample MIS along the whole path (`volume.rs`). All 1
+    /// in clear air.
+    pub ratio: SampledSpectrum<K>,
+    /// Numbers for tracking walks through heterogeneous media.
+    pub rng: SplitMix,
 }
 
 /// What a bounce leaves to do: a shadow ray whose contribution counts if
 /// it is not occluded, and whether the path goes on (along `ray`).
 pub struct Bounce<const K: usize> {
     pub shadow: Option<(Ray, SampledSpectrum<K>)>,
+    /// The medium the shadow ray starts in.
+    pub shadow_medium: Option<u32>,
     pub goes_on: bool,
+}
+
+impl<const K: usize> Bounce<K> {
+    /// The path ends here, without a shadow ray.
+    pub(super) const STOP: Self = Self {
+        shadow: None,
+        shadow_medium: None,
+        goes_on: false,
+    };
 }
 
 impl Renderer<'_> {
@@ -121,6 +143,9 @@ impl Renderer<'_> {
         path: &mut PathState<K>,
         rays: &mut u64,
     ) {
+        if self.volumetric {
+            return self.trace_media(sampler, path, rays);
+        }
         loop {
             *rays += 1;
             let Some(hit) = self.scene.geometry.intersect(&path.ray) else {
@@ -143,9 +168,14 @@ impl Renderer<'_> {
         rays: &mut u64,
     ) -> bool {
         if let Some((shadow, contribution)) = b.shadow {
-            *rays += 1;
-            if !self.scene.geometry.occluded(&shadow) {
-                path.l += contribution;
+            if self.volumetric {
+                let tr = self.transmittance(shadow, b.shadow_medium, path, rays);
+                path.l += contribution * tr;
+            } else {
+                *rays += 1;
+                if !self.scene.geometry.occluded(&shadow) {
+                    path.l += contribution;
+                }
             }
         }
         b.goes_on
@@ -160,7 +190,9 @@ impl Renderer<'_> {
     ) -> PathState<K> {
         sampler.start(pixel, index);
         let sets = [sampler.get_4d(), sampler.get_4d()];
-        self.start_path_with(pixel, sets)
+        let mut path = self.start_path_with(pixel, sets);
+        path.rng = SplitMix(((sampler.pixel_key() as u64) << 32) | index as u64);
+        path
     }
 
     /// [`Self::start_path`] from the sample's first two sets.
@@ -181,6 +213,9 @@ impl Renderer<'_> {
             prev: Vec3::ZERO,
             depth: 1,
             whole: !wl.secondary_terminated(),
+            medium: self.scene.camera_medium,
+            ratio: SampledSpectrum::splat(1.0),
+            rng: SplitMix(0),
         }
         .with_prev()
     }
@@ -227,12 +262,6 @@ impl Renderer<'_> {
         hit: &Hit,
     ) -> Bounce<K> {
         let scene = self.scene;
-        let stop = Bounce {
-            shadow: None,
-            goes_on: false,
-        };
-        let max_depth = scene.integrator.max_depth;
-        let within = |depth: i32| max_depth < 0 || depth <= max_depth;
         let ray = path.ray;
         let surface = scene.geometry.surface(hit, &ray);
         let wo_world = -ray.d;
@@ -252,8 +281,8 @@ impl Renderer<'_> {
                 }
             }
         }
-        if !within(path.depth + 1) {
-            return stop;
+        if !self.within(path.depth + 1) {
+            return Bounce::STOP;
         }
         let bsdf = &scene.materials[scene.shape_material[hit.shape as usize] as usize];
         let (frame, at) = ShadingPoint::at(
@@ -263,7 +292,25 @@ impl Renderer<'_> {
             surface.dpdu,
             surface.dpdv,
         );
-        self.scatter(path, u, (surface.p, surface.n_geometric), (frame, at), bsdf)
+        let ng = surface.n_geometric;
+        let mut b = self.scatter(path, u, (surface.p, ng), (frame, at), bsdf);
+        // Rays leaving a medium boundary enter the medium on their side.
+        if self.volumetric {
+            if let Some(sides) = self.shape_media(hit.shape) {
+                if let Some((shadow, _)) = &b.shadow {
+                    b.shadow_medium = sides.target(shadow.d, ng);
+                }
+                path.medium = sides.target(path.ray.d, ng);
+            }
+        }
+        b
+    }
+
+    /// Whether a path of `depth` segments is within `max_depth`.
+    #[inline]
+    pub(super) fn within(&self, depth: i32) -> bool {
+        let max_depth = self.scene.integrator.max_depth;
+        max_depth < 0 || depth <= max_depth
     }
 
     /// What the path does at a point `p` (geometric normal `ng`) of `bsdf`,
@@ -280,10 +327,7 @@ impl Renderer<'_> {
         bsdf: &Bsdf,
     ) -> Bounce<K> {
         let scene = self.scene;
-        let stop = Bounce {
-            shadow: None,
-            goes_on: false,
-        };
+        let stop = Bounce::STOP;
         let wo_world = -path.ray.d;
         let wi = frame.to_local(wo_world);
         let uv = at.tex();
@@ -322,6 +366,7 @@ impl Renderer<'_> {
         }
         let stop = Bounce {
             shadow,
+            shadow_medium: path.medium,
             goes_on: false,
         };
 
@@ -332,30 +377,51 @@ impl Renderer<'_> {
         if bs.collapse {
             path.wl.terminate_secondary();
             path.now.terminate_secondary();
+            if self.volumetric && !path.renormalise() {
+                return stop;
+            }
         }
         path.beta *= bs.weight;
         if path.beta.is_zero() || !path.beta.max_value().is_finite() {
             return stop;
         }
-        path.delta = bs.delta;
-        path.bsdf_pdf = bs.pdf;
-        path.prev = p;
-        let d = frame.to_world(bs.wo);
+        // Through a null lobe (a medium's boundary, `null`, the slab of a
+        // thin dielectric) a volume path tracer does not scatter: the
+        // depth and the last vertex for MIS stay those before it
+        // (Mitsuba's volpath).
+        let passes = self.volumetric && bs.delta && bs.wo == -wi;
+        let d = if passes {
+            path.ray.d
+        } else {
+            path.delta = bs.delta;
+            path.bsdf_pdf = bs.pdf;
+            path.prev = p;
+            path.depth += 1;
+            frame.to_world(bs.wo)
+        };
         path.ray = spawn(p, ng, d, scene.geometry.offset_unit());
-        path.depth += 1;
-        // Russian roulette from rr_depth on (Mitsuba's rule: survive
-        // with the throughput's largest value, at most 0.95).
-        if path.depth > scene.integrator.rr_depth.max(1) {
+        if !self.roulette(path, u_rr) {
+            return stop;
+        }
+        Bounce {
+            goes_on: true,
+            ..stop
+        }
+    }
+
+    /// Russian roulette from rr_depth on (Mitsuba's rule: survive with
+    /// the throughput's largest value, at most 0.95); whether the path
+    /// survives.
+    #[inline]
+    pub(super) fn roulette<const K: usize>(&self, path: &mut PathState<K>, u_rr: f32) -> bool {
+        if path.depth > self.scene.integrator.rr_depth.max(1) {
             let q = path.beta.max_value().min(0.95);
             if u_rr >= q {
-                return stop;
+                return false;
             }
             path.beta /= q;
         }
-        Bounce {
-            shadow: stop.shadow,
-            goes_on: true,
-        }
+        true
     }
 }
 

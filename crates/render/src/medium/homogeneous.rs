@@ -65,13 +65,7 @@ impl Homogeneous {
                 density: densities_from_logs(logs),
             }
         } else {
-            let logs = std::array::from_fn(|k| {
-                if st.0[k] > 0.0 {
-                    -st.0[k] * t_max
-                } else {
-                    0.0
-                }
-            });
+            let logs = std::array::from_fn(|k| if st.0[k] > 0.0 { -st.0[k] * t_max } else { 0.0 });
             MediumEvent {
                 t: t_max,
                 scattered: false,

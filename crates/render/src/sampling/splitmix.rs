@@ -3,7 +3,7 @@
 //! heterogeneous medium), seeded per path from its sampler so that images
 //! stay deterministic.
 
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Copy)]
 pub struct SplitMix(pub u64);
 
 impl SplitMix {

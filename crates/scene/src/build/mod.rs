@@ -222,6 +222,14 @@ pub fn load_scene_with(
             b.errors.push(e);
         }
     }
+    if world.ignores_media() {
+        b.warn(
+            &root,
+            "the scene's media are not rendered: its integrator ignores them, as Mitsuba's \
+             path does (render with volpath or bdpt)"
+                .into(),
+        );
+    }
     if world.sensor.is_none() && b.errors.is_empty() {
         if options.sensor_optional {
             // Mitsuba's default sensor: an empty perspective one.

@@ -148,12 +148,12 @@ pub const PLUGINS: &[Plugin] = &[
     p("sampler", "orthogonal", Partial, "sample_count", "as independent"),
     p("sampler", "ldsampler", Partial, "sample_count", "as independent"),
     // Integrators
-    p("integrator", "path", Full, "max_depth, rr_depth", ""),
+    p("integrator", "path", Full, "max_depth, rr_depth", "ignores media, as Mitsuba's"),
     p("integrator", "bdpt", Full, "max_depth, rr_depth", "scotopia's own bidirectional tracer"),
     p("integrator", "direct", Warned, "", "path with max_depth 2 (the same image)"),
-    p("integrator", "volpath", Warned, "max_depth, rr_depth", "path: no media yet"),
-    p("integrator", "volpathmis", Warned, "max_depth, rr_depth", "path: no media yet"),
-    p("integrator", "prbvolpath", Warned, "max_depth, rr_depth", "path: no media yet"),
+    p("integrator", "volpath", Full, "max_depth, rr_depth", "the volume path tracer"),
+    p("integrator", "volpathmis", Warned, "max_depth, rr_depth", "the volume path tracer (volpath: the same image)"),
+    p("integrator", "prbvolpath", Warned, "max_depth, rr_depth", "the volume path tracer (volpath: the same image)"),
     p("integrator", "prb", Warned, "max_depth, rr_depth", "path (the same image)"),
     p("integrator", "prb_basic", Warned, "max_depth, rr_depth", "path (the same image)"),
     p("integrator", "ptracer", Warned, "max_depth, rr_depth", "path (the same image)"),
@@ -176,7 +176,7 @@ pub const PLUGINS: &[Plugin] = &[
     p("spectrum", "srgb", Full, "color, unbounded", ""),
     p("spectrum", "rawconstant", Full, "value", ""),
     // Participating media
-    p("medium", "homogeneous", Warned, "sigma_t, albedo, scale, phase (isotropic, hg); a shape's interior/exterior, the sensor's", "read and checked, not rendered yet (issue 25)"),
+    p("medium", "homogeneous", Full, "sigma_t, albedo, scale, phase (isotropic, hg); a shape's interior/exterior, the sensor's", "σ_t, albedo spectral; spectral MIS over the cluster"),
     p("medium", "heterogeneous", Warned, "", "ignored: no media yet"),
 ];
 

@@ -323,6 +323,12 @@ impl World {
         (self.materials.len() - 1) as u32
     }
 
+    /// Whether the scene has media that its integrator does not trace
+    /// (Mitsuba's `path` ignores them).
+    pub fn ignores_media(&self) -> bool {
+        !self.media.list.is_empty() && !self.integrator.media
+    }
+
     pub fn scene(self, sensor: Sensor, warnings: Vec<String>) -> Scene {
         // The groups' shapes are numbered after the scene's own, each group
         // once: materials by shape, and no area lights (groups hold none).
@@ -383,13 +389,16 @@ fn set_bsdf<'n>(
     }
 }
 
-/// One warning for each `<medium>` anywhere in the scene: scotopia has no
-/// participating media yet, and a medium silently dropped would change the
-/// image without a word.
+/// One warning for each `<medium>` of a kind scotopia does not render,
+/// anywhere in the scene: a medium silently dropped would change the image
+/// without a word.
 pub fn warn_media(b: &mut Builder, node: &Node) {
     for c in &node.children {
         if c.tag == "medium" {
             let kind = c.attr("type").unwrap_or("?");
+            if kind == "homogeneous" {
+                continue;
+            }
             b.warn(
                 c,
                 format!(

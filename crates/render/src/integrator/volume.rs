@@ -1,0 +1,237 @@
+//! The path tracer through participating media (Mitsuba's `volpath`):
+//! free flights drawn between surfaces, scattering by the phase function
+//! with next-event estimation (MIS against phase sampling, power
+//! heuristic on the directional densities as at surfaces), shadow rays
+//! attenuated by the media they cross and passing null surfaces, which
+//! bound media without counting as bounces.
+//!
+//! Chromatic media: each free flight is drawn for the cluster's first
+//! wavelength, and the path keeps every wavelength's density of its medium
+//! events relative to the others (`PathState::ratio`). Dividing the
+//! throughput by their mean is the one-sample MIS over the cluster (the
+//! balance heuristic; Wilkie et al. 2014, §4; pbrt-v4 §14.2.2 keeps the
+//! same ratios as r_u): every wavelength's estimate is unbiased and none
+//! is lost where its extinction differs from the sampled one's. The mean
+//! is kept at 1 by rescaling both after every event, so the throughput is
+//! always the weighted one and clear-air paths are untouched. The cluster
+//! is a uniform choice of its first member (`start_sample` rotates it),
+//! which the MIS needs.
+
+use scotopia_color::SampledSpectrum;
+
+use super::path::{shadow_ray, Bounce, PathState};
+use super::Renderer;
+use crate::bsdf::ShadingPoint;
+use crate::light::LightSample;
+use crate::math::{Ray, Vec3};
+use crate::medium::{MediumEvent, Phase, ShapeMedia};
+use crate::sampling::sobol::Sampler;
+
+impl Renderer<'_> {
+    /// [`Self::trace`] through media.
+    pub(super) fn trace_media<const K: usize>(
+        &self,
+        sampler: &mut Sampler,
+        path: &mut PathState<K>,
+        rays: &mut u64,
+    ) {
+        let scene = self.scene;
+        loop {
+            *rays += 1;
+            let hit = scene.geometry.intersect(&path.ray);
+            if let Some(m) = path.medium {
+                let medium = &scene.media[m as usize];
+                let t_max = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
+                let [u_t, ..] = sampler.get_4d();
+                let event = medium.sample_event(&path.ray, t_max, &path.now, u_t, &mut path.rng);
+                if !path.add_event(&event) {
+                    return;
+                }
+                if event.scattered {
+                    let p = path.ray.o + path.ray.d * event.t;
+                    let u = [sampler.get_4d(), sampler.get_4d()];
+                    let b = self.scatter_in_medium(path, u, p, medium.phase());
+                    if !self.settle(path, b, rays) {
+                        return;
+                    }
+                    continue;
+                }
+            }
+            let Some(hit) = hit else {
+                self.escape(path);
+                return;
+            };
+            let b = self.bounce(path, [sampler.get_4d(), sampler.get_4d()], &hit);
+            if !self.settle(path, b, rays) {
+                return;
+            }
+        }
+    }
+
+    /// A scattering event in a medium at `p` (phase function `phase`):
+    /// next-event estimation and the next direction, drawn from the phase
+    /// function. `u`: the path's next two 4-dimensional sets.
+    fn scatter_in_medium<const K: usize>(
+        &self,
+        path: &mut PathState<K>,
+        u: [[f32; 4]; 2],
+        p: Vec3,
+        phase: &Phase,
+    ) -> Bounce<K> {
+        if !self.within(path.depth + 1) {
+            return Bounce::STOP;
+        }
+        let [[u_light, u_select, u_l0, u_l1], [u_p0, u_rr, u_p1, _]] = u;
+        let wi = -path.ray.d;
+        let mut shadow = None;
+        if let Some((i, p_choice)) = self.nee_choice.sample(p, u_light) {
+            let light = &self.scene.lights[i];
+            let now = path.now;
+            if let Some(ls) = light.sample_li(&self.extent(), &now, p, u_select, [u_l0, u_l1]) {
+                let f = phase.eval(wi, ls.wi);
+                if ls.pdf > 0.0 && f > 0.0 && !ls.radiance.is_zero() {
+                    shadow = Some(self.medium_shadow(path, p, &ls, f, p_choice));
+                }
+            }
+        }
+        let stop = Bounce {
+            shadow,
+            shadow_medium: path.medium,
+            goes_on: false,
+        };
+        // The phase function is sampled exactly: f/pdf = 1.
+        let (wo, pdf) = phase.sample(wi, [u_p0, u_p1]);
+        path.delta = false;
+        path.bsdf_pdf = pdf;
+        path.prev = p;
+        path.ray = Ray::new(p, wo);
+        path.depth += 1;
+        if !self.roulette(path, u_rr) {
+            return stop;
+        }
+        Bounce {
+            goes_on: true,
+            ..stop
+        }
+    }
+
+    /// The shadow ray of light sample `ls` from medium point `p` and its
+    /// contribution should it arrive (phase value `f`, the light chosen
+    /// with probability `p_choice`).
+    fn medium_shadow<const K: usize>(
+        &self,
+        path: &PathState<K>,
+        p: Vec3,
+        ls: &LightSample<K>,
+        f: f32,
+        p_choice: f32,
+    ) -> (Ray, SampledSpectrum<K>) {
+        // No surface to leave: the "normal" only sets the offset's side.
+        let ray = shadow_ray(p, ls.wi, ls, self.scene.geometry.offset_unit());
+        let p_light = p_choice * ls.pdf;
+        let w = if ls.delta {
+            1.0
+        } else {
+            super::path::power_heuristic(p_light, f)
+        };
+        (ray, path.beta * ls.radiance * (f * w / p_light))
+    }
+
+    /// The fraction of light that travels along shadow ray `ray`, which
+    /// starts in `medium`: the media's transmittance, times what null
+    /// surfaces on the way let through; 0 when anything else is in the
+    /// way. Counts the segments it traces in `rays`.
+    pub(super) fn transmittance<const K: usize>(
+        &self,
+        ray: Ray,
+        mut medium: Option<u32>,
+        path: &mut PathState<K>,
+        rays: &mut u64,
+    ) -> SampledSpectrum<K> {
+        let scene = self.scene;
+        let geometry = &scene.geometry;
+        let end = ray.o + ray.d * ray.t_max;
+        let finite = ray.t_max.is_finite();
+        let mut ray = ray;
+        let mut tr = SampledSpectrum::splat(1.0);
+        loop {
+            *rays += 1;
+            let hit = geometry.intersect(&ray);
+            if let Some(m) = medium {
+                let t = hit.as_ref().map_or(ray.t_max, |h| h.t);
+                tr *= scene.media[m as usize].transmittance(&ray, t, &path.now, &mut path.rng);
+                if tr.is_zero() {
+                    return tr;
+                }
+            }
+            let Some(hit) = hit else {
+                return tr;
+            };
+            let bsdf = &scene.materials[scene.shape_material[hit.shape as usize] as usize];
+            if !bsdf.may_pass() {
+                return SampledSpectrum::splat(0.0);
+            }
+            let surface = geometry.surface(&hit, &ray);
+            let ng = surface.n_geometric;
+            let (frame, at) = ShadingPoint::at(
+                surface.tex(&hit),
+                surface.n_shading,
+                ng,
+                surface.dpdu,
+                surface.dpdv,
+            );
+            let cos = frame.to_local(ray.d).z.abs();
+            tr *= bsdf.null_transmission(&path.now, at.tex(), cos);
+            if tr.is_zero() {
+                return tr;
+            }
+            if let Some(sides) = self.shape_media(hit.shape) {
+                medium = sides.target(ray.d, ng);
+            }
+            let d = ray.d;
+            ray = super::path::spawn(surface.p, ng, d, geometry.offset_unit());
+            if finite {
+                let left = (end - ray.o).dot(d);
+                if left <= 0.0 {
+                    return tr;
+                }
+                ray.t_max = left;
+            }
+        }
+    }
+
+    /// The media either side of shape `shape`, when it bounds any.
+    #[inline]
+    pub(super) fn shape_media(&self, shape: u32) -> Option<ShapeMedia> {
+        self.scene
+            .shape_media
+            .get(shape as usize)
+            .copied()
+            .filter(ShapeMedia::is_transition)
+    }
+}
+
+impl<const K: usize> PathState<K> {
+    /// Takes a medium event into the throughput and the cluster's
+    /// densities; whether the path still carries light.
+    fn add_event(&mut self, e: &MediumEvent<K>) -> bool {
+        self.beta = self.beta * e.own * e.density;
+        self.ratio = self.ratio * e.density;
+        self.renormalise()
+    }
+
+    /// Rescales the densities to a mean of 1 over the live wavelengths
+    /// (all, or the first alone once the cluster collapsed), and the
+    /// throughput with them; whether the path still carries light.
+    pub(super) fn renormalise(&mut self) -> bool {
+        let live = if self.wl.secondary_terminated() { 1 } else { K };
+        let mean = self.ratio.0[..live].iter().sum::<f32>() / live as f32;
+        if !(mean > 0.0 && mean.is_finite()) {
+            self.beta = SampledSpectrum::splat(0.0);
+            return false;
+        }
+        self.ratio /= mean;
+        self.beta /= mean;
+        !self.beta.is_zero() && self.beta.max_value().is_finite()
+    }
+}
