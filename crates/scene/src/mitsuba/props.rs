@@ -180,6 +180,19 @@ impl<'a> Props<'a> {
         }
     }
 
+    /// A medium's coefficient (σ_t, albedo) from `<spectrum>`, `<rgb>` or a
+    /// number: an RGB within [0, 1] is upsampled as a reflectance, as
+    /// Mitsuba's spectral variants upsample every volume's colour (its
+    /// `srgb`); a brighter one, which Mitsuba refuses there, as unbounded.
+    pub fn coefficient(&self, name: &str) -> Result<Option<Spectrum>, SceneError> {
+        match self.get(name) {
+            Some(n) if n.tag == "rgb" => self
+                .spectrum(name, Usage::Reflectance)
+                .or_else(|_| self.spectrum(name, Usage::Unbounded)),
+            _ => self.spectrum(name, Usage::Unbounded),
+        }
+    }
+
     /// A spectral property from `<spectrum>`, `<rgb>` or a number.
     pub fn spectrum(&self, name: &str, usage: Usage) -> Result<Option<Spectrum>, SceneError> {
         let Some(n) = self.get(name) else {
