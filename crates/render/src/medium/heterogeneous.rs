@@ -16,6 +16,7 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths};
 use super::majorant::Majorants;
 use super::volume::Field;
 use super::{densities_from_logs, MediumEvent, Phase};
+use crate::accel::Aabb;
 use crate::math::{Ray, Transform, Vec3};
 use crate::sampling::splitmix::SplitMix;
 
@@ -66,6 +67,18 @@ impl Heterogeneous {
     /// World to the medium's unit cube.
     pub fn to_local(&self) -> &Transform {
         self.sigma_t.to_local()
+    }
+
+    /// The world-space bounding box of the medium's box.
+    pub fn world_bounds(&self) -> Aabb {
+        let to_world = self.to_local().inverse();
+        let corners: Vec<Vec3> = (0..8)
+            .map(|i| {
+                let c = |bit: usize| if i & bit == 0 { 0.0 } else { 1.0 };
+                to_world.point(Vec3::new(c(1), c(2), c(4)))
+            })
+            .collect();
+        Aabb::from_points(&corners)
     }
 
     /// σ_t (scaled) at world point `p`: 0 outside the medium's box.

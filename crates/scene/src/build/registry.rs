@@ -177,7 +177,7 @@ pub const PLUGINS: &[Plugin] = &[
     p("spectrum", "rawconstant", Full, "value", ""),
     // Participating media
     p("medium", "homogeneous", Warned, "sigma_t, albedo, scale, phase (isotropic, hg); a shape's interior/exterior, the sensor's", "read and checked, not rendered yet (issue 25)"),
-    p("medium", "heterogeneous", Warned, "", "ignored: no media yet"),
+    p("medium", "heterogeneous", Warned, "sigma_t, albedo (each a gridvolume: filename, to_world, use_grid_bbox, filter_type, raw, wrap_mode as clamp; a constvolume: value, to_world; or a spectrum), scale, phase (isotropic, hg); a shape's interior/exterior, the sensor's", "read and checked, not rendered yet (issue 25); RGB grids upsampled as Mitsuba's spectral variants"),
 ];
 
 /// The entry for `<kind type="name">`.

@@ -90,7 +90,7 @@ impl World {
                 }
             }
             "integrator" => self.integrator = build_integrator(b, n)?,
-            "bsdf" | "texture" => {
+            "bsdf" | "texture" | "volume" => {
                 // Built on use (by ref); without an id it is never used.
                 n.require("type")?;
                 if n.attr("id").is_none() {
