@@ -122,9 +122,7 @@ pub fn run(args: Args) -> Result<()> {
             )?;
         }
         for (k, m) in i.media.iter().enumerate() {
-            let albedo = m
-                .albedo
-                .map_or("a grid".to_string(), |a| format!("{a:.3}"));
+            let albedo = m.albedo.map_or("a grid".to_string(), |a| format!("{a:.3}"));
             if m.grids.is_empty() && m.kind == "homogeneous" {
                 writeln!(
                     o,
