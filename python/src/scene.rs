@@ -78,10 +78,25 @@ fn scene_info<'py>(
     for m in &i.media {
         let md = PyDict::new(py);
         md.set_item("type", m.kind)?;
-        md.set_item("sigma_t_550", m.sigma_t)?;
+        // A heterogeneous medium's σ_t is its largest, not at 550 nm.
+        let key = if m.kind == "heterogeneous" {
+            "sigma_t_max"
+        } else {
+            "sigma_t_550"
+        };
+        md.set_item(key, m.sigma_t)?;
         md.set_item("albedo_550", m.albedo)?;
         md.set_item("g", m.g)?;
         md.set_item("optical_thickness", m.optical_thickness)?;
+        let grids = PyList::empty(py);
+        for g in &m.grids {
+            let gd = PyDict::new(py);
+            gd.set_item("parameter", g.parameter)?;
+            gd.set_item("cells", g.cells.to_vec())?;
+            gd.set_item("channels", g.channels)?;
+            grids.append(gd)?;
+        }
+        md.set_item("grids", grids)?;
         media.append(md)?;
     }
     d.set_item("media", media)?;

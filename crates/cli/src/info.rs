@@ -70,7 +70,7 @@ pub fn run(args: Args) -> Result<()> {
             "samples_per_pixel": i.samples_per_pixel,
             "max_depth": i.max_depth,
             "lights": i.lights.iter().map(|l| json!({"type": l.kind, "watts": l.power.watts, "lumens": l.power.lumens})).collect::<Vec<_>>(),
-            "media": i.media.iter().map(|m| json!({"type": m.kind, "sigma_t_550": m.sigma_t, "albedo_550": m.albedo, "g": m.g, "optical_thickness": m.optical_thickness})).collect::<Vec<_>>(),
+            "media": i.media.iter().map(|m| json!({"type": m.kind, (if m.kind == "heterogeneous" { "sigma_t_max" } else { "sigma_t_550" }): m.sigma_t, "albedo_550": m.albedo, "g": m.g, "optical_thickness": m.optical_thickness, "grids": m.grids.iter().map(|g| json!({"parameter": g.parameter, "cells": g.cells, "channels": g.channels})).collect::<Vec<_>>()})).collect::<Vec<_>>(),
             "warnings": i.warnings,
         });
         format!("{v}\n")
@@ -122,11 +122,39 @@ pub fn run(args: Args) -> Result<()> {
             )?;
         }
         for (k, m) in i.media.iter().enumerate() {
-            writeln!(
-                o,
-                "  medium {k}    {}: at 550 nm σt {:.4e} per unit, albedo {:.3}, g {:.2}; {:.3} mean free paths across the scene (not rendered yet)",
-                m.kind, m.sigma_t, m.albedo, m.g, m.optical_thickness
-            )?;
+            let albedo = m.albedo.map_or("a grid".to_string(), |a| format!("{a:.3}"));
+            if m.grids.is_empty() && m.kind == "homogeneous" {
+                writeln!(
+                    o,
+                    "  medium {k}    {}: at 550 nm σt {:.4e} per unit, albedo {albedo}, g {:.2}; {:.3} mean free paths across the scene",
+                    m.kind, m.sigma_t, m.g, m.optical_thickness
+                )?;
+            } else {
+                let grids: Vec<String> = m
+                    .grids
+                    .iter()
+                    .map(|g| {
+                        format!(
+                            "{} {}×{}×{} cells of {} channel{}",
+                            g.parameter,
+                            g.cells[0],
+                            g.cells[1],
+                            g.cells[2],
+                            g.channels,
+                            if g.channels == 1 { "" } else { "s" }
+                        )
+                    })
+                    .collect();
+                writeln!(
+                    o,
+                    "  medium {k}    {}: σt at most {:.4e} per unit, albedo {albedo} (550 nm), g {:.2}; at most {:.3} mean free paths across it; grids: {}",
+                    m.kind,
+                    m.sigma_t,
+                    m.g,
+                    m.optical_thickness,
+                    if grids.is_empty() { "none".to_string() } else { grids.join(", ") }
+                )?;
+            }
         }
         for w in &i.warnings {
             writeln!(o, "  warning     {w}")?;

@@ -1,8 +1,8 @@
 //! What a loaded scene holds, for `scotopia info`.
 
-use scotopia_color::SampledWavelengths;
+use scotopia_color::{SampledWavelengths, LAMBDA_MAX, LAMBDA_MIN};
 use scotopia_render::light::{Light, Power, SceneExtent};
-use scotopia_render::medium::{Medium, Phase};
+use scotopia_render::medium::{Field, Medium, Phase};
 use scotopia_render::scene::{Filter, Scene};
 
 /// One light's kind and power.
@@ -16,14 +16,30 @@ pub struct LightInfo {
 #[derive(Debug, Clone, PartialEq)]
 pub struct MediumInfo {
     pub kind: &'static str,
-    /// Extinction per scene unit (scaled).
+    /// Extinction per scene unit (scaled): a homogeneous medium's at
+    /// 550 nm, a heterogeneous medium's largest (at any place and
+    /// wavelength: its majorant).
     pub sigma_t: f32,
-    pub albedo: f32,
+    /// At 550 nm; `None` where the albedo is a grid.
+    pub albedo: Option<f32>,
     /// The phase function's mean cosine (0: isotropic).
     pub g: f32,
     /// σ_t times the diameter of the scene's bounding sphere: how many
-    /// mean free paths a ray across the scene meets.
+    /// mean free paths a ray across the scene meets (a heterogeneous
+    /// medium: its largest σ_t times the shorter of that diameter and its
+    /// box's diagonal, an upper bound).
     pub optical_thickness: f32,
+    /// A heterogeneous medium's voxel grids.
+    pub grids: Vec<GridInfo>,
+}
+
+/// One voxel grid of a medium.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GridInfo {
+    /// What it gives: `sigma_t` or `albedo`.
+    pub parameter: &'static str,
+    pub cells: [usize; 3],
+    pub channels: usize,
 }
 
 /// A summary of a scene.
@@ -118,18 +134,55 @@ impl SceneInfo {
 
 fn medium_info(m: &Medium, diameter: f32) -> MediumInfo {
     let wl = SampledWavelengths::<1>::new([550.0], [1.0]);
+    let g_of = |p: &Phase| match *p {
+        Phase::Isotropic => 0.0,
+        Phase::HenyeyGreenstein { g } => g,
+    };
     match m {
         Medium::Homogeneous(h) => {
             let sigma_t = h.sigma_t(&wl).0[0];
             MediumInfo {
                 kind: "homogeneous",
                 sigma_t,
-                albedo: h.albedo.sample(&wl).0[0],
-                g: match h.phase {
-                    Phase::Isotropic => 0.0,
-                    Phase::HenyeyGreenstein { g } => g,
-                },
+                albedo: Some(h.albedo.sample(&wl).0[0]),
+                g: g_of(&h.phase),
                 optical_thickness: sigma_t * diameter,
+                grids: Vec::new(),
+            }
+        }
+        Medium::Heterogeneous(h) => {
+            let mut grids = Vec::new();
+            for (parameter, field) in [("sigma_t", h.sigma_t_field()), ("albedo", h.albedo_field())]
+            {
+                if let Field::Grid(g) = field {
+                    grids.push(GridInfo {
+                        parameter,
+                        cells: g.grid().resolution(),
+                        channels: g.grid().channels(),
+                    });
+                }
+            }
+            let sigma_t = match h.sigma_t_field() {
+                Field::Constant { value, .. } => {
+                    // Its largest over the visible range, 1 nm apart.
+                    let top = (LAMBDA_MIN as u32..=LAMBDA_MAX as u32)
+                        .map(|l| value.eval(l as f32))
+                        .fold(0.0f32, f32::max);
+                    top * h.scale()
+                }
+                Field::Grid(g) => g.max() * h.scale(),
+            };
+            let albedo = match h.albedo_field() {
+                Field::Constant { value, .. } => Some(value.eval(550.0).clamp(0.0, 1.0)),
+                Field::Grid(_) => None,
+            };
+            MediumInfo {
+                kind: "heterogeneous",
+                sigma_t,
+                albedo,
+                g: g_of(&h.phase),
+                optical_thickness: sigma_t * diameter.min(h.world_bounds().extent().length()),
+                grids,
             }
         }
     }

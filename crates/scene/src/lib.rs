@@ -14,4 +14,4 @@ pub mod volume;
 pub use build::registry;
 pub use build::{bsdf_from_xml, load_scene, load_scene_with, LoadOptions, Resolution};
 pub use checkpoint_key::checkpoint_key;
-pub use info::{LightInfo, MediumInfo, SceneInfo};
+pub use info::{GridInfo, LightInfo, MediumInfo, SceneInfo};

@@ -2,8 +2,11 @@
 //! and quadrature, measured at virtual receivers (`measure`, which sits in
 //! the sensor's medium). Tolerances: 4 standard errors plus 0.5 %.
 
+mod common;
+
 use std::sync::atomic::AtomicBool;
 
+use common::vol;
 use scotopia_color::photometry::spectrum_to_xyzv;
 use scotopia_color::spectrum::Tabulated;
 use scotopia_color::Spectrum;
@@ -270,5 +273,44 @@ fn dispersion_and_fluorescence_in_a_chromatic_fog_give_every_strategy_the_same_a
             b.name(),
             mb.e
         );
+    }
+}
+
+#[test]
+fn a_graded_grid_slab_follows_beer_lambert_through_its_optical_depth() {
+    // The slab of the first test as a heterogeneous medium: σ_t varies
+    // with height only (a grid 2 × 8 × 2, values at the cell centres,
+    // linear between them and constant beyond, as trilinear lookups
+    // clamp), so a ray at θ from the vertical meets τ / cos θ, and the
+    // receiver gets 2π E₃(τ) for τ = ∫ σ_t dy. Delta tracking draws the
+    // paths, ratio tracking attenuates the shadow rays.
+    let (a, b) = (0.2f64, 1.2f64);
+    let value = |j: usize| a + b * (j as f64 + 0.5) / 8.0;
+    let dir = std::env::temp_dir().join(format!("scotopia-media-tr-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let grid: Vec<u8> = {
+        // `vol` writes cubes: 8³ cells, the value by y alone.
+        vol(8, 1, |_, y, _| vec![value(y) as f32])
+    };
+    std::fs::write(dir.join("graded.vol"), grid).unwrap();
+    let s = scene(
+        "graded",
+        r#"<integrator type="volpath"/><sensor type="perspective"/>
+        <emitter type="constant"><spectrum name="radiance" value="400:1, 700:1"/></emitter>
+        <medium type="heterogeneous" id="slab"><float name="albedo" value="0"/>
+          <volume type="gridvolume" name="sigma_t"><string name="filename" value="graded.vol"/>
+            <transform name="to_world"><scale x="4000" y="1" z="4000"/><translate x="-2000" y="1" z="-2000"/></transform>
+          </volume></medium>
+        <shape type="cube"><bsdf type="null"/><ref name="interior" id="slab"/>
+          <transform name="to_world"><scale x="2000" y="0.5" z="2000"/><translate y="1.5"/></transform></shape>"#,
+    );
+    // Linear between the first and last centres, constant in the end
+    // sixteenths.
+    let (lo, hi) = (0.5 / 8.0, 7.5 / 8.0);
+    let tau = (a * (hi - lo) + 0.5 * b * (hi * hi - lo * lo)) + lo * (value(0) + value(7));
+    let expected = lux(|_| 2.0 * std::f64::consts::PI * e3(tau));
+    for strategy in [WavelengthStrategy::Swc, WavelengthStrategy::Single] {
+        let m = run(&s, UP, 1 << 15, strategy);
+        assert_close(strategy.name(), &m, expected);
     }
 }

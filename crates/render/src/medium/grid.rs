@@ -73,6 +73,57 @@ impl Grid {
         self.max[c]
     }
 
+    /// Channel `c` of cell number `cell` (`(z·ny + y)·nx + x`).
+    #[inline]
+    pub fn value(&self, cell: usize, c: usize) -> f32 {
+        self.data[cell * self.channels + c]
+    }
+
+    /// The eight cells whose centres surround `p` (in the unit cube of
+    /// the grid), clamped at the edges, with their trilinear weights
+    /// (which sum to 1).
+    #[inline]
+    pub fn corners(&self, p: Vec3) -> [(usize, f32); 8] {
+        // Per axis: the lower cell and the weight of the upper one.
+        let axis = |u: f32, n: usize| -> (usize, usize, f32) {
+            let x = (u * n as f32 - 0.5).clamp(0.0, (n - 1) as f32);
+            let i = (x as usize).min(n - 1);
+            (i, (i + 1).min(n - 1), x - i as f32)
+        };
+        let (x0, x1, fx) = axis(p.x, self.res[0]);
+        let (y0, y1, fy) = axis(p.y, self.res[1]);
+        let (z0, z1, fz) = axis(p.z, self.res[2]);
+        let at = |x: usize, y: usize, z: usize| (z * self.res[1] + y) * self.res[0] + x;
+        std::array::from_fn(|i| {
+            let (x, wx) = if i & 1 == 0 { (x0, 1.0 - fx) } else { (x1, fx) };
+            let (y, wy) = if i & 2 == 0 { (y0, 1.0 - fy) } else { (y1, fy) };
+            let (z, wz) = if i & 4 == 0 { (z0, 1.0 - fz) } else { (z1, fz) };
+            (at(x, y, z), wx * wy * wz)
+        })
+    }
+
+    /// The cell holding `p` (in the unit cube of the grid), clamped: the
+    /// nearest-neighbour lookup.
+    #[inline]
+    pub fn nearest(&self, p: Vec3) -> usize {
+        let axis = |u: f32, n: usize| ((u * n as f32).max(0.0) as usize).min(n - 1);
+        let (x, y, z) = (
+            axis(p.x, self.res[0]),
+            axis(p.y, self.res[1]),
+            axis(p.z, self.res[2]),
+        );
+        (z * self.res[1] + y) * self.res[0] + x
+    }
+
+    /// The cells along one axis of `n` that trilinear lookups (or nearest
+    /// ones) inside [a, b] of the unit interval may read.
+    pub fn cells_read(a: f64, b: f64, n: usize) -> (usize, usize) {
+        let top = (n - 1) as f64;
+        let lo = (a * n as f64 - 0.5).floor().clamp(0.0, top) as usize;
+        let hi = ((b * n as f64 - 0.5).floor() + 1.0).clamp(0.0, top) as usize;
+        (lo, hi)
+    }
+
     /// Channel `c` at `p` in the unit cube of the grid (0..1 on each
     /// axis), interpolated trilinearly between cell centres.
     pub fn lookup(&self, p: Vec3, c: usize) -> f32 {
@@ -88,6 +139,7 @@ impl Grid {
         let at = |x: usize, y: usize, z: usize| {
             self.data[((z * self.res[1] + y) * self.res[0] + x) * self.channels + c]
         };
+        // Nested lerps: a constant grid reads back exactly.
         let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
         let plane = |z: usize| {
             lerp(

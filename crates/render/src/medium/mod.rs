@@ -13,8 +13,11 @@
 //! r_u): `integrator/volume.rs`.
 
 mod grid;
+mod heterogeneous;
 mod homogeneous;
+mod majorant;
 mod phase;
+mod volume;
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
@@ -22,13 +25,17 @@ use crate::math::Ray;
 use crate::sampling::splitmix::SplitMix;
 
 pub use grid::Grid;
+pub use heterogeneous::Heterogeneous;
 pub use homogeneous::Homogeneous;
+pub use majorant::Majorants;
 pub use phase::Phase;
+pub use volume::{Field, Filter, GridVolume};
 
 /// A medium a scene holds (`Scene::media`).
 #[derive(Debug, Clone, PartialEq)]
 pub enum Medium {
     Homogeneous(Homogeneous),
+    Heterogeneous(Box<Heterogeneous>),
 }
 
 /// The media on either side of a shape's surface (Mitsuba's `interior`
@@ -81,6 +88,7 @@ impl Medium {
     pub fn phase(&self) -> &Phase {
         match self {
             Medium::Homogeneous(m) => &m.phase,
+            Medium::Heterogeneous(m) => &m.phase,
         }
     }
 
@@ -95,9 +103,9 @@ impl Medium {
         u: f32,
         rng: &mut SplitMix,
     ) -> MediumEvent<K> {
-        let _ = (ray, rng);
         match self {
             Medium::Homogeneous(m) => m.sample_event(wl, t_max, u),
+            Medium::Heterogeneous(m) => m.sample_event(ray, t_max, wl, u, rng),
         }
     }
 
@@ -110,9 +118,9 @@ impl Medium {
         wl: &SampledWavelengths<K>,
         rng: &mut SplitMix,
     ) -> SampledSpectrum<K> {
-        let _ = (ray, rng);
         match self {
             Medium::Homogeneous(m) => m.transmittance(wl, t_max),
+            Medium::Heterogeneous(m) => m.transmittance(ray, t_max, wl, rng),
         }
     }
 }

@@ -1,10 +1,9 @@
 //! `<medium>` and `<phase>` (issue 25): Mitsuba 3's homogeneous medium —
 //! `sigma_t` (per scene unit) and `albedo` as spectra, RGB or numbers,
-//! `scale`, and an `isotropic` or `hg` phase function. Media are read and
-//! checked, and attached to shapes (`interior`, `exterior`) and to the
-//! sensor; the integrators do not trace them yet (`warn_media` says so).
-//! `heterogeneous` media are not built yet (their `.vol` grids are read by
-//! `crate::volume`).
+//! `scale`, and an `isotropic` or `hg` phase function — and its
+//! heterogeneous medium (`heterogeneous.rs`). Media are read and checked,
+//! and attached to shapes (`interior`, `exterior`) and to the sensor;
+//! `volpath` and `bdpt` trace them.
 
 use scotopia_color::{Spectrum, LAMBDA_MAX, LAMBDA_MIN};
 use scotopia_render::medium::{Homogeneous, Medium, Phase, ShapeMedia};
@@ -15,6 +14,9 @@ use crate::mitsuba::{Node, Props, SceneError, Usage};
 /// A `<medium>` element, or `None` for a kind not built yet.
 pub fn build_medium(b: &mut Builder, node: &Node) -> Result<Option<Medium>, SceneError> {
     let kind = node.require("type")?;
+    if kind == "heterogeneous" {
+        return super::heterogeneous::build_heterogeneous(b, node).map(Some);
+    }
     if kind != "homogeneous" {
         return Ok(None);
     }
@@ -64,7 +66,7 @@ fn coefficient(
         .iter()
         .find(|c| c.tag == "volume" && c.attr("name") == Some(name));
     let Some(v) = volume else {
-        return p.spectrum(name, usage);
+        return p.coefficient(name, usage);
     };
     if v.require("type")? != "constvolume" {
         return Err(v.error(format!(
@@ -72,14 +74,14 @@ fn coefficient(
         )));
     }
     let vp = Props::new(v);
-    let value = vp.spectrum("value", usage)?;
+    let value = vp.coefficient("value", usage)?;
     b.report_unused(&vp);
     // Mitsuba's constvolume: 1 when no value is given.
     Ok(value.or(Some(Spectrum::Constant(1.0))))
 }
 
 /// `<phase type="isotropic|hg">`.
-fn build_phase(b: &mut Builder, node: &Node) -> Result<Phase, SceneError> {
+pub(super) fn build_phase(b: &mut Builder, node: &Node) -> Result<Phase, SceneError> {
     let p = Props::new(node);
     let phase = match node.require("type")? {
         "isotropic" => Phase::Isotropic,
@@ -102,7 +104,7 @@ fn build_phase(b: &mut Builder, node: &Node) -> Result<Phase, SceneError> {
 
 /// The first wavelength (5 nm grid and the spectrum's own samples) where
 /// `s` is negative.
-fn negative(s: &Spectrum) -> Option<(f32, f32)> {
+pub(super) fn negative(s: &Spectrum) -> Option<(f32, f32)> {
     let grid = (LAMBDA_MIN as u32..=LAMBDA_MAX as u32)
         .step_by(5)
         .map(|l| l as f32);

@@ -6,6 +6,7 @@ mod bsdf;
 mod bsdf_nested;
 mod bsdf_principled;
 mod emitter;
+mod heterogeneous;
 mod integrator;
 mod ior;
 mod luminaire;

@@ -177,7 +177,7 @@ pub const PLUGINS: &[Plugin] = &[
     p("spectrum", "rawconstant", Full, "value", ""),
     // Participating media
     p("medium", "homogeneous", Full, "sigma_t, albedo, scale, phase (isotropic, hg); a shape's interior/exterior, the sensor's", "σ_t, albedo spectral; spectral MIS over the cluster"),
-    p("medium", "heterogeneous", Warned, "", "ignored: no media yet"),
+    p("medium", "heterogeneous", Full, "sigma_t, albedo (each a gridvolume: filename, to_world, use_grid_bbox, filter_type, raw, wrap_mode as clamp; a constvolume: value, to_world; or a spectrum), scale, phase (isotropic, hg); a shape's interior/exterior, the sensor's", "delta and ratio tracking over a majorant grid; RGB grids upsampled as Mitsuba's spectral variants"),
 ];
 
 /// The entry for `<kind type="name">`.

@@ -90,7 +90,7 @@ impl World {
                 }
             }
             "integrator" => self.integrator = build_integrator(b, n)?,
-            "bsdf" | "texture" => {
+            "bsdf" | "texture" | "volume" => {
                 // Built on use (by ref); without an id it is never used.
                 n.require("type")?;
                 if n.attr("id").is_none() {
@@ -396,14 +396,14 @@ pub fn warn_media(b: &mut Builder, node: &Node) {
     for c in &node.children {
         if c.tag == "medium" {
             let kind = c.attr("type").unwrap_or("?");
-            if kind == "homogeneous" {
+            if matches!(kind, "homogeneous" | "heterogeneous") {
                 continue;
             }
             b.warn(
                 c,
                 format!(
-                    "medium '{kind}' is ignored: scotopia does not render participating \
-                     media yet, so the image lacks its absorption and scattering"
+                    "medium '{kind}' is ignored: scotopia renders homogeneous and \
+                     heterogeneous media, so the image lacks its absorption and scattering"
                 ),
             );
         } else {

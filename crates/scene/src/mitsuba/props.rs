@@ -181,15 +181,16 @@ impl<'a> Props<'a> {
     }
 
     /// A medium's coefficient (σ_t, albedo) from `<spectrum>`, `<rgb>` or a
-    /// number: an RGB within [0, 1] is upsampled as a reflectance, as
-    /// Mitsuba's spectral variants upsample every volume's colour (its
-    /// `srgb`); a brighter one, which Mitsuba refuses there, as unbounded.
-    pub fn coefficient(&self, name: &str) -> Result<Option<Spectrum>, SceneError> {
+    /// number, read for `usage`, except that an RGB within [0, 1] is
+    /// upsampled as a reflectance whatever the usage, as Mitsuba's spectral
+    /// variants upsample every volume's colour (its `srgb`); a brighter one,
+    /// which Mitsuba refuses there, as `usage` says.
+    pub fn coefficient(&self, name: &str, usage: Usage) -> Result<Option<Spectrum>, SceneError> {
         match self.get(name) {
-            Some(n) if n.tag == "rgb" => self
+            Some(n) if n.tag == "rgb" && usage == Usage::Unbounded => self
                 .spectrum(name, Usage::Reflectance)
-                .or_else(|_| self.spectrum(name, Usage::Unbounded)),
-            _ => self.spectrum(name, Usage::Unbounded),
+                .or_else(|_| self.spectrum(name, usage)),
+            _ => self.spectrum(name, usage),
         }
     }
 

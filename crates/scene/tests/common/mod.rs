@@ -1,5 +1,5 @@
-//! Helpers shared by the integration tests: a writer of Mitsuba's
-//! serialized meshes (for loading tests that need one).
+//! Helpers shared by the integration tests: writers of Mitsuba's
+//! serialized meshes and `.vol` grids (for loading tests that need one).
 #![allow(dead_code)]
 
 use std::io::Write;
@@ -85,4 +85,28 @@ pub fn write(meshes: &[Mesh], version: u16, double: bool) -> Vec<u8> {
     }
     out.extend_from_slice(&(meshes.len() as u32).to_le_bytes());
     out
+}
+
+/// A Mitsuba `.vol` file (version 3, float32) of `res` cells over the unit
+/// box, values `f(x, y, z)` for the cell (x, y, z) in Mitsuba's order.
+pub fn vol(res: usize, channels: usize, f: impl Fn(usize, usize, usize) -> Vec<f32>) -> Vec<u8> {
+    let mut b = b"VOL\x03".to_vec();
+    for v in [1i32, res as i32, res as i32, res as i32, channels as i32] {
+        b.extend_from_slice(&v.to_le_bytes());
+    }
+    for v in [0.0f32, 0.0, 0.0, 1.0, 1.0, 1.0] {
+        b.extend_from_slice(&v.to_le_bytes());
+    }
+    for z in 0..res {
+        for y in 0..res {
+            for x in 0..res {
+                let v = f(x, y, z);
+                assert_eq!(v.len(), channels);
+                for c in v {
+                    b.extend_from_slice(&c.to_le_bytes());
+                }
+            }
+        }
+    }
+    b
 }
