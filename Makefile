@@ -86,9 +86,11 @@ demo:
 
 ## Light that changes wavelength (fluorescence, dispersion): the black-light
 ## poster, white paper with and without brightener under D65 and A, the
-## prism and the diamond, each as rendered (auto-exposed preview) and as
-## seen (*-seen.png). The README's pictures are these.
+## prism and the diamond; and light in fog: the foggy street at night and at
+## dusk. Each as rendered (auto-exposed preview) and as seen (*-seen.png).
+## The README's pictures are these.
 GALLERY_OUT := out/gallery
+FOG_SPP     := 128
 
 gallery:
 	$(CARGO) build --release -p scotopia
@@ -105,6 +107,12 @@ gallery:
 	@# log-average.
 	@for s in black-light-poster prism; do \
 	  $(BIN) display $(GALLERY_OUT)/$$s.exr --adaptation 30 -o $(GALLERY_OUT)/$$s-seen.png; done
+	@# The night street in fog, by the bidirectional tracer (its light
+	@# subpaths find the halos round the lamps), seen at night and at dusk
+	@# (every light scaled by 4, as the night street's dusk).
+	$(BIN) render scenes/foggy-street.xml --integrator bdpt --spp $(FOG_SPP) -o $(GALLERY_OUT)/foggy-street.exr --preview $(GALLERY_OUT)/foggy-street.png
+	$(BIN) display $(GALLERY_OUT)/foggy-street.exr -o $(GALLERY_OUT)/foggy-street-night-seen.png
+	$(BIN) display $(GALLERY_OUT)/foggy-street.exr --scale 4 -o $(GALLERY_OUT)/foggy-street-dusk-seen.png
 	@echo "renders in $(GALLERY_OUT)/"
 
 ## The lighting-design example (docs/lighting.md): the street lit by three

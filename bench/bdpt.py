@@ -5,6 +5,7 @@ bidirectional render with another seed (both tracers converge to the same
 image: crates/scene/tests/bdpt.rs); its own noise is in every row. Usage:
 
     python bench/bdpt.py [--seconds 5] [--ref-spp 512] [--bin target/release/scotopia]
+        [--only NAME ...]
 """
 
 import argparse
@@ -18,6 +19,7 @@ SCENES = {
     "cornell-box": ("cornell-box.xml", ["res=128"]),
     "material-showcase": ("material-showcase.xml", SMALL),
     "night-street": ("night-street.xml", SMALL),
+    "foggy-street": ("foggy-street.xml", SMALL),
     "prism": ("prism.xml", SMALL),
     "black-light-poster": ("black-light-poster.xml", SMALL),
     "paper": ("paper.xml", SMALL),
@@ -32,6 +34,8 @@ def main():
     parser.add_argument("--ref-spp", type=int, default=512, help="spp of the reference (512)")
     parser.add_argument("--bin", default=ROOT / "target" / "release" / "scotopia")
     parser.add_argument("--out", default=ROOT / "out" / "bench")
+    parser.add_argument("--only", action="append", choices=sorted(SCENES),
+                        help="this scene only (repeatable)")
     args = parser.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -41,6 +45,8 @@ def main():
           "bdpt rel. RMSE of Y | RMSE ratio path/bdpt | path relMSE | bdpt relMSE |")
     print("|---|---:|---:|---:|---:|---:|---:|---:|")
     for name, (scene, params) in SCENES.items():
+        if args.only and name not in args.only:
+            continue
         ref = render(args.bin, scene, params, out / f"{name}-bdpt-ref.exr",
                      ["--integrator", "bdpt"], 100, spp=args.ref_spp)[2]
         row = {}

@@ -216,7 +216,7 @@ impl<const K: usize> PathState<K> {
     /// densities; whether the path still carries light.
     fn add_event(&mut self, e: &MediumEvent<K>) -> bool {
         self.beta = self.beta * e.own * e.density;
-        self.ratio = self.ratio * e.density;
+        self.ratio *= e.density;
         self.renormalise()
     }
 
