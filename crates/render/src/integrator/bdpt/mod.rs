@@ -140,7 +140,9 @@ impl Renderer<'_> {
                 if s > sub.light.len() && !(s == 1 && t >= 2) {
                     continue;
                 }
-                let Some((l, raster)) = self.strategy(&sub, s, t, (sampler, &mut rng), &mut counts.rays) else {
+                let Some((l, raster)) =
+                    self.strategy(&sub, s, t, (sampler, &mut rng), &mut counts.rays)
+                else {
                     continue;
                 };
                 match raster {
