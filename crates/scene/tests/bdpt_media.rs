@@ -151,6 +151,33 @@ fn bdpt_and_volpath_agree_on_a_spot_beam_seen_from_inside_the_fog() {
 }
 
 #[test]
+fn bdpt_and_volpath_agree_with_the_camera_in_a_fog_box_and_a_point_light_outside() {
+    // The light's medium is found by walking from the lens to it: out of
+    // the box, so vacuum; were it given the camera's fog, light tracing
+    // would darken by e^{−0.5 · 0.75} on the light's way to the box.
+    let s = scene(
+        "inside",
+        &format!(
+            r#"<integrator type="volpath"><integer name="max_depth" value="6"/></integrator>
+            {sensor}
+            <medium type="homogeneous" id="fog"><float name="sigma_t" value="0.5"/>
+              <float name="albedo" value="0.8"/><phase type="isotropic"/></medium>
+            <shape type="cube"><bsdf type="null"/><ref name="interior" id="fog"/>
+              <transform name="to_world"><scale x="2" y="1.2" z="2"/><translate y="1.25"/></transform></shape>
+            <emitter type="point"><point name="position" x="0.3" y="3.2" z="0"/>
+              <spectrum name="intensity" value="400:20, 700:20"/></emitter>
+            {FLOOR}"#,
+            sensor = sensor("0, 1, 1.8", r#"<ref id="fog"/>"#),
+        ),
+    );
+    agree(
+        "camera in a fog box, point light outside",
+        &image(&s, options(IntegratorKind::Bdpt, 256, 30)),
+        &image(&s, options(IntegratorKind::Path, 1024, 31)),
+    );
+}
+
+#[test]
 fn bdpt_and_volpath_agree_on_a_chromatic_fog_box() {
     // The bidirectional tracer collapses the cluster in the fog; the
     // path tracer keeps it, with its spectral MIS: independent answers.

@@ -72,7 +72,7 @@ pub(super) fn take_event<const K: usize>(
         .iter()
         .all(|&d| (d - d0).abs() <= GREY * d0);
     if grey {
-        if !(d0 > 0.0) {
+        if d0.is_nan() || d0 <= 0.0 {
             *beta = SampledSpectrum::splat(0.0);
             return false;
         }

@@ -119,7 +119,7 @@ impl Renderer<'_> {
             // The medium around the light (`media`): an area light on a
             // shape bounding media emits into the medium on its side.
             y0.medium = self.medium_at(lens_point, self.start_medium(), e.p, rays);
-            if light.is_infinite() && y0.medium.is_some() {
+            if y0.at_infinity && y0.medium.is_some() {
                 return false;
             }
         }
