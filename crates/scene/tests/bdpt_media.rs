@@ -90,7 +90,7 @@ fn fog_box(name: &str, sigma_t: &str, depth: i32) -> Scene {
         &format!(
             r#"<integrator type="volpath"><integer name="max_depth" value="{depth}"/></integrator>
             {sensor}
-            <medium type="homogeneous" id="fog">{sigma_t}
+            <medium type="{kind}" id="fog">{sigma_t}
               <spectrum name="albedo" value="400:0.9, 700:0.6"/>
               <phase type="hg"><float name="g" value="0.3"/></phase></medium>
             <shape type="cube"><bsdf type="null"/><ref name="interior" id="fog"/>
@@ -100,11 +100,20 @@ fn fog_box(name: &str, sigma_t: &str, depth: i32) -> Scene {
               <emitter type="area"><spectrum name="radiance" value="400:40, 700:40"/></emitter></shape>
             {FLOOR}"#,
             sensor = sensor("0, 1, 4.5", ""),
+            kind = if sigma_t.contains("volume") {
+                "heterogeneous"
+            } else {
+                "homogeneous"
+            },
         ),
     )
 }
 
 const GREY: &str = r#"<float name="sigma_t" value="1.2"/>"#;
+/// The grey σ_t of a heterogeneous medium (tracked, not drawn in closed
+/// form).
+const TRACKED: &str =
+    r#"<volume type="constvolume" name="sigma_t"><float name="value" value="1.2"/></volume>"#;
 /// σ_t falling fourfold from 400 to 700 nm (haze).
 const CHROMATIC: &str = r#"<spectrum name="sigma_t" value="400:2.0, 700:0.5"/>"#;
 
@@ -137,6 +146,18 @@ fn bdpt_and_volpath_agree_on_a_grey_fog_box_under_an_area_light() {
         "grey fog box",
         &b,
         &image(&s, options(IntegratorKind::Path, 512, 2)),
+    );
+}
+
+#[test]
+fn bdpt_and_volpath_agree_on_a_heterogeneous_fog_box() {
+    // The same fog as a heterogeneous medium: delta tracking draws the
+    // flights and ratio tracking attenuates the connections.
+    let s = fog_box("tracked", TRACKED, 8);
+    agree(
+        "heterogeneous fog box",
+        &image(&s, options(IntegratorKind::Bdpt, 128, 50)),
+        &image(&s, options(IntegratorKind::Path, 512, 51)),
     );
 }
 
