@@ -17,7 +17,7 @@
 //! is a uniform choice of its first member (`start_sample` rotates it),
 //! which the MIS needs.
 
-use scotopia_color::SampledSpectrum;
+use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::path::{shadow_ray, Bounce, PathState};
 use super::Renderer;
@@ -26,6 +26,7 @@ use crate::light::LightSample;
 use crate::math::{Ray, Vec3};
 use crate::medium::{MediumEvent, Phase, ShapeMedia};
 use crate::sampling::sobol::Sampler;
+use crate::sampling::splitmix::SplitMix;
 
 impl Renderer<'_> {
     /// [`Self::trace`] through media.
@@ -144,8 +145,21 @@ impl Renderer<'_> {
     pub(super) fn transmittance<const K: usize>(
         &self,
         ray: Ray,
-        mut medium: Option<u32>,
+        medium: Option<u32>,
         path: &mut PathState<K>,
+        rays: &mut u64,
+    ) -> SampledSpectrum<K> {
+        self.transmittance_at(ray, medium, &path.now, &mut path.rng, rays)
+    }
+
+    /// [`Self::transmittance`] on wavelengths `now`, with `rng` for the
+    /// media's estimates (the bidirectional tracer has no `PathState`).
+    pub(super) fn transmittance_at<const K: usize>(
+        &self,
+        ray: Ray,
+        mut medium: Option<u32>,
+        now: &SampledWavelengths<K>,
+        rng: &mut SplitMix,
         rays: &mut u64,
     ) -> SampledSpectrum<K> {
         let scene = self.scene;
@@ -159,7 +173,7 @@ impl Renderer<'_> {
             let hit = geometry.intersect(&ray);
             if let Some(m) = medium {
                 let t = hit.as_ref().map_or(ray.t_max, |h| h.t);
-                tr *= scene.media[m as usize].transmittance(&ray, t, &path.now, &mut path.rng);
+                tr *= scene.media[m as usize].transmittance(&ray, t, now, rng);
                 if tr.is_zero() {
                     return tr;
                 }
@@ -181,7 +195,7 @@ impl Renderer<'_> {
                 surface.dpdv,
             );
             let cos = frame.to_local(ray.d).z.abs();
-            tr *= bsdf.null_transmission(&path.now, at.tex(), cos);
+            tr *= bsdf.null_transmission(now, at.tex(), cos);
             if tr.is_zero() {
                 return tr;
             }

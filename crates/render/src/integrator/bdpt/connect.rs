@@ -10,13 +10,13 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths};
 use super::clusters::{Lanes, LightChoice};
 use super::mis::{self, Connection};
 use super::vertex::{Kind, Vertex};
-use super::walk::shading_correction;
 use crate::bsdf::{Bsdf, Transport};
 use crate::integrator::path::shadow_ray;
 use crate::integrator::Renderer;
 use crate::light::Light;
 use crate::math::{offset_ray_origin, Ray, Vec3};
 use crate::sampling::sobol::Sampler;
+use crate::sampling::splitmix::SplitMix;
 use crate::texture::TexPoint;
 
 /// Relative margin a connection ray stops short of its far end.
@@ -35,7 +35,7 @@ pub(super) struct Subpaths<'p, const K: usize> {
 }
 
 /// The elastic part of a fluorescent BSDF (ρ), 1 for the others.
-fn elastic<const K: usize>(
+pub(super) fn elastic<const K: usize>(
     bsdf: &Bsdf,
     wl: &SampledWavelengths<K>,
     uv: TexPoint,
@@ -46,14 +46,24 @@ fn elastic<const K: usize>(
 
 impl Renderer<'_> {
     /// The BSDF at a surface vertex.
-    fn bsdf_at<const K: usize>(&self, v: &Vertex<K>) -> &Bsdf {
+    pub(super) fn bsdf_at<const K: usize>(&self, v: &Vertex<K>) -> &Bsdf {
         let scene = self.scene;
         &scene.materials[scene.shape_material[v.index as usize] as usize]
     }
 
-    /// Whether the segment between two points (each offset off its surface
-    /// towards the other; zero normal: no surface) is unoccluded.
-    fn unoccluded(&self, a: Vec3, na: Vec3, b: Vec3, nb: Vec3, rays: &mut u64) -> bool {
+    /// What passes between vertex `a` and point `b` (normal `nb`; zero:
+    /// no surface), each offset off its surface towards the other: the
+    /// transmittance through media and null surfaces (`media`), starting
+    /// in the medium on the segment's side of `a`; without media 1 or 0.
+    fn between<const K: usize>(
+        &self,
+        a: &Vertex<K>,
+        b: Vec3,
+        nb: Vec3,
+        wl: &SampledWavelengths<K>,
+        rng: &mut SplitMix,
+        rays: &mut u64,
+    ) -> SampledSpectrum<K> {
         let off = |p: Vec3, n: Vec3, towards: Vec3| {
             if n == Vec3::ZERO {
                 p
@@ -62,17 +72,17 @@ impl Renderer<'_> {
                 offset_ray_origin(p, side, self.scene.geometry.offset_unit())
             }
         };
-        let o = off(a, na, b);
-        let e = off(b, nb, a);
+        let o = off(a.p, a.ng, b);
+        let e = off(b, nb, a.p);
         let d = e - o;
         let dist = d.length();
         if dist.is_nan() || dist <= 0.0 {
-            return false;
+            return SampledSpectrum::splat(0.0);
         }
-        *rays += 1;
         let mut ray = Ray::new(o, d / dist);
         ray.t_max = dist * (1.0 - CONNECT_EPSILON);
-        !self.scene.geometry.occluded(&ray)
+        let medium = self.medium_towards(a, ray.d);
+        self.pass_segment(ray, medium, wl, rng, rays)
     }
 
     /// The lights' choice-weighted density of starting a light path at
@@ -100,7 +110,7 @@ impl Renderer<'_> {
                 }
                 None => 0.0,
             },
-            Kind::Camera => 0.0,
+            Kind::Camera | Kind::Medium => 0.0,
         }
     }
 
@@ -164,7 +174,7 @@ impl Renderer<'_> {
         sub: &Subpaths<K>,
         s: usize,
         t: usize,
-        sampler: &mut Sampler,
+        (sampler, rng): (&mut Sampler, &mut SplitMix),
         rays: &mut u64,
     ) -> Option<(SampledSpectrum<K>, Option<[f32; 2]>)> {
         let (light, camera, wl, lanes) = (sub.light, sub.camera, sub.wl, sub.lanes);
@@ -211,7 +221,7 @@ impl Renderer<'_> {
             // Light tracing: the light vertex seen through the lens.
             let y = &light[s - 1];
             let [u0, u1] = sampler.get_2d();
-            if y.at_infinity || (y.kind == Kind::Surface && self.bsdf_at(y).is_delta()) {
+            if y.at_infinity || (s > 1 && !self.connectible(y)) {
                 return None;
             }
             let conn = self.scene.camera.connect(y.p, [u0, u1])?;
@@ -221,62 +231,51 @@ impl Renderer<'_> {
             let f = if s == 1 {
                 self.emitted(y, wl, dir) * (y.beta.0[0] * y.cos(dir)) * initial_only(&mut min_s)
             } else {
-                let bsdf = self.bsdf_at(y);
-                let (frame, at) = y.shading();
-                let f_dir = bsdf.eval(
-                    wl,
-                    at,
-                    frame.to_local(y.wi),
-                    frame.to_local(dir),
-                    Transport::Importance,
-                ) * shading_correction(y.ng, y.ns, y.wi, dir);
-                let rho = elastic(bsdf, wl, y.tex);
+                let (f_dir, rho) = self.scatter_f(y, wl, dir, Transport::Importance);
                 f_dir * self.light_factor(y, s - 1, lanes, &rho, &mut min_s)
             };
-            if f.is_zero() || !self.unoccluded(y.p, y.ng, conn.lens, Vec3::ZERO, rays) {
+            if f.is_zero() {
                 return None;
             }
-            l = f * conn.importance;
+            let tr = self.between(y, conn.lens, Vec3::ZERO, wl, rng, rays);
+            if tr.is_zero() {
+                return None;
+            }
+            l = f * tr * conn.importance;
             raster = Some(conn.raster);
             let pdf_cam = self.scene.camera.pdf_direction(conn.lens, -dir);
             c.light_last_rev = pdf_cam * y.cos(dir) / dist2;
             if s >= 2 {
-                let (frame, at) = y.shading();
-                let pdf = self
-                    .bsdf_at(y)
-                    .pdf_at(wl, at, frame.to_local(dir), frame.to_local(y.wi));
+                let pdf = self.scatter_pdf(y, wl, dir, y.wi);
                 c.light_prev_rev = y.convert(pdf, &light[s - 2]);
             }
         } else if s == 1 {
             // Next-event estimation: a light point sampled for z.
             let z = &camera[t - 1];
             let [u_choice, u_select, u0, u1] = sampler.get_4d();
-            if z.kind != Kind::Surface || self.bsdf_at(z).is_delta() {
+            if !self.connectible(z) {
                 return None;
             }
-            let bsdf = self.bsdf_at(z);
             let (i, q) = sub.choice.sample(u_choice)?;
             let lt = &self.scene.lights[i];
             let ls = lt.sample_li(&self.extent(), wl, z.p, u_select, [u0, u1])?;
             if ls.pdf.is_nan() || ls.pdf <= 0.0 || ls.radiance.is_zero() {
                 return None;
             }
-            let (frame, at) = z.shading();
-            let (wi, wo) = (frame.to_local(z.wi), frame.to_local(ls.wi));
-            let f = bsdf.eval(wl, at, wi, wo, Transport::Radiance) * elastic(bsdf, wl, z.tex);
+            let (f, rho) = self.scatter_f(z, wl, ls.wi, Transport::Radiance);
+            let f = f * rho;
             if f.is_zero() {
                 return None;
             }
-            *rays += 1;
-            if self.scene.geometry.occluded(&shadow_ray(
-                z.p,
-                z.ng,
-                &ls,
-                self.scene.geometry.offset_unit(),
-            )) {
+            // No surface at a medium vertex: the "normal" only sets the
+            // offset's side.
+            let n = if z.on_surface() { z.ng } else { ls.wi };
+            let ray = shadow_ray(z.p, n, &ls, self.scene.geometry.offset_unit());
+            let tr = self.pass_segment(ray, self.medium_towards(z, ls.wi), wl, rng, rays);
+            if tr.is_zero() {
                 return None;
             }
-            l = z.beta * f * ls.radiance * (1.0 / (q * ls.pdf)) * initial_only(&mut min_s);
+            l = z.beta * f * tr * ls.radiance * (1.0 / (q * ls.pdf)) * initial_only(&mut min_s);
             // The sampled light point, as a vertex.
             let at_infinity = !ls.distance.is_finite();
             let mut y0 = Vertex::new(
@@ -302,19 +301,15 @@ impl Renderer<'_> {
             let pdf_towards = if ls.delta {
                 0.0
             } else {
-                bsdf.pdf_at(wl, at, wi, wo)
+                self.scatter_pdf(z, wl, z.wi, ls.wi)
             };
             c.light_last_rev = z.convert(pdf_towards, &y0);
             c.camera_last_rev = self.emission_density(&y0, z);
-            c.camera_prev_rev = z.convert(bsdf.pdf_at(wl, at, wo, wi), &camera[t - 2]);
+            c.camera_prev_rev = z.convert(self.scatter_pdf(z, wl, ls.wi, z.wi), &camera[t - 2]);
         } else {
-            // Two surface points joined.
+            // Two scattering vertices (surfaces or media) joined.
             let (y, z) = (&light[s - 1], &camera[t - 1]);
-            if y.kind != Kind::Surface || z.kind != Kind::Surface {
-                return None;
-            }
-            let (by, bz) = (self.bsdf_at(y), self.bsdf_at(z));
-            if by.is_delta() || bz.is_delta() {
+            if !self.connectible(y) || !self.connectible(z) {
                 return None;
             }
             let d = z.p - y.p;
@@ -323,22 +318,27 @@ impl Renderer<'_> {
                 return None;
             }
             let dir = d / dist2.sqrt();
-            let ((fy, y_at), (fz, z_at)) = (y.shading(), z.shading());
-            let (y_wi, y_wo) = (fy.to_local(y.wi), fy.to_local(dir));
-            let (z_wi, z_wo) = (fz.to_local(z.wi), fz.to_local(-dir));
-            let f_y = by.eval(wl, y_at, y_wi, y_wo, Transport::Importance)
-                * shading_correction(y.ng, y.ns, y.wi, dir);
-            let f_z = bz.eval(wl, z_at, z_wi, z_wo, Transport::Radiance) * elastic(bz, wl, z.tex);
-            let rho = elastic(by, wl, y.tex);
-            let f = f_y * f_z * self.light_factor(y, s - 1, lanes, &rho, &mut min_s);
-            if f.is_zero() || !self.unoccluded(y.p, y.ng, z.p, z.ng, rays) {
+            let (f_y, rho) = self.scatter_f(y, wl, dir, Transport::Importance);
+            let (f_z, rho_z) = self.scatter_f(z, wl, -dir, Transport::Radiance);
+            let f = f_y * f_z * rho_z * self.light_factor(y, s - 1, lanes, &rho, &mut min_s);
+            if f.is_zero() {
                 return None;
             }
-            l = f * z.beta * (1.0 / dist2);
-            c.light_last_rev = z.convert(bz.pdf_at(wl, z_at, z_wi, z_wo), y);
-            c.light_prev_rev = y.convert(by.pdf_at(wl, y_at, y_wo, y_wi), &light[s - 2]);
-            c.camera_last_rev = y.convert(by.pdf_at(wl, y_at, y_wi, y_wo), z);
-            c.camera_prev_rev = z.convert(bz.pdf_at(wl, z_at, z_wo, z_wi), &camera[t - 2]);
+            let tr = self.between(y, z.p, z.ng, wl, rng, rays);
+            if tr.is_zero() {
+                return None;
+            }
+            l = f * tr * z.beta * (1.0 / dist2);
+            c.light_last_rev = z.convert(self.scatter_pdf(z, wl, z.wi, -dir), y);
+            c.light_prev_rev = y.convert(self.scatter_pdf(y, wl, dir, y.wi), &light[s - 2]);
+            c.camera_last_rev = y.convert(self.scatter_pdf(y, wl, y.wi, dir), z);
+            c.camera_prev_rev = z.convert(self.scatter_pdf(z, wl, -dir, z.wi), &camera[t - 2]);
+        }
+        // Both subpaths collapsed to the first member: the factor K that
+        // stands for the others counts once.
+        let light_collapsed = s >= 1 && !(s == 1 && t >= 2) && light[s - 1].collapsed;
+        if K > 1 && light_collapsed && camera[t - 1].collapsed {
+            l /= K as f32;
         }
         if l.is_zero() {
             return None;

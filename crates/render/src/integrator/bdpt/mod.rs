@@ -8,9 +8,14 @@
 //! chosen for it (`clusters`); the camera subpath carries the same
 //! cluster, or with fluorescence one drawn from the wavelengths along the
 //! light subpath. Dispersion collapses the cluster on either subpath.
+//!
+//! Participating media (`media`): free flights on both subpaths make
+//! medium vertices scattered by the phase function, and connections carry
+//! the transmittance between their endpoints.
 
 mod clusters;
 mod connect;
+mod media;
 mod mis;
 mod vertex;
 mod walk;
@@ -20,6 +25,7 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::{CameraSample, Renderer};
 use crate::sampling::sobol::Sampler;
+use crate::sampling::splitmix::SplitMix;
 pub(crate) use clusters::LightSpectra;
 use clusters::{camera_cluster, LightChoice};
 use connect::Subpaths;
@@ -83,9 +89,13 @@ impl Renderer<'_> {
         } else {
             (max_depth as usize + 1, max_depth as usize)
         };
+        let camera_ray = self.scene.camera.generate_ray_from_lens(film, lens);
+        let mut rng = SplitMix(((sampler.pixel_key() as u64) << 32) | index as u64);
         let mut light_wl = first;
         let light_collapsed = self.light_subpath(
             sampler,
+            &mut rng,
+            camera_ray.1,
             &mut light_wl,
             &scratch.choice,
             max_light,
@@ -95,9 +105,9 @@ impl Renderer<'_> {
         let (wl, lanes) = camera_cluster(&first, &scratch.light, u_runs, u_rotate);
         let camera_collapsed = self.camera_subpath(
             sampler,
+            &mut rng,
             &wl,
-            film,
-            lens,
+            camera_ray,
             max_camera,
             &mut scratch.camera,
             &mut counts.rays,
@@ -130,7 +140,9 @@ impl Renderer<'_> {
                 if s > sub.light.len() && !(s == 1 && t >= 2) {
                     continue;
                 }
-                let Some((l, raster)) = self.strategy(&sub, s, t, sampler, &mut counts.rays) else {
+                let Some((l, raster)) =
+                    self.strategy(&sub, s, t, (sampler, &mut rng), &mut counts.rays)
+                else {
                     continue;
                 };
                 match raster {

@@ -23,6 +23,10 @@ pub(super) enum Kind {
     Surface,
     /// Where a camera ray escaped: the lights at infinity, together.
     Infinite,
+    /// A scattering event in medium `index` (`Scene::media`), where the
+    /// phase function scatters: no surface, so no cosine in the density
+    /// conversions (`convert`, `cos`).
+    Medium,
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -60,6 +64,14 @@ pub(super) struct Vertex<const K: usize> {
     /// the new wavelength.
     pub shift: SampledSpectrum<K>,
     pub lambda_out: [f32; K],
+    /// Media (`Renderer::volumetric`): the medium the vertex sits in — for
+    /// a surface vertex the one its subpath arrived through, for a light
+    /// the one around it; a surface bounding media replaces it on the side
+    /// a direction leaves by (`Renderer::medium_towards`).
+    pub medium: Option<u32>,
+    /// The cluster collapsed to its first member on the way here: `beta`
+    /// holds that member alone, times K (`media::take_event`).
+    pub collapsed: bool,
 }
 
 impl<const K: usize> Vertex<K> {
@@ -83,6 +95,8 @@ impl<const K: usize> Vertex<K> {
             run_out: [0; K],
             shift: SampledSpectrum::splat(0.0),
             lambda_out: [0.0; K],
+            medium: None,
+            collapsed: false,
         }
     }
 

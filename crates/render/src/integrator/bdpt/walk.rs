@@ -5,12 +5,14 @@
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::clusters::LightChoice;
+use super::media::take_event;
 use super::vertex::{Kind, Vertex, MAX_VERTICES};
 use crate::bsdf::Transport;
 use crate::integrator::path::spawn;
 use crate::integrator::Renderer;
 use crate::math::{Ray, Vec3};
 use crate::sampling::sobol::Sampler;
+use crate::sampling::splitmix::SplitMix;
 
 /// The factor that makes shading normals symmetric for light paths
 /// (Veach 1997, §5.3, eq. 5.19): |wi·ns||wo·ng| / (|wi·ng||wo·ns|), with
@@ -26,30 +28,32 @@ pub(super) fn shading_correction(ng: Vec3, ns: Vec3, wi: Vec3, wo: Vec3) -> f32 
 }
 
 impl Renderer<'_> {
-    /// Camera subpath through film position `film`: z₀ on the lens, then
-    /// up to `max` vertices in all. Returns whether its cluster collapsed.
+    /// Camera subpath along camera ray `ray` from lens point `lens_point`:
+    /// z₀ on the lens, then up to `max` vertices in all. Returns whether its
+    /// cluster collapsed.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn camera_subpath<const K: usize>(
         &self,
         sampler: &mut Sampler,
+        rng: &mut SplitMix,
         wl: &SampledWavelengths<K>,
-        film: [f32; 2],
-        lens: [f32; 2],
+        (ray, lens_point): (Ray, Vec3),
         max: usize,
         path: &mut Vec<Vertex<K>>,
         rays: &mut u64,
     ) -> bool {
         path.clear();
         let camera = &self.scene.camera;
-        let (ray, lens_point) = camera.generate_ray_from_lens(film, lens);
         let mut z0 = Vertex::new(Kind::Camera, lens_point, SampledSpectrum::splat(1.0));
         z0.pdf_fwd = camera.pdf_lens();
+        z0.medium = self.start_medium();
         path.push(z0);
         let pdf = camera.pdf_direction(lens_point, ray.d);
         self.walk(
             sampler,
+            rng,
             &mut wl.clone(),
-            ray,
+            (ray, z0.medium),
             SampledSpectrum::splat(1.0),
             pdf,
             Transport::Radiance,
@@ -59,6 +63,11 @@ impl Renderer<'_> {
         )
     }
 
+    /// The camera's medium, when media are traced.
+    pub(super) fn start_medium(&self) -> Option<u32> {
+        self.scene.camera_medium.filter(|_| self.volumetric)
+    }
+
     /// Light subpath of at most `max` vertices from a light chosen by
     /// `choice`, carrying cluster `wl` (whose members fluorescence moves).
     /// Returns whether its cluster collapsed; empty when no light emits.
@@ -66,6 +75,8 @@ impl Renderer<'_> {
     pub(super) fn light_subpath<const K: usize>(
         &self,
         sampler: &mut Sampler,
+        rng: &mut SplitMix,
+        lens_point: Vec3,
         wl: &mut SampledWavelengths<K>,
         choice: &LightChoice,
         max: usize,
@@ -104,6 +115,14 @@ impl Renderer<'_> {
         y0.tex = e.uv.into();
         y0.wi = -e.d;
         y0.pdf_fwd = self.origin_density(choice, &y0);
+        if self.volumetric {
+            // The medium around the light (`media`): an area light on a
+            // shape bounding media emits into the medium on its side.
+            y0.medium = self.medium_at(lens_point, self.start_medium(), e.p, rays);
+            if y0.at_infinity && y0.medium.is_some() {
+                return false;
+            }
+        }
         path.push(y0);
         let cos = e.n.map_or(1.0, |n| n.dot(e.d).abs());
         let beta = e.le * (cos / (q * e.pdf_pos * e.pdf_dir));
@@ -112,10 +131,12 @@ impl Renderer<'_> {
             Some(n) => spawn(e.p, n, e.d, self.scene.geometry.offset_unit()),
             None => Ray::new(e.p, e.d),
         };
+        let medium = self.medium_towards(&y0, e.d);
         self.walk(
             sampler,
+            rng,
             wl,
-            ray,
+            (ray, medium),
             beta,
             pdf,
             Transport::Importance,
@@ -126,14 +147,16 @@ impl Renderer<'_> {
     }
 
     /// Extends `path` from its last vertex along `ray` (left with density
-    /// `pdf`, per solid angle or per disk area for a light at infinity),
-    /// to at most `max` vertices. Returns whether the cluster collapsed.
+    /// `pdf`, per solid angle or per disk area for a light at infinity,
+    /// into `medium`), to at most `max` vertices. Returns whether the
+    /// cluster collapsed.
     #[allow(clippy::too_many_arguments)]
     fn walk<const K: usize>(
         &self,
         sampler: &mut Sampler,
+        rng: &mut SplitMix,
         wl: &mut SampledWavelengths<K>,
-        mut ray: Ray,
+        (mut ray, mut medium): (Ray, Option<u32>),
         mut beta: SampledSpectrum<K>,
         mut pdf: f32,
         mode: Transport,
@@ -147,10 +170,48 @@ impl Renderer<'_> {
         // Roulette compares the throughput with where it started (a light
         // path's is in watts).
         let start = beta.max_value();
+        let mut passes = 0usize;
         while path.len() < max {
             *rays += 1;
             let prev = *path.last().expect("a subpath starts with its endpoint");
-            let Some(hit) = scene.geometry.intersect(&ray) else {
+            let hit = scene.geometry.intersect(&ray);
+            // A free flight through the medium the ray travels in.
+            if let (true, Some(m)) = (self.volumetric, medium) {
+                let t_max = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
+                let u = sampler.get_1d();
+                let e = scene.media[m as usize].sample_event(&ray, t_max, wl, u, rng);
+                if !take_event(&mut beta, &e, &mut collapsed) {
+                    break;
+                }
+                if e.scattered {
+                    let mut v = Vertex::new(Kind::Medium, ray.o + ray.d * e.t, beta);
+                    v.index = m;
+                    v.medium = Some(m);
+                    v.collapsed = collapsed;
+                    v.wi = -ray.d;
+                    v.pdf_fwd = prev.convert(pdf, &v);
+                    v.run_in = prev.run_out;
+                    v.run_out = prev.run_out;
+                    let i = path.len();
+                    path.push(v);
+                    if path.len() >= max {
+                        break;
+                    }
+                    // The phase function is sampled exactly (f/p = 1) and
+                    // is symmetric: its reverse density is its value.
+                    let [u_p0, u_p1, u_rr, _] = sampler.get_4d();
+                    let phase = scene.media[m as usize].phase();
+                    let (wo, pdf_wo) = phase.sample(v.wi, [u_p0, u_p1]);
+                    path[i - 1].pdf_rev = v.convert(pdf_wo, &path[i - 1]);
+                    pdf = pdf_wo;
+                    ray = Ray::new(v.p, wo);
+                    if !self.roulette_bdpt(&mut beta, start, i, u_rr) {
+                        break;
+                    }
+                    continue;
+                }
+            }
+            let Some(hit) = hit else {
                 // A camera ray that escapes ends on the lights at infinity.
                 if mode == Transport::Radiance && self.has_infinite_lights() {
                     let mut v =
@@ -158,6 +219,8 @@ impl Renderer<'_> {
                     v.wi = ray.d;
                     v.at_infinity = true;
                     v.pdf_fwd = pdf;
+                    v.medium = medium;
+                    v.collapsed = collapsed;
                     path.push(v);
                 }
                 break;
@@ -171,9 +234,40 @@ impl Renderer<'_> {
             v.dpdv = surface.dpdv;
             v.index = hit.shape;
             v.wi = -ray.d;
-            v.pdf_fwd = prev.convert(pdf, &v);
+            v.medium = medium;
+            v.collapsed = collapsed;
             v.run_in = prev.run_out;
             v.run_out = prev.run_out;
+            let bsdf = &scene.materials[scene.shape_material[hit.shape as usize] as usize];
+            let (frame, at) = v.shading();
+            let wi = frame.to_local(v.wi);
+            let [u_lobe, u_rr, u_b0, u_b1] = sampler.get_4d();
+
+            // Through media, a null lobe is no vertex: the subpath passes
+            // the surface into the medium beyond (as the path tracer does).
+            let mut drawn = None;
+            if self.volumetric && bsdf.may_pass() && bsdf.fluorescent().is_none() {
+                let bs = bsdf.sample(wl, at, wi, u_lobe, [u_b0, u_b1], mode);
+                match bs {
+                    Some(bs) if bs.delta && bs.wo == -wi && passes < MAX_PASSES => {
+                        passes += 1;
+                        beta *= bs.weight;
+                        if beta.is_zero() || !beta.max_value().is_finite() {
+                            break;
+                        }
+                        if let Some(sides) = self.shape_media(hit.shape) {
+                            medium = sides.target(ray.d, v.ng);
+                        }
+                        let (d, t_max) = (ray.d, ray.t_max);
+                        ray = spawn(v.p, v.ng, d, scene.geometry.offset_unit());
+                        ray.t_max = t_max;
+                        continue;
+                    }
+                    Some(bs) => drawn = Some(bs),
+                    None => {}
+                }
+            }
+            v.pdf_fwd = prev.convert(pdf, &v);
             let i = path.len();
             path.push(v);
             if path.len() >= max {
@@ -182,10 +276,6 @@ impl Renderer<'_> {
 
             // Scatter: fluorescence first (light paths move wavelengths,
             // camera paths see the elastic part), then the BSDF.
-            let bsdf = &scene.materials[scene.shape_material[hit.shape as usize] as usize];
-            let (frame, at) = v.shading();
-            let wi = frame.to_local(v.wi);
-            let [u_lobe, u_rr, u_b0, u_b1] = sampler.get_4d();
             if let Some(f) = bsdf.fluorescent() {
                 match mode {
                     Transport::Radiance => beta *= f.reflectance.eval(wl, v.tex),
@@ -205,7 +295,12 @@ impl Renderer<'_> {
                     break;
                 }
             }
-            let Some(bs) = bsdf.sample(wl, at, wi, u_lobe, [u_b0, u_b1], mode) else {
+            let drawn = match drawn {
+                Some(bs) => Some(bs),
+                None if self.volumetric && bsdf.may_pass() && bsdf.fluorescent().is_none() => None,
+                None => bsdf.sample(wl, at, wi, u_lobe, [u_b0, u_b1], mode),
+            };
+            let Some(bs) = drawn else {
                 break;
             };
             let wo = frame.to_world(bs.wo);
@@ -233,15 +328,38 @@ impl Renderer<'_> {
                 break;
             }
             ray = spawn(v.p, v.ng, wo, scene.geometry.offset_unit());
-            // Russian roulette from rr_depth on, as the path tracer does.
-            if i as i32 + 1 > scene.integrator.rr_depth.max(1) {
-                let q = (beta.max_value() / start).min(0.95);
-                if u_rr >= q {
-                    break;
+            if self.volumetric {
+                if let Some(sides) = self.shape_media(hit.shape) {
+                    medium = sides.target(wo, v.ng);
                 }
-                beta /= q;
+            }
+            if !self.roulette_bdpt(&mut beta, start, i, u_rr) {
+                break;
             }
         }
         collapsed
     }
+
+    /// Russian roulette from rr_depth on, as the path tracer does, for a
+    /// subpath leaving vertex `i` (throughput `beta`, `start` at its
+    /// endpoint); whether it goes on.
+    fn roulette_bdpt<const K: usize>(
+        &self,
+        beta: &mut SampledSpectrum<K>,
+        start: f32,
+        i: usize,
+        u_rr: f32,
+    ) -> bool {
+        if i as i32 + 1 > self.scene.integrator.rr_depth.max(1) {
+            let q = (beta.max_value() / start).min(0.95);
+            if u_rr >= q {
+                return false;
+            }
+            *beta /= q;
+        }
+        true
+    }
 }
+
+/// Most null surfaces a subpath passes between two vertices.
+const MAX_PASSES: usize = 1024;
