@@ -283,7 +283,7 @@ pub fn run(args: Args) -> Result<()> {
         args.output.display()
     );
     eprintln!(
-        "scotopia: {:.2} % of samples had their wavelength cluster collapsed by a dispersive refraction",
+        "scotopia: {:.2} % of samples had their wavelength cluster collapsed to one wavelength (by a dispersive refraction, or by a chromatic medium in bdpt)",
         100.0 * rendered.collapsed_fraction()
     );
     if scene.meter.is_some() {
