@@ -90,7 +90,7 @@ demo:
 ## dusk. Each as rendered (auto-exposed preview) and as seen (*-seen.png).
 ## The README's pictures are these.
 GALLERY_OUT := out/gallery
-FOG_SPP     := 128
+FOG_SPP     := 256
 
 gallery:
 	$(CARGO) build --release -p scotopia
@@ -107,10 +107,11 @@ gallery:
 	@# log-average.
 	@for s in black-light-poster prism; do \
 	  $(BIN) display $(GALLERY_OUT)/$$s.exr --adaptation 30 -o $(GALLERY_OUT)/$$s-seen.png; done
-	@# The night street in fog, by the bidirectional tracer (its light
-	@# subpaths find the halos round the lamps), seen at night and at dusk
-	@# (every light scaled by 4, as the night street's dusk).
-	$(BIN) render scenes/foggy-street.xml --integrator bdpt --spp $(FOG_SPP) -o $(GALLERY_OUT)/foggy-street.exr --preview $(GALLERY_OUT)/foggy-street.png
+	@# The night street in fog (volpath: at equal time its picture is
+	@# cleaner than bdpt's, whose light-traced splats speckle the dark fog
+	@# in colour), seen at night and at dusk (every light scaled by 4, as
+	@# the night street's dusk).
+	$(BIN) render scenes/foggy-street.xml --spp $(FOG_SPP) -o $(GALLERY_OUT)/foggy-street.exr --preview $(GALLERY_OUT)/foggy-street.png
 	$(BIN) display $(GALLERY_OUT)/foggy-street.exr -o $(GALLERY_OUT)/foggy-street-night-seen.png
 	$(BIN) display $(GALLERY_OUT)/foggy-street.exr --scale 4 -o $(GALLERY_OUT)/foggy-street-dusk-seen.png
 	@echo "renders in $(GALLERY_OUT)/"

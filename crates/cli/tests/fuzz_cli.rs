@@ -206,11 +206,24 @@ fn s(p: &Path) -> String {
     p.to_str().unwrap().to_string()
 }
 
+/// The night street with its shared world written in place of its
+/// `<include>`, so that the mutations reach the world's elements too.
+fn inline_world(text: &str) -> Vec<u8> {
+    let include = r#"<include filename="include/night-street-world.xml"/>"#;
+    if !text.contains(include) {
+        return text.as_bytes().to_vec();
+    }
+    let world = std::fs::read_to_string(scenes().join("include/night-street-world.xml")).unwrap();
+    let body = &world[world.find("<scene").unwrap()..];
+    let body = &body[body.find('>').unwrap() + 1..body.rfind("</scene>").unwrap()];
+    text.replace(include, body).into_bytes()
+}
+
 #[test]
 fn mutated_scenes_load_or_fail_cleanly() {
     let dir = out_dir("fuzz", "xml");
     // The scene's relative files resolve from the copy's folder.
-    for sub in ["meshes", "lamps", "materials", "textures"] {
+    for sub in ["meshes", "lamps", "materials", "textures", "include"] {
         let _ = std::os::unix::fs::symlink(scenes().join(sub), dir.join(sub));
     }
     // A small scene whose film size and spectra are literal numbers, for
@@ -222,7 +235,7 @@ fn mutated_scenes_load_or_fail_cleanly() {
     {
         let text = match *scene {
             "" => small.to_vec(),
-            name => std::fs::read(scenes().join(name)).unwrap(),
+            name => inline_world(&std::fs::read_to_string(scenes().join(name)).unwrap()),
         };
         let out = dir.join("out.exr");
         // The Cornell box at 8 pixels through its parameter, the small
