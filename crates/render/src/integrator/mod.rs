@@ -3,6 +3,7 @@
 //! pixel until the requested count or time is reached, or it is cancelled.
 
 mod bdpt;
+mod equiangular;
 mod light_choice;
 mod measure;
 mod path;
@@ -252,6 +253,24 @@ fn casters(scene: &Scene) -> Vec<Caster> {
     }))
 }
 
+/// Where a light at a finite place is (its bounding box's centre for an
+/// area light), for equi-angular sampling; `None` at infinity.
+fn light_centre(light: &Light, shapes: &[Shape]) -> Option<Vec3> {
+    match light {
+        Light::Point(l) => Some(l.position),
+        Light::Spot(l) => Some(l.position),
+        Light::Goniometric(l) => Some(l.position),
+        Light::Projector(l) => Some(l.position),
+        Light::Area(a) => {
+            let shape = shapes.get(a.shape as usize)?;
+            let b = (0..shape.primitive_count())
+                .fold(Aabb::EMPTY, |b, prim| b.union(shape.bounds(prim)));
+            (!b.is_empty()).then(|| b.centroid())
+        }
+        Light::Directional(_) | Light::Constant(_) | Light::EnvMap(_) => None,
+    }
+}
+
 /// Per-scene state shared by all samples.
 pub struct Renderer<'a> {
     pub scene: &'a Scene,
@@ -276,6 +295,9 @@ pub struct Renderer<'a> {
     quantity: Quantity,
     /// The white Lambertian surface of virtual receivers (`measure.rs`).
     white: crate::bsdf::Bsdf,
+    /// The lights equi-angular sampling aims at in media (empty when
+    /// media are not traced).
+    targets: equiangular::Targets,
     /// Whether paths are traced through media (`volume.rs`): the
     /// integrator traces them and the scene has media or surfaces that
     /// pass light (null lobes, which such an integrator treats as media
@@ -333,6 +355,21 @@ impl<'a> Renderer<'a> {
             bdpt::LightSpectra::new(&scene.lights, p)
         });
         let nee_choice = LightChoice::new(&scene.lights, &power, &extent);
+        let volumetric = scene.integrator.media
+            && (!scene.media.is_empty() || scene.materials.iter().any(|m| m.may_pass()));
+        let targets = if volumetric {
+            equiangular::Targets::new(
+                (0..scene.lights.len())
+                    .filter_map(|i| {
+                        let c = light_centre(&scene.lights[i], &scene.geometry.shapes)?;
+                        Some((c, light_choice.probability(i)))
+                    })
+                    .collect(),
+                radius,
+            )
+        } else {
+            equiangular::Targets::default()
+        };
         Self {
             nee_choice,
             wavelengths: WavelengthSampler::new(strategy, &scene.lights, &power, &fluorescent),
@@ -343,8 +380,8 @@ impl<'a> Renderer<'a> {
             tracer: Tracer::default(),
             quantity: Quantity::default(),
             white: measure::white(),
-            volumetric: scene.integrator.media
-                && (!scene.media.is_empty() || scene.materials.iter().any(|m| m.may_pass())),
+            targets,
+            volumetric,
             filter: FilterSampler::new(scene.filter),
             infinite: (0..scene.lights.len())
                 .filter(|&i| scene.lights[i].is_infinite())

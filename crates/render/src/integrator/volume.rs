@@ -19,12 +19,12 @@
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
-use super::path::{shadow_ray, Bounce, PathState};
+use super::path::{power_heuristic, shadow_ray, Bounce, PathState};
 use super::Renderer;
 use crate::bsdf::ShadingPoint;
 use crate::light::LightSample;
 use crate::math::{Ray, Vec3};
-use crate::medium::{MediumEvent, Phase, ShapeMedia};
+use crate::medium::{Homogeneous, Medium, MediumEvent, Phase, ShapeMedia};
 use crate::sampling::sobol::Sampler;
 use crate::sampling::splitmix::SplitMix;
 
@@ -44,14 +44,31 @@ impl Renderer<'_> {
                 let medium = &scene.media[m as usize];
                 let t_max = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
                 let [u_t, ..] = sampler.get_4d();
-                let event = medium.sample_event(&path.ray, t_max, &path.now, u_t, &mut path.rng);
+                let (ray, ratio) = (path.ray, path.ratio);
+                // Equi-angular sampling's extra scattering point, for a
+                // homogeneous medium (whose free-flight density is known).
+                let aimed = match medium {
+                    Medium::Homogeneous(h)
+                        if !self.targets.is_empty() && self.within(path.depth + 1) =>
+                    {
+                        self.equiangular_light(path, h, t_max, rays);
+                        Some(h)
+                    }
+                    _ => None,
+                };
+                let event = medium.sample_event(&ray, t_max, &path.now, u_t, &mut path.rng);
                 if !path.add_event(&event) {
                     return;
                 }
                 if event.scattered {
-                    let p = path.ray.o + path.ray.d * event.t;
+                    let p = ray.o + ray.d * event.t;
+                    // The free flight's share of the direct light there.
+                    let w = aimed.map_or(1.0, |h| {
+                        let free = free_flight_pdf(h, path, &ratio, event.t);
+                        power_heuristic(free, self.targets.pdf(&ray, t_max, event.t))
+                    });
                     let u = [sampler.get_4d(), sampler.get_4d()];
-                    let b = self.scatter_in_medium(path, u, p, medium.phase());
+                    let b = self.scatter_in_medium(path, u, p, medium.phase(), w);
                     if !self.settle(path, b, rays) {
                         return;
                     }
@@ -69,32 +86,90 @@ impl Renderer<'_> {
         }
     }
 
+    /// Direct light at a scattering point drawn equi-angularly on the
+    /// path's current segment (up to `t_max`) in homogeneous medium `h`,
+    /// weighted against free flights by the power heuristic; added to the
+    /// path's light at once. The path itself is not moved.
+    fn equiangular_light<const K: usize>(
+        &self,
+        path: &mut PathState<K>,
+        h: &Homogeneous,
+        t_max: f32,
+        rays: &mut u64,
+    ) {
+        let ray = path.ray;
+        let mut u = || path.rng.next_f32();
+        let (u_pick, u_t) = (u(), u());
+        let nee = [u(), u(), u(), u()];
+        let Some((t, pdf)) = self.targets.sample(&ray, t_max, u_pick, u_t) else {
+            return;
+        };
+        let w = power_heuristic(pdf, free_flight_pdf(h, path, &path.ratio, t));
+        let st = h.sigma_t(&path.now);
+        let albedo = h.albedo.sample(&path.now).map(|a| a.clamp(0.0, 1.0));
+        // T(t) σ_s per wavelength, over the density of t.
+        let segment = SampledSpectrum::from_fn(|k| {
+            let tr = if st.0[k] > 0.0 {
+                (-st.0[k] * t).exp()
+            } else {
+                1.0
+            };
+            tr * st.0[k] * albedo.0[k]
+        }) * (w / pdf);
+        let beta = path.beta * segment;
+        if beta.is_zero() {
+            return;
+        }
+        let p = ray.o + ray.d * t;
+        if let Some((shadow, c)) = self.medium_nee(path, beta, p, h.phase, nee, 1.0) {
+            let tr = self.transmittance(shadow, path.medium, path, rays);
+            path.l += c * tr;
+        }
+    }
+
+    /// Next-event estimation at medium point `p` reached along the path's
+    /// ray with throughput `beta`: the shadow ray and what it brings if
+    /// clear, times `weight` (the distance strategy's MIS weight).
+    fn medium_nee<const K: usize>(
+        &self,
+        path: &PathState<K>,
+        beta: SampledSpectrum<K>,
+        p: Vec3,
+        phase: Phase,
+        [u_light, u_select, u_l0, u_l1]: [f32; 4],
+        weight: f32,
+    ) -> Option<(Ray, SampledSpectrum<K>)> {
+        let wi = -path.ray.d;
+        let (i, p_choice) = self.nee_choice.sample(p, u_light)?;
+        let light = &self.scene.lights[i];
+        let ls = light.sample_li(&self.extent(), &path.now, p, u_select, [u_l0, u_l1])?;
+        let f = phase.eval(wi, ls.wi);
+        if !(ls.pdf > 0.0 && f > 0.0) || ls.radiance.is_zero() || weight <= 0.0 {
+            return None;
+        }
+        let (ray, c) = self.medium_shadow(beta, p, &ls, f, p_choice);
+        Some((ray, c * weight))
+    }
+
     /// A scattering event in a medium at `p` (phase function `phase`):
-    /// next-event estimation and the next direction, drawn from the phase
-    /// function. `u`: the path's next two 4-dimensional sets.
+    /// next-event estimation (its contribution times `nee_weight`, the
+    /// free flight's MIS weight against equi-angular sampling) and the next
+    /// direction, drawn from the phase function. `u`: the path's next two
+    /// 4-dimensional sets.
     fn scatter_in_medium<const K: usize>(
         &self,
         path: &mut PathState<K>,
         u: [[f32; 4]; 2],
         p: Vec3,
         phase: &Phase,
+        nee_weight: f32,
     ) -> Bounce<K> {
         if !self.within(path.depth + 1) {
             return Bounce::STOP;
         }
-        let [[u_light, u_select, u_l0, u_l1], [u_p0, u_rr, u_p1, _]] = u;
+        let [nee, [u_p0, u_rr, u_p1, _]] = u;
         let wi = -path.ray.d;
-        let mut shadow = None;
-        if let Some((i, p_choice)) = self.nee_choice.sample(p, u_light) {
-            let light = &self.scene.lights[i];
-            let now = path.now;
-            if let Some(ls) = light.sample_li(&self.extent(), &now, p, u_select, [u_l0, u_l1]) {
-                let f = phase.eval(wi, ls.wi);
-                if ls.pdf > 0.0 && f > 0.0 && !ls.radiance.is_zero() {
-                    shadow = Some(self.medium_shadow(path, p, &ls, f, p_choice));
-                }
-            }
-        }
+        let shadow = self.medium_nee(path, path.beta, p, *phase, nee, nee_weight);
         let stop = Bounce {
             shadow,
             shadow_medium: path.medium,
@@ -121,7 +196,7 @@ impl Renderer<'_> {
     /// with probability `p_choice`).
     fn medium_shadow<const K: usize>(
         &self,
-        path: &PathState<K>,
+        beta: SampledSpectrum<K>,
         p: Vec3,
         ls: &LightSample<K>,
         f: f32,
@@ -133,9 +208,9 @@ impl Renderer<'_> {
         let w = if ls.delta {
             1.0
         } else {
-            super::path::power_heuristic(p_light, f)
+            power_heuristic(p_light, f)
         };
-        (ray, path.beta * ls.radiance * (f * w / p_light))
+        (ray, beta * ls.radiance * (f * w / p_light))
     }
 
     /// The fraction of light that travels along shadow ray `ray`, which
@@ -248,4 +323,30 @@ impl<const K: usize> PathState<K> {
         self.beta /= mean;
         !self.beta.is_zero() && self.beta.max_value().is_finite()
     }
+}
+
+/// The density per unit length with which the path's free flight in `h`
+/// reaches a scattering event at `t`: the mixture over the live
+/// wavelengths, each weighted by its share `ratio` of the path's density
+/// so far (the estimate the cluster's MIS makes is the one of this
+/// mixture).
+fn free_flight_pdf<const K: usize>(
+    h: &Homogeneous,
+    path: &PathState<K>,
+    ratio: &SampledSpectrum<K>,
+    t: f32,
+) -> f32 {
+    let live = if path.wl.secondary_terminated() { 1 } else { K };
+    let st = h.sigma_t(&path.now);
+    let sum: f32 = (0..live)
+        .map(|k| {
+            let s = st.0[k];
+            if s > 0.0 {
+                ratio.0[k] * s * (-s * t).exp()
+            } else {
+                0.0
+            }
+        })
+        .sum();
+    sum / live as f32
 }
