@@ -9,9 +9,9 @@
 
 use scotopia_color::Spectrum;
 use scotopia_render::math::Transform;
-use scotopia_render::medium::{Field, Filter, GridVolume, Heterogeneous, Medium, Phase};
+use scotopia_render::medium::{Field, Filter, GridVolume, Heterogeneous, Medium};
 
-use super::medium::{build_phase, negative};
+use super::medium::{negative, phase_and_rest};
 use super::Builder;
 use crate::mitsuba::{resolve, Node, Props, SceneError, Usage};
 use crate::volume::read_vol;
@@ -40,15 +40,7 @@ pub fn build_heterogeneous(b: &mut Builder, node: &Node) -> Result<Medium, Scene
             )));
         }
     }
-    // Read by Mitsuba's volpath only for performance or in other variants.
-    for name in ["sample_emitters", "has_spectral_extinction"] {
-        let _ = p.get(name);
-    }
-    let mut phase = Phase::Isotropic;
-    for c in node.children.iter().filter(|c| c.tag == "phase") {
-        phase = build_phase(b, c)?;
-    }
-    b.report_unused(&p);
+    let phase = phase_and_rest(b, node, &p)?;
     Ok(Medium::Heterogeneous(Box::new(Heterogeneous::new(
         sigma_t, albedo, scale, phase,
     ))))

@@ -35,15 +35,7 @@ pub fn build_medium(b: &mut Builder, node: &Node) -> Result<Option<Medium>, Scen
             "scale must be finite and not negative, got {scale}"
         )));
     }
-    // Read by Mitsuba's volpath only for performance or in other variants.
-    for name in ["sample_emitters", "has_spectral_extinction"] {
-        let _ = p.get(name);
-    }
-    let mut phase = Phase::Isotropic;
-    for c in node.children.iter().filter(|c| c.tag == "phase") {
-        phase = build_phase(b, c)?;
-    }
-    b.report_unused(&p);
+    let phase = phase_and_rest(b, node, &p)?;
     Ok(Some(Medium::Homogeneous(Homogeneous {
         sigma_t,
         albedo,
@@ -78,6 +70,21 @@ fn coefficient(
     b.report_unused(&vp);
     // Mitsuba's constvolume: 1 when no value is given.
     Ok(value.or(Some(Spectrum::Constant(1.0))))
+}
+
+/// What every medium ends with: its `<phase>` (isotropic when none), the
+/// properties Mitsuba's volpath reads only for its own performance or in
+/// other variants, and the warning for what was not read.
+pub(super) fn phase_and_rest(b: &mut Builder, node: &Node, p: &Props) -> Result<Phase, SceneError> {
+    for name in ["sample_emitters", "has_spectral_extinction"] {
+        let _ = p.get(name);
+    }
+    let mut phase = Phase::Isotropic;
+    for c in node.children.iter().filter(|c| c.tag == "phase") {
+        phase = build_phase(b, c)?;
+    }
+    b.report_unused(p);
+    Ok(phase)
 }
 
 /// `<phase type="isotropic|hg">`.
