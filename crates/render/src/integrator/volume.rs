@@ -19,10 +19,9 @@
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
-use super::path::{power_heuristic, shadow_ray, Bounce, PathState};
+use super::path::{shadow_ray, Bounce, PathState};
 use super::Renderer;
 use crate::bsdf::ShadingPoint;
-use crate::light::LightSample;
 use crate::math::{Ray, Vec3};
 use crate::medium::{Homogeneous, Medium, MediumEvent, Phase, ShapeMedia};
 use crate::sampling::sobol::Sampler;
@@ -62,13 +61,19 @@ impl Renderer<'_> {
                 }
                 if event.scattered {
                     let p = ray.o + ray.d * event.t;
-                    // The free flight's share of the direct light there.
-                    let w = aimed.map_or(1.0, |h| {
+                    // How much likelier equi-angular sampling was to put
+                    // the point here, squared (0 without it).
+                    let q2 = aimed.map_or(0.0, |h| {
                         let free = free_flight_pdf(h, path, &ratio, event.t);
-                        power_heuristic(free, self.targets.pdf(&ray, t_max, event.t))
+                        let q = self.targets.pdf(&ray, t_max, event.t) / free;
+                        if q.is_finite() {
+                            q * q
+                        } else {
+                            f32::MAX
+                        }
                     });
                     let u = [sampler.get_4d(), sampler.get_4d()];
-                    let b = self.scatter_in_medium(path, u, p, medium.phase(), w);
+                    let b = self.scatter_in_medium(path, u, p, medium.phase(), q2);
                     if !self.settle(path, b, rays) {
                         return;
                     }
@@ -104,7 +109,8 @@ impl Renderer<'_> {
         let Some((t, pdf)) = self.targets.sample(&ray, t_max, u_pick, u_t) else {
             return;
         };
-        let w = power_heuristic(pdf, free_flight_pdf(h, path, &path.ratio, t));
+        let q = pdf / free_flight_pdf(h, path, &path.ratio, t);
+        let q2 = if q.is_finite() { q * q } else { f32::MAX };
         let st = h.sigma_t(&path.now);
         let albedo = h.albedo.sample(&path.now).map(|a| a.clamp(0.0, 1.0));
         // T(t) σ_s per wavelength, over the density of t.
@@ -115,21 +121,21 @@ impl Renderer<'_> {
                 1.0
             };
             tr * st.0[k] * albedo.0[k]
-        }) * (w / pdf);
+        }) * pdf.recip();
         let beta = path.beta * segment;
         if beta.is_zero() {
             return;
         }
         let p = ray.o + ray.d * t;
-        if let Some((shadow, c)) = self.medium_nee(path, beta, p, h.phase, nee, 1.0) {
+        if let Some((shadow, c)) = self.medium_nee(path, beta, p, h.phase, nee, Mis::Aimed(q2)) {
             let tr = self.transmittance(shadow, path.medium, path, rays);
             path.l += c * tr;
         }
     }
 
     /// Next-event estimation at medium point `p` reached along the path's
-    /// ray with throughput `beta`: the shadow ray and what it brings if
-    /// clear, times `weight` (the distance strategy's MIS weight).
+    /// ray with throughput `beta`, drawn as `mis` says: the shadow ray and
+    /// what it brings if clear.
     fn medium_nee<const K: usize>(
         &self,
         path: &PathState<K>,
@@ -137,39 +143,41 @@ impl Renderer<'_> {
         p: Vec3,
         phase: Phase,
         [u_light, u_select, u_l0, u_l1]: [f32; 4],
-        weight: f32,
+        mis: Mis,
     ) -> Option<(Ray, SampledSpectrum<K>)> {
         let wi = -path.ray.d;
         let (i, p_choice) = self.nee_choice.sample(p, u_light)?;
         let light = &self.scene.lights[i];
         let ls = light.sample_li(&self.extent(), &path.now, p, u_select, [u_l0, u_l1])?;
         let f = phase.eval(wi, ls.wi);
-        if !(ls.pdf > 0.0 && f > 0.0) || ls.radiance.is_zero() || weight <= 0.0 {
+        if !(ls.pdf > 0.0 && f > 0.0) || ls.radiance.is_zero() {
             return None;
         }
-        let (ray, c) = self.medium_shadow(beta, p, &ls, f, p_choice);
-        Some((ray, c * weight))
+        let ray = shadow_ray(p, ls.wi, &ls, self.scene.geometry.offset_unit());
+        let p_light = p_choice * ls.pdf;
+        let w = mis.light_weight(p_light, f, ls.delta);
+        (w > 0.0).then(|| (ray, beta * ls.radiance * (f * w / p_light)))
     }
 
-    /// A scattering event in a medium at `p` (phase function `phase`):
-    /// next-event estimation (its contribution times `nee_weight`, the
-    /// free flight's MIS weight against equi-angular sampling) and the next
-    /// direction, drawn from the phase function. `u`: the path's next two
-    /// 4-dimensional sets.
+    /// A scattering event in a medium at `p` (phase function `phase`),
+    /// reached by a free flight that equi-angular sampling would have drawn
+    /// with `q2` times the squared density (0 without it): next-event
+    /// estimation and the next direction, drawn from the phase function.
+    /// `u`: the path's next two 4-dimensional sets.
     fn scatter_in_medium<const K: usize>(
         &self,
         path: &mut PathState<K>,
         u: [[f32; 4]; 2],
         p: Vec3,
         phase: &Phase,
-        nee_weight: f32,
+        q2: f32,
     ) -> Bounce<K> {
         if !self.within(path.depth + 1) {
             return Bounce::STOP;
         }
         let [nee, [u_p0, u_rr, u_p1, _]] = u;
         let wi = -path.ray.d;
-        let shadow = self.medium_nee(path, path.beta, p, *phase, nee, nee_weight);
+        let shadow = self.medium_nee(path, path.beta, p, *phase, nee, Mis::Free(q2));
         let stop = Bounce {
             shadow,
             shadow_medium: path.medium,
@@ -178,7 +186,11 @@ impl Renderer<'_> {
         // The phase function is sampled exactly: f/pdf = 1.
         let (wo, pdf) = phase.sample(wi, [u_p0, u_p1]);
         path.delta = false;
-        path.bsdf_pdf = pdf;
+        // A light this direction hits weighs it against next-event
+        // estimation from both distance strategies: the power heuristic
+        // f²/(f² + p_l²(1 + q²)), which `bounce` and `escape` compute from
+        // f/√(1 + q²).
+        path.bsdf_pdf = pdf / (1.0 + q2).sqrt();
         path.prev = p;
         path.ray = Ray::new(p, wo);
         path.depth += 1;
@@ -189,28 +201,6 @@ impl Renderer<'_> {
             goes_on: true,
             ..stop
         }
-    }
-
-    /// The shadow ray of light sample `ls` from medium point `p` and its
-    /// contribution should it arrive (phase value `f`, the light chosen
-    /// with probability `p_choice`).
-    fn medium_shadow<const K: usize>(
-        &self,
-        beta: SampledSpectrum<K>,
-        p: Vec3,
-        ls: &LightSample<K>,
-        f: f32,
-        p_choice: f32,
-    ) -> (Ray, SampledSpectrum<K>) {
-        // No surface to leave: the "normal" only sets the offset's side.
-        let ray = shadow_ray(p, ls.wi, ls, self.scene.geometry.offset_unit());
-        let p_light = p_choice * ls.pdf;
-        let w = if ls.delta {
-            1.0
-        } else {
-            power_heuristic(p_light, f)
-        };
-        (ray, beta * ls.radiance * (f * w / p_light))
     }
 
     /// The fraction of light that travels along shadow ray `ray`, which
@@ -349,4 +339,44 @@ fn free_flight_pdf<const K: usize>(
         })
         .sum();
     sum / live as f32
+}
+
+/// How a next-event estimate in a medium was reached, for its MIS weight
+/// among the three ways to the same light: a free flight then the light
+/// sampled (A), a free flight then the phase function's direction (B), an
+/// equi-angular distance then the light sampled (C). With q the ratio of
+/// the equi-angular to the free-flight distance density at the point, the
+/// power heuristic gives A p_l²/D and C q² p_l²/D with D = p_l²(1 + q²) +
+/// f², and B f²/D (`scatter_in_medium`); a delta light cannot be hit, so
+/// A and C share it as 1 : q².
+#[derive(Clone, Copy)]
+enum Mis {
+    /// A free-flight point; q² (0 without equi-angular sampling).
+    Free(f32),
+    /// An equi-angular point; q².
+    Aimed(f32),
+}
+
+impl Mis {
+    fn light_weight(self, p_light: f32, f: f32, delta: bool) -> f32 {
+        let (num, q2) = match self {
+            Mis::Free(q2) => (1.0, q2),
+            Mis::Aimed(q2) => (q2, q2),
+        };
+        let w = if delta {
+            num / (1.0 + q2)
+        } else {
+            let l2 = p_light * p_light;
+            num * l2 / (l2 * (1.0 + q2) + f * f)
+        };
+        if w.is_finite() {
+            w
+        } else {
+            // q² overflowed: the aimed strategy takes it all.
+            match self {
+                Mis::Free(_) => 0.0,
+                Mis::Aimed(_) => 1.0,
+            }
+        }
+    }
 }
