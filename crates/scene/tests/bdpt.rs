@@ -6,9 +6,12 @@
 //! pixels of their difference is zero within 4 standard errors (from the
 //! spread of the pixel differences).
 
+mod common;
+
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
 
+use common::agree;
 use scotopia_render::integrator::{render, RenderOptions};
 use scotopia_render::math::Vec3;
 use scotopia_render::scene::{IntegratorKind, Scene};
@@ -29,22 +32,6 @@ fn scene(name: &str, params: &[(&str, &str)]) -> Scene {
 fn image(scene: &Scene, options: RenderOptions) -> Vec<[f32; 4]> {
     let r = render(scene, &options, &AtomicBool::new(false), &|_, _| {}).unwrap();
     r.film.xyzv()
-}
-
-/// Asserts that the pixel-mean of `a − b` is zero within 4 standard
-/// errors in every channel.
-fn agree(what: &str, a: &[[f32; 4]], b: &[[f32; 4]]) {
-    for c in 0..4 {
-        let d: Vec<f64> = a.iter().zip(b).map(|(p, q)| (p[c] - q[c]) as f64).collect();
-        let n = d.len() as f64;
-        let mean = d.iter().sum::<f64>() / n;
-        let se = (d.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0) / n).sqrt();
-        let level = a.iter().map(|p| p[c] as f64).sum::<f64>() / n;
-        assert!(
-            mean.abs() <= 4.0 * se && level > 0.0,
-            "{what}, channel {c}: difference {mean} ± {se} (level {level})"
-        );
-    }
 }
 
 fn bdpt(spp: u32, seed: u32) -> RenderOptions {

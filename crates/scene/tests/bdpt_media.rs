@@ -7,8 +7,11 @@
 //! 4 standard errors (from the spread of the pixel differences), and the
 //! strategies alone converge to the path tracer's paths of their length.
 
+mod common;
+
 use std::sync::atomic::AtomicBool;
 
+use common::agree;
 use scotopia_render::integrator::{render, RenderOptions};
 use scotopia_render::scene::{IntegratorKind, Scene};
 use scotopia_scene::load_scene;
@@ -30,29 +33,6 @@ fn image(scene: &Scene, options: RenderOptions) -> Vec<[f32; 4]> {
 fn rendered(scene: &Scene, options: RenderOptions) -> (Vec<[f32; 4]>, f64) {
     let r = render(scene, &options, &AtomicBool::new(false), &|_, _| {}).unwrap();
     (r.film.xyzv(), r.collapsed_fraction())
-}
-
-/// Asserts that the pixel mean of `a − b` is zero within 4 standard
-/// errors in every channel; prints the relative difference of the means.
-fn agree(what: &str, a: &[[f32; 4]], b: &[[f32; 4]]) {
-    for c in 0..4 {
-        let d: Vec<f64> = a.iter().zip(b).map(|(p, q)| (p[c] - q[c]) as f64).collect();
-        let n = d.len() as f64;
-        let mean = d.iter().sum::<f64>() / n;
-        let se = (d.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0) / n).sqrt();
-        let level = b.iter().map(|p| p[c] as f64).sum::<f64>() / n;
-        if c == 1 {
-            eprintln!(
-                "{what}: mean Y difference {:+.3} % ± {:.3} % (SE) of {level:.4}",
-                100.0 * mean / level,
-                100.0 * se / level
-            );
-        }
-        assert!(
-            mean.abs() <= 4.0 * se && level > 0.0,
-            "{what}, channel {c}: difference {mean} ± {se} (level {level})"
-        );
-    }
 }
 
 fn options(integrator: IntegratorKind, spp: u32, seed: u32) -> RenderOptions {

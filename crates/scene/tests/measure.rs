@@ -2,8 +2,11 @@
 //! manner of CIE 171:2006's test cases. Tolerances: 4 standard errors of
 //! the measurement plus 0.5 % (the CIE's validation criterion is 5 %).
 
+mod common;
+
 use std::sync::atomic::AtomicBool;
 
+use common::assert_close;
 use scotopia_render::integrator::{measure, Measured, Receiver, RenderOptions};
 use scotopia_render::math::Vec3;
 use scotopia_scene::load_scene;
@@ -34,16 +37,6 @@ fn run(s: &scotopia_render::scene::Scene, rs: &[Receiver], spp: u32) -> Vec<Meas
         ..RenderOptions::default()
     };
     measure(s, rs, &options, &AtomicBool::new(false), &|_, _| {}).unwrap()
-}
-
-fn assert_close(what: &str, m: &Measured, expected: f64) {
-    let tol = 4.0 * m.e_se + 5e-3 * expected;
-    assert!(
-        (m.e - expected).abs() <= tol,
-        "{what}: E = {} ± {} lx, expected {expected}",
-        m.e,
-        m.e_se
-    );
 }
 
 #[test]

@@ -6,7 +6,7 @@ mod common;
 
 use std::sync::atomic::AtomicBool;
 
-use common::vol;
+use common::{assert_close, vol};
 use scotopia_color::photometry::spectrum_to_xyzv;
 use scotopia_color::spectrum::Tabulated;
 use scotopia_color::Spectrum;
@@ -37,20 +37,6 @@ fn run(
         ..RenderOptions::default()
     };
     measure(s, &[r], &options, &AtomicBool::new(false), &|_, _| {}).unwrap()[0]
-}
-
-fn assert_close(what: &str, m: &Measured, expected: f64) {
-    eprintln!(
-        "{what}: E = {:.4} ± {:.4} lx, expected {expected:.4}",
-        m.e, m.e_se
-    );
-    let tol = 4.0 * m.e_se + 5e-3 * expected;
-    assert!(
-        (m.e - expected).abs() <= tol,
-        "{what}: E = {} ± {} lx, expected {expected}",
-        m.e,
-        m.e_se
-    );
 }
 
 /// The illuminance (lx) of a spectral irradiance given per nm on 400–700.

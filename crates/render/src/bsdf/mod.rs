@@ -83,6 +83,16 @@ pub struct BsdfSample<const K: usize> {
     pub collapse: bool,
 }
 
+impl<const K: usize> BsdfSample<K> {
+    /// Whether the sample went straight on through a null lobe (`null`,
+    /// a mask's hole, a thin dielectric's slab) from local direction
+    /// `wi`: no scattering, which volume tracers pass through.
+    #[inline]
+    pub fn passes_through(&self, wi: Vec3) -> bool {
+        self.delta && self.wo == -wi
+    }
+}
+
 /// The closed set of BSDFs.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Bsdf {

@@ -183,7 +183,7 @@ impl Renderer<'_> {
         // Receivers sit in the sensor's medium (Mitsuba's irradiancemeter
         // takes its sensor's).
         path.medium = self.scene.camera_medium;
-        path.rng = SplitMix(((sampler.pixel_key() as u64) << 32) | sampler.index() as u64);
+        path.rng = sampler.stream();
         let u = [sampler.get_4d(), sampler.get_4d()];
         let b = self.scatter(&mut path, u, (p, n), (frame, at), &self.white);
         if self.settle(&mut path, b, rays) {

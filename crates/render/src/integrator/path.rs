@@ -191,7 +191,7 @@ impl Renderer<'_> {
         sampler.start(pixel, index);
         let sets = [sampler.get_4d(), sampler.get_4d()];
         let mut path = self.start_path_with(pixel, sets);
-        path.rng = SplitMix(((sampler.pixel_key() as u64) << 32) | index as u64);
+        path.rng = sampler.stream();
         path
     }
 
@@ -389,7 +389,7 @@ impl Renderer<'_> {
         // thin dielectric) a volume path tracer does not scatter: the
         // depth and the last vertex for MIS stay those before it
         // (Mitsuba's volpath).
-        let passes = self.volumetric && bs.delta && bs.wo == -wi;
+        let passes = self.volumetric && bs.passes_through(wi);
         let d = if passes {
             path.ray.d
         } else {

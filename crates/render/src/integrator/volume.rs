@@ -42,7 +42,7 @@ impl Renderer<'_> {
             if let Some(m) = path.medium {
                 let medium = &scene.media[m as usize];
                 let t_max = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
-                let [u_t, ..] = sampler.get_4d();
+                let u_t = sampler.get_1d();
                 let (ray, ratio) = (path.ray, path.ratio);
                 // Equi-angular sampling's extra scattering point, for a
                 // homogeneous medium (whose free-flight density is known).
@@ -50,8 +50,9 @@ impl Renderer<'_> {
                     Medium::Homogeneous(h)
                         if !self.targets.is_empty() && self.within(path.depth + 1) =>
                     {
-                        self.equiangular_light(path, h, t_max, rays);
-                        Some(h)
+                        let st = h.sigma_t(&path.now);
+                        self.equiangular_light(path, h, &st, t_max, rays);
+                        Some(st)
                     }
                     _ => None,
                 };
@@ -63,8 +64,8 @@ impl Renderer<'_> {
                     let p = ray.o + ray.d * event.t;
                     // How much likelier equi-angular sampling was to put
                     // the point here, squared (0 without it).
-                    let q2 = aimed.map_or(0.0, |h| {
-                        let free = free_flight_pdf(h, path, &ratio, event.t);
+                    let q2 = aimed.map_or(0.0, |st| {
+                        let free = free_flight_pdf(&st, path, &ratio, event.t);
                         let q = self.targets.pdf(&ray, t_max, event.t) / free;
                         if q.is_finite() {
                             q * q
@@ -92,13 +93,15 @@ impl Renderer<'_> {
     }
 
     /// Direct light at a scattering point drawn equi-angularly on the
-    /// path's current segment (up to `t_max`) in homogeneous medium `h`,
+    /// path's current segment (up to `t_max`) in homogeneous medium `h`
+    /// (σ_t on the path's wavelengths `st`),
     /// weighted against free flights by the power heuristic; added to the
     /// path's light at once. The path itself is not moved.
     fn equiangular_light<const K: usize>(
         &self,
         path: &mut PathState<K>,
         h: &Homogeneous,
+        st: &SampledSpectrum<K>,
         t_max: f32,
         rays: &mut u64,
     ) {
@@ -109,9 +112,8 @@ impl Renderer<'_> {
         let Some((t, pdf)) = self.targets.sample(&ray, t_max, u_pick, u_t) else {
             return;
         };
-        let q = pdf / free_flight_pdf(h, path, &path.ratio, t);
+        let q = pdf / free_flight_pdf(st, path, &path.ratio, t);
         let q2 = if q.is_finite() { q * q } else { f32::MAX };
-        let st = h.sigma_t(&path.now);
         let albedo = h.albedo.sample(&path.now).map(|a| a.clamp(0.0, 1.0));
         // T(t) σ_s per wavelength, over the density of t.
         let segment = SampledSpectrum::from_fn(|k| {
@@ -315,19 +317,19 @@ impl<const K: usize> PathState<K> {
     }
 }
 
-/// The density per unit length with which the path's free flight in `h`
+/// The density per unit length with which the path's free flight in a
+/// homogeneous medium of extinction `st` (on the path's wavelengths)
 /// reaches a scattering event at `t`: the mixture over the live
 /// wavelengths, each weighted by its share `ratio` of the path's density
 /// so far (the estimate the cluster's MIS makes is the one of this
 /// mixture).
 fn free_flight_pdf<const K: usize>(
-    h: &Homogeneous,
+    st: &SampledSpectrum<K>,
     path: &PathState<K>,
     ratio: &SampledSpectrum<K>,
     t: f32,
 ) -> f32 {
     let live = if path.wl.secondary_terminated() { 1 } else { K };
-    let st = h.sigma_t(&path.now);
     let sum: f32 = (0..live)
         .map(|k| {
             let s = st.0[k];

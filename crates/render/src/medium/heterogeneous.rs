@@ -186,15 +186,7 @@ impl Heterogeneous {
                 if sbar.is_nan() || sbar <= 0.0 {
                     return true;
                 }
-                let mut t = ta;
-                loop {
-                    let step = depth / sbar;
-                    if step >= tb - t {
-                        depth -= (tb - t) * sbar;
-                        return true;
-                    }
-                    t += step;
-                    let st = walk.sigma_t(t, sbar);
+                walk.collisions((ta, tb, sbar), &mut depth, rng, |t, st, rng| {
                     if rng.next_f32() * sbar < st[0] {
                         for k in 0..K {
                             logs[k] += (st[k] / sbar).ln();
@@ -205,8 +197,8 @@ impl Heterogeneous {
                     for k in 0..K {
                         logs[k] += ((sbar - st[k]) / sbar).ln();
                     }
-                    depth = -(1.0 - rng.next_f32()).ln();
-                }
+                    true
+                })
             });
         match hit {
             Some(t) => MediumEvent {
@@ -255,15 +247,7 @@ impl Heterogeneous {
                     tr = tr.map(|v| v * tr_seg);
                     return tr_seg > 0.0;
                 }
-                let mut t = ta;
-                loop {
-                    let step = depth / sbar;
-                    if step >= tb - t {
-                        depth -= (tb - t) * sbar;
-                        return true;
-                    }
-                    t += step;
-                    let st = walk.sigma_t(t, sbar);
+                walk.collisions((ta, tb, sbar), &mut depth, rng, |_, st, rng| {
                     for k in 0..K {
                         tr[k] *= 1.0 - st[k] / sbar;
                     }
@@ -278,8 +262,8 @@ impl Heterogeneous {
                         }
                         tr = tr.map(|v| v / RR_SURVIVE);
                     }
-                    depth = -(1.0 - rng.next_f32()).ln();
-                }
+                    true
+                })
             },
         );
         SampledSpectrum(tr)
@@ -301,6 +285,32 @@ struct Walk<'a, const K: usize> {
 }
 
 impl<const K: usize> Walk<'_, K> {
+    /// The tentative collisions in [ta, tb) at majorant `sbar`: `depth` is
+    /// the optical depth (at the majorant) left to the next one, drawn
+    /// anew from `rng` after each; `collide(t, σ_t, rng)` decides there
+    /// and says whether the walk goes on. Whether it went on to `tb`.
+    fn collisions(
+        &self,
+        (ta, tb, sbar): (f32, f32, f32),
+        depth: &mut f32,
+        rng: &mut SplitMix,
+        mut collide: impl FnMut(f32, [f32; K], &mut SplitMix) -> bool,
+    ) -> bool {
+        let mut t = ta;
+        loop {
+            let step = *depth / sbar;
+            if step >= tb - t {
+                *depth -= (tb - t) * sbar;
+                return true;
+            }
+            t += step;
+            if !collide(t, self.sigma_t(t, sbar), rng) {
+                return false;
+            }
+            *depth = -(1.0 - rng.next_f32()).ln();
+        }
+    }
+
     /// σ_t per wavelength at parameter `t`, at most `sbar` (the majorant
     /// bounds it but for rounding).
     #[inline]

@@ -276,6 +276,13 @@ impl Sampler {
         set_point(self.pixel_key, self.index_rev, set)
     }
 
+    /// A generator for the numbers a sample needs beyond its sets (walks
+    /// through heterogeneous media), seeded by the sample's pixel and index
+    /// so that the image stays deterministic.
+    pub fn stream(&self) -> super::splitmix::SplitMix {
+        super::splitmix::SplitMix(((self.pixel_key as u64) << 32) | self.index() as u64)
+    }
+
     /// One number in [0, 1) (uses a whole 4-dimensional set).
     pub fn get_1d(&mut self) -> f32 {
         self.set()[0]

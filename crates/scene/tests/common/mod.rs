@@ -1,8 +1,11 @@
 //! Helpers shared by the integration tests: writers of Mitsuba's
-//! serialized meshes and `.vol` grids (for loading tests that need one).
+//! serialized meshes and `.vol` grids (for loading tests that need one),
+//! and the statistical checks of images and measurements.
 #![allow(dead_code)]
 
 use std::io::Write;
+
+use scotopia_render::integrator::Measured;
 
 /// One shape to write.
 #[derive(Clone)]
@@ -109,4 +112,41 @@ pub fn vol(res: usize, channels: usize, f: impl Fn(usize, usize, usize) -> Vec<f
         }
     }
     b
+}
+
+/// Asserts that the pixel mean of `a − b` is zero within 4 standard
+/// errors in every channel; prints the relative difference of the means.
+pub fn agree(what: &str, a: &[[f32; 4]], b: &[[f32; 4]]) {
+    for c in 0..4 {
+        let d: Vec<f64> = a.iter().zip(b).map(|(p, q)| (p[c] - q[c]) as f64).collect();
+        let n = d.len() as f64;
+        let mean = d.iter().sum::<f64>() / n;
+        let se = (d.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0) / n).sqrt();
+        let level = b.iter().map(|p| p[c] as f64).sum::<f64>() / n;
+        if c == 1 {
+            eprintln!(
+                "{what}: mean Y difference {:+.3} % ± {:.3} % (SE) of {level:.4}",
+                100.0 * mean / level,
+                100.0 * se / level
+            );
+        }
+        assert!(
+            mean.abs() <= 4.0 * se && level > 0.0,
+            "{what}, channel {c}: difference {mean} ± {se} (level {level})"
+        );
+    }
+}
+
+pub fn assert_close(what: &str, m: &Measured, expected: f64) {
+    eprintln!(
+        "{what}: E = {:.4} ± {:.4} lx, expected {expected:.4}",
+        m.e, m.e_se
+    );
+    let tol = 4.0 * m.e_se + 5e-3 * expected;
+    assert!(
+        (m.e - expected).abs() <= tol,
+        "{what}: E = {} ± {} lx, expected {expected}",
+        m.e,
+        m.e_se
+    );
 }

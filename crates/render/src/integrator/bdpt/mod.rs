@@ -25,7 +25,6 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::{CameraSample, Renderer};
 use crate::sampling::sobol::Sampler;
-use crate::sampling::splitmix::SplitMix;
 pub(crate) use clusters::LightSpectra;
 use clusters::{camera_cluster, LightChoice};
 use connect::Subpaths;
@@ -90,7 +89,7 @@ impl Renderer<'_> {
             (max_depth as usize + 1, max_depth as usize)
         };
         let camera_ray = self.scene.camera.generate_ray_from_lens(film, lens);
-        let mut rng = SplitMix(((sampler.pixel_key() as u64) << 32) | index as u64);
+        let mut rng = sampler.stream();
         let mut light_wl = first;
         let light_collapsed = self.light_subpath(
             sampler,

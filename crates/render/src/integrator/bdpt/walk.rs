@@ -245,26 +245,24 @@ impl Renderer<'_> {
 
             // Through media, a null lobe is no vertex: the subpath passes
             // the surface into the medium beyond (as the path tracer does).
-            let mut drawn = None;
-            if self.volumetric && bsdf.may_pass() && bsdf.fluorescent().is_none() {
-                let bs = bsdf.sample(wl, at, wi, u_lobe, [u_b0, u_b1], mode);
-                match bs {
-                    Some(bs) if bs.delta && bs.wo == -wi && passes < MAX_PASSES => {
-                        passes += 1;
-                        beta *= bs.weight;
-                        if beta.is_zero() || !beta.max_value().is_finite() {
-                            break;
-                        }
-                        if let Some(sides) = self.shape_media(hit.shape) {
-                            medium = sides.target(ray.d, v.ng);
-                        }
-                        let (d, t_max) = (ray.d, ray.t_max);
-                        ray = spawn(v.p, v.ng, d, scene.geometry.offset_unit());
-                        ray.t_max = t_max;
-                        continue;
+            // (Drawn here, before the vertex is kept; fluorescent BSDFs,
+            // which move wavelengths first, have no null lobe.)
+            let early = (self.volumetric && bsdf.may_pass() && bsdf.fluorescent().is_none())
+                .then(|| bsdf.sample(wl, at, wi, u_lobe, [u_b0, u_b1], mode));
+            if let Some(Some(bs)) = &early {
+                if bs.passes_through(wi) && passes < MAX_PASSES {
+                    passes += 1;
+                    beta *= bs.weight;
+                    if beta.is_zero() || !beta.max_value().is_finite() {
+                        break;
                     }
-                    Some(bs) => drawn = Some(bs),
-                    None => {}
+                    if let Some(sides) = self.shape_media(hit.shape) {
+                        medium = sides.target(ray.d, v.ng);
+                    }
+                    let (d, t_max) = (ray.d, ray.t_max);
+                    ray = spawn(v.p, v.ng, d, scene.geometry.offset_unit());
+                    ray.t_max = t_max;
+                    continue;
                 }
             }
             v.pdf_fwd = prev.convert(pdf, &v);
@@ -295,9 +293,8 @@ impl Renderer<'_> {
                     break;
                 }
             }
-            let drawn = match drawn {
-                Some(bs) => Some(bs),
-                None if self.volumetric && bsdf.may_pass() && bsdf.fluorescent().is_none() => None,
+            let drawn = match early {
+                Some(bs) => bs,
                 None => bsdf.sample(wl, at, wi, u_lobe, [u_b0, u_b1], mode),
             };
             let Some(bs) = drawn else {
