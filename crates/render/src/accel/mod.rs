@@ -45,6 +45,19 @@ pub struct Aggregate {
     plane_tests: Vec<(PlaneTest, u32)>,
     /// The primitives tested one at a time, in leaf order.
     others: Vec<Prim>,
+    /// [`Self::offset_unit`], fixed with the bounds (every ray spawned
+    /// reads it).
+    offset_unit: f32,
+}
+
+/// [`Aggregate::offset_unit`] of a scene within `b`.
+fn unit_of(b: Aabb) -> f32 {
+    let size = b.min.abs().max_component().max(b.max.abs().max_component());
+    if size > 0.0 && size.is_finite() {
+        size.min(1.0)
+    } else {
+        1.0
+    }
 }
 
 /// A leaf's count word in its node when the leaf holds more than
@@ -173,7 +186,9 @@ impl Aggregate {
             plane_data: Vec::new(),
             plane_tests: Vec::new(),
             others: Vec::new(),
+            offset_unit: 1.0,
         };
+        agg.offset_unit = unit_of(agg.bvh.bounds());
         let (mut tris, mut planes) = (Vec::new(), Vec::new());
         for &(start, count) in &bvh_leaves {
             tris.clear();
@@ -240,13 +255,7 @@ impl Aggregate {
     /// bounds, at most 1 (larger scenes are covered by the offset's ULPs).
     #[inline]
     pub fn offset_unit(&self) -> f32 {
-        let b = self.bvh.bounds();
-        let size = b.min.abs().max_component().max(b.max.abs().max_component());
-        if size > 0.0 && size.is_finite() {
-            size.min(1.0)
-        } else {
-            1.0
-        }
+        self.offset_unit
     }
 
     pub fn instances(&self) -> &[Instance] {

@@ -169,8 +169,9 @@ impl Transform {
         let m = &self.m;
         let (x, y, z) = (p.x as f64, p.y as f64, p.z as f64);
         let r = |i: usize| m[i][0] * x + m[i][1] * y + m[i][2] * z + m[i][3];
-        if m[3] == [0.0, 0.0, 0.0, 1.0] {
-            // Affine (every placement): no divide.
+        // Affine (every placement): no divide. Compared element by element:
+        // the array comparison is a call per point.
+        if m[3][0] == 0.0 && m[3][1] == 0.0 && m[3][2] == 0.0 && m[3][3] == 1.0 {
             return Vec3::new(r(0) as f32, r(1) as f32, r(2) as f32);
         }
         let w = r(3);

@@ -40,6 +40,18 @@ impl SpectralPdf {
         Self::from_nodes(nodes, values)
     }
 
+    /// A density proportional to `s` times the visible density
+    /// ([`super::visible_pdf`]): where a lamp's light is seen. `None` as
+    /// for [`Self::new`].
+    pub fn seen(s: &Spectrum) -> Option<Self> {
+        let nodes = integration_nodes(s);
+        let values = nodes
+            .iter()
+            .map(|&l| s.eval(l) * super::visible_pdf(l))
+            .collect();
+        Self::from_nodes(nodes, values)
+    }
+
     /// The visible density ([`super::visible_pdf`]) on the 1 nm grid,
     /// linear between.
     pub fn visible() -> Self {

@@ -121,7 +121,8 @@ fn swc_follows_the_lamps_and_pays_off_on_line_spectra() {
 }
 
 /// SWC's table is the mixture it was made of: 0.9 of the lights' spectra
-/// by power and 0.1 of the visible density, bin by bin up to the two cells
+/// as seen (times the visible density), by the power they then carry, and
+/// 0.1 of the visible density, bin by bin up to the two cells
 /// that straddle a bin's ends; its cells stratify each cluster, and each
 /// member carries the table's density at its wavelength.
 #[test]
@@ -132,11 +133,11 @@ fn swc_table_is_the_mixture_of_the_lights() {
     };
     let (na, d65) = (sodium(), cie::illuminant("d65").unwrap().scaled(1e-6));
     let (pa, pb) = (
-        SpectralPdf::new(&na).unwrap(),
-        SpectralPdf::new(&d65).unwrap(),
+        SpectralPdf::seen(&na).unwrap(),
+        SpectralPdf::seen(&d65).unwrap(),
     );
-    // Light choice by power: the point light emits 4π·∫I, the constant
-    // one π·∫L per unit area of the sphere of radius 1 (4π m²).
+    // Weights by power as seen: the point light emits 4π·∫I·v, the
+    // constant one π·∫L·v per unit area of the sphere of radius 1 (4π m²).
     let (wa, wb) = (
         pa.integral() * 4.0,
         pb.integral() * 4.0 * std::f64::consts::PI,
