@@ -158,7 +158,7 @@ impl Renderer<'_> {
     ) -> Option<CameraSample<K>> {
         let meter = self.scene.meter.as_ref()?;
         sampler.start(pixel, index);
-        let sets = [sampler.get_4d(), sampler.get_4d()];
+        let sets = sampler.get_two_4d();
         let (_, lens, wl, spare) = self.start_sample_with::<K>(pixel, sets);
         let s = meter.sample(&self.scene.geometry.shapes, spare, lens)?;
         let mut path = self.receiver_path(sampler, s.p, s.n, wl, rays);
@@ -184,7 +184,7 @@ impl Renderer<'_> {
         // takes its sensor's).
         path.medium = self.scene.camera_medium;
         path.rng = sampler.stream();
-        let u = [sampler.get_4d(), sampler.get_4d()];
+        let u = sampler.get_two_4d();
         let b = self.scatter(&mut path, u, (p, n), (frame, at), &self.white);
         if self.settle(&mut path, b, rays) {
             self.trace(sampler, &mut path, rays);
@@ -211,7 +211,7 @@ impl Renderer<'_> {
                 break;
             }
             sampler.start([index, 0], i);
-            let sets = [sampler.get_4d(), sampler.get_4d()];
+            let sets = sampler.get_two_4d();
             let (_, _, wl, _) = self.start_sample_with::<K>([index, 0], sets);
             let path = self.receiver_path(&mut sampler, r.p, n, wl, &mut 0);
             let [_, y, _, v] = estimate_xyzv(&path.l, &path.wl);

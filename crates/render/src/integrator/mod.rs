@@ -419,7 +419,7 @@ impl<'a> Renderer<'a> {
         index: u32,
     ) -> ([f32; 2], [f32; 2], SampledWavelengths<K>, f32) {
         sampler.start(pixel, index);
-        let sets = [sampler.get_4d(), sampler.get_4d()];
+        let sets = sampler.get_two_4d();
         self.start_sample_with(pixel, sets)
     }
 

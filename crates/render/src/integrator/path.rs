@@ -152,7 +152,7 @@ impl Renderer<'_> {
                 self.escape(path);
                 return;
             };
-            let b = self.bounce(path, [sampler.get_4d(), sampler.get_4d()], &hit);
+            let b = self.bounce(path, sampler.get_two_4d(), &hit);
             if !self.settle(path, b, rays) {
                 return;
             }
@@ -189,7 +189,7 @@ impl Renderer<'_> {
         index: u32,
     ) -> PathState<K> {
         sampler.start(pixel, index);
-        let sets = [sampler.get_4d(), sampler.get_4d()];
+        let sets = sampler.get_two_4d();
         let mut path = self.start_path_with(pixel, sets);
         path.rng = sampler.stream();
         path

@@ -73,7 +73,7 @@ impl Renderer<'_> {
                             f32::MAX
                         }
                     });
-                    let u = [sampler.get_4d(), sampler.get_4d()];
+                    let u = sampler.get_two_4d();
                     let b = self.scatter_in_medium(path, u, p, medium.phase(), q2);
                     if !self.settle(path, b, rays) {
                         return;
@@ -85,7 +85,7 @@ impl Renderer<'_> {
                 self.escape(path);
                 return;
             };
-            let b = self.bounce(path, [sampler.get_4d(), sampler.get_4d()], &hit);
+            let b = self.bounce(path, sampler.get_two_4d(), &hit);
             if !self.settle(path, b, rays) {
                 return;
             }

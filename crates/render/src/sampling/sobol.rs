@@ -98,7 +98,7 @@ fn lookup(t: &[[u32; 256]; 4], x: u32) -> u32 {
 
 /// `sobol(index, dim).reverse_bits()` from `index.reverse_bits()`.
 #[inline]
-fn sobol_reversed(index_rev: u32, dim: usize) -> u32 {
+pub(super) fn sobol_reversed(index_rev: u32, dim: usize) -> u32 {
     lookup(&REVERSED_TABLES[dim], index_rev)
 }
 
@@ -114,7 +114,7 @@ pub(super) const LK_MULS: [u32; 4] = [0x6c50_b47c, 0xb82f_1e52, 0xc7af_e638, 0x8
 /// Laine & Karras's hash permutation as Burley 2020 (listing 3) improves it:
 /// each bit is flipped depending only on the bits below it.
 #[inline]
-fn laine_karras(mut x: u32, seed: u32) -> u32 {
+pub(super) fn laine_karras(mut x: u32, seed: u32) -> u32 {
     x = x.wrapping_add(seed);
     for m in LK_MULS {
         x ^= x.wrapping_mul(m);
@@ -162,7 +162,7 @@ pub(super) const MIX_MULS: [u32; 2] = [0x7feb_352d, 0x846c_a68b];
 /// A fast 32-bit integer mix (Wellons's "lowbias32", from his hash
 /// prospector search), for per-set and per-dimension scramble seeds.
 #[inline]
-fn mix(mut x: u32) -> u32 {
+pub(super) fn mix(mut x: u32) -> u32 {
     x ^= x >> 16;
     x = x.wrapping_mul(MIX_MULS[0]);
     x ^= x >> 15;
@@ -297,6 +297,21 @@ impl Sampler {
     /// Four numbers from one set (e.g. a 2D point and two choices).
     pub fn get_4d(&mut self) -> [f32; 4] {
         self.set()
+    }
+
+    /// The next two sets, `[get_4d(), get_4d()]` to the bit, drawn with
+    /// the dimensions as SIMD lanes ([`super::sobol_pair`]): what a
+    /// bounce takes.
+    #[inline]
+    pub fn get_two_4d(&mut self) -> [[f32; 4]; 2] {
+        let set = self.dimension / 4;
+        self.dimension = (set + 2) * 4;
+        super::sobol_pair::set_pair(
+            crate::simd::Level::current(),
+            self.pixel_key,
+            self.index_rev,
+            set,
+        )
     }
 }
 

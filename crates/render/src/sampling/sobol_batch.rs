@@ -155,7 +155,7 @@ fn set_points<W: Wide>(s: W, keys: W::u32s, index: W::u32s, set: u32) -> [W::f32
 
 /// Wellons's lowbias32 per lane (`mix` in sobol.rs).
 #[inline(always)]
-fn mix<W: Wide>(s: W, mut x: W::u32s) -> W::u32s {
+pub(super) fn mix<W: Wide>(s: W, mut x: W::u32s) -> W::u32s {
     x = s.xor_u32s(x, s.shr_u32s::<16>(x));
     x = s.mul_u32s(x, s.splat_u32s(MIX_MULS[0]));
     x = s.xor_u32s(x, s.shr_u32s::<15>(x));
@@ -165,7 +165,7 @@ fn mix<W: Wide>(s: W, mut x: W::u32s) -> W::u32s {
 
 /// The Laine–Karras permutation per lane (`laine_karras` in sobol.rs).
 #[inline(always)]
-fn laine_karras<W: Wide>(s: W, x: W::u32s, seed: W::u32s) -> W::u32s {
+pub(super) fn laine_karras<W: Wide>(s: W, x: W::u32s, seed: W::u32s) -> W::u32s {
     let mut x = s.add_u32s(x, seed);
     for m in LK_MULS {
         x = s.xor_u32s(x, s.mul_u32s(x, s.splat_u32s(m)));
