@@ -14,7 +14,7 @@
 //! ΔEOK on the test colours) and keeps the hue exactly (docs/vision.md).
 
 use scotopia_color::space::{
-    delta_e_ok, oklab_to_oklch, oklab_to_xyz, oklch_to_oklab, xyz_to_oklab, RgbColorSpace,
+    delta_e_ok, oklab_to_oklch, oklab_to_xyz, xyz_to_oklab, RgbColorSpace,
 };
 
 /// ΔEOK of a just-noticeable difference (CSS Color 4).
@@ -50,6 +50,13 @@ pub fn map_to_gamut(xyz: [f64; 3], space: &RgbColorSpace) -> [f64; 3] {
     restore_hue(clipped, h, space)
 }
 
+/// OkLCh → Oklab at a hue fixed by its (sine, cosine): the searches below
+/// move chroma only, so the hue's sine and cosine are taken once
+/// (`oklch_to_oklab` computes the same products).
+fn oklab_at(l: f64, chroma: f64, (sin, cos): (f64, f64)) -> [f64; 3] {
+    [l, chroma * cos, chroma * sin]
+}
+
 /// CSS Color 4's binary search with local MINDE, for an out-of-gamut
 /// colour (`rgb` in `space`, `origin` in Oklab, 0 < L < 1).
 fn css_color_4(rgb: [f64; 3], origin: [f64; 3], space: &RgbColorSpace) -> [f64; 3] {
@@ -60,9 +67,10 @@ fn css_color_4(rgb: [f64; 3], origin: [f64; 3], space: &RgbColorSpace) -> [f64; 
         return clipped;
     }
     let (mut min, mut max, mut min_in_gamut) = (0.0, c, true);
+    let hue = h.to_radians().sin_cos();
     while max - min > EPSILON {
         let chroma = 0.5 * (min + max);
-        let current = oklch_to_oklab([l, chroma, h]);
+        let current = oklab_at(l, chroma, hue);
         let rgb = space.xyz_to_rgb(oklab_to_xyz(current));
         if min_in_gamut && in_gamut(rgb) {
             min = chroma;
@@ -88,7 +96,8 @@ fn css_color_4(rgb: [f64; 3], origin: [f64; 3], space: &RgbColorSpace) -> [f64; 
 /// result is in gamut; grey at that lightness always is.
 fn restore_hue(rgb: [f64; 3], h: f64, space: &RgbColorSpace) -> [f64; 3] {
     let [l, c, _] = oklab_to_oklch(xyz_to_oklab(space.rgb_to_xyz(rgb)));
-    let at = |chroma: f64| space.xyz_to_rgb(oklab_to_xyz(oklch_to_oklab([l, chroma, h])));
+    let hue = h.to_radians().sin_cos();
+    let at = |chroma: f64| space.xyz_to_rgb(oklab_to_xyz(oklab_at(l, chroma, hue)));
     let full = at(c);
     if in_gamut(full) {
         return full;
