@@ -185,13 +185,34 @@ impl Bilinear {
         let top = &src[y0 * w..(y0 + 1) * w];
         let bottom = &src[y1 * w..(y1 + 1) * w];
         BLENDED.with_borrow_mut(|blended| {
-            blended.clear();
-            blended.extend(top.iter().zip(bottom).map(|(&t, &b)| t + fy * (b - t)));
-            for (o, &(x0, x1, fx)) in out.iter_mut().zip(&self.cols) {
-                let (a, b) = (blended[x0], blended[x1]);
-                *o = a + fx * (b - a);
-            }
+            blended.resize(w, 0.0);
+            let cols = &self.cols[..];
+            crate::wide_math::dispatch(
+                #[inline(always)]
+                || blend_row(top, bottom, fy, cols, blended, out),
+            );
         });
+    }
+}
+
+/// [`Bilinear::row`]'s arithmetic: rows `top` and `bottom` blended by
+/// `fy` into `blended`, then interpolated across by `cols` into `out`.
+#[inline(always)]
+fn blend_row(
+    top: &[f32],
+    bottom: &[f32],
+    fy: f32,
+    cols: &[(usize, usize, f32)],
+    blended: &mut [f32],
+    out: &mut [f32],
+) {
+    for ((m, &t), &b) in blended.iter_mut().zip(top).zip(bottom) {
+        *m = t + fy * (b - t);
+    }
+    let blended = &*blended;
+    for (o, &(x0, x1, fx)) in out.iter_mut().zip(cols) {
+        let (a, b) = (blended[x0], blended[x1]);
+        *o = a + fx * (b - a);
     }
 }
 
