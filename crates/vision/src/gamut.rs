@@ -49,8 +49,8 @@ pub fn map_to_gamut(xyz: [f64; 3], space: &RgbColorSpace) -> [f64; 3] {
     }
     // The hue's sine and cosine, for both searches (taken once).
     let hue = lch[2].to_radians().sin_cos();
-    let clipped = css_color_4(rgb, origin, lch, hue, space);
-    restore_hue(clipped, hue, space)
+    let (_, clipped_lab) = css_color_4(rgb, origin, lch, hue, space);
+    restore_hue(clipped_lab, hue, space)
 }
 
 /// OkLCh → Oklab at a hue fixed by its (sine, cosine): the searches below
@@ -62,19 +62,21 @@ fn oklab_at(l: f64, chroma: f64, (sin, cos): (f64, f64)) -> [f64; 3] {
 
 /// CSS Color 4's binary search with local MINDE, for an out-of-gamut
 /// colour (`rgb` in `space`, `origin` in Oklab and `lch` in OkLCh,
-/// 0 < L < 1; `hue` the sine and cosine of its hue).
+/// 0 < L < 1; `hue` the sine and cosine of its hue). Returns the result
+/// with its Oklab, which the search computed (restoring the hue needs it).
 fn css_color_4(
     rgb: [f64; 3],
     origin: [f64; 3],
     lch: [f64; 3],
     hue: (f64, f64),
     space: &RgbColorSpace,
-) -> [f64; 3] {
+) -> ([f64; 3], [f64; 3]) {
     let [l, c, _] = lch;
     let oklab_of = |rgb: [f64; 3]| xyz_to_oklab(space.rgb_to_xyz(rgb));
     let mut clipped = clip(rgb);
-    if delta_e_ok(oklab_of(clipped), origin) < JND {
-        return clipped;
+    let mut clipped_lab = oklab_of(clipped);
+    if delta_e_ok(clipped_lab, origin) < JND {
+        return (clipped, clipped_lab);
     }
     let (mut min, mut max, mut min_in_gamut) = (0.0, c, true);
     while max - min > EPSILON {
@@ -86,10 +88,11 @@ fn css_color_4(
             continue;
         }
         clipped = clip(rgb);
-        let e = delta_e_ok(oklab_of(clipped), current);
+        clipped_lab = oklab_of(clipped);
+        let e = delta_e_ok(clipped_lab, current);
         if e < JND {
             if JND - e < EPSILON {
-                return clipped;
+                return (clipped, clipped_lab);
             }
             min_in_gamut = false;
             min = chroma;
@@ -97,15 +100,15 @@ fn css_color_4(
             max = chroma;
         }
     }
-    clipped
+    (clipped, clipped_lab)
 }
 
-/// The in-gamut colour `rgb` turned back to the hue whose sine and cosine
-/// are `hue`, at its own OkLCh
-/// lightness and chroma, with chroma lowered (bisection to ε) until the
-/// result is in gamut; grey at that lightness always is.
-fn restore_hue(rgb: [f64; 3], hue: (f64, f64), space: &RgbColorSpace) -> [f64; 3] {
-    let [l, c, _] = oklab_to_oklch(xyz_to_oklab(space.rgb_to_xyz(rgb)));
+/// The in-gamut colour whose Oklab is `lab` turned back to the hue whose
+/// sine and cosine are `hue`, at its own OkLCh lightness and chroma, with
+/// chroma lowered (bisection to ε) until the result is in gamut; grey at
+/// that lightness always is.
+fn restore_hue(lab: [f64; 3], hue: (f64, f64), space: &RgbColorSpace) -> [f64; 3] {
+    let [l, c, _] = oklab_to_oklch(lab);
     let at = |chroma: f64| space.xyz_to_rgb(oklab_to_xyz(oklab_at(l, chroma, hue)));
     let full = at(c);
     if in_gamut(full) {
@@ -173,7 +176,9 @@ mod tests {
                 let origin = xyz_to_oklab(xyz);
                 let lch = oklab_to_oklch(origin);
                 let hue = lch[2].to_radians().sin_cos();
-                let css = css_color_4(space.xyz_to_rgb(xyz), origin, lch, hue, space);
+                let (css, css_lab) = css_color_4(space.xyz_to_rgb(xyz), origin, lch, hue, space);
+                // The Oklab it returns is its result's.
+                assert_eq!(css_lab, xyz_to_oklab(space.rgb_to_xyz(css)));
                 let ok = |rgb: [f64; 3]| xyz_to_oklab(space.rgb_to_xyz(rgb));
                 // Within about one JND of CSS Color 4's own answer.
                 assert!(delta_e_ok(ok(out), ok(css)) < 1.5 * JND, "{rgb:?}");
