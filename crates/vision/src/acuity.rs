@@ -80,6 +80,10 @@ pub fn gaussian_blur(pixels: &mut [[f32; 4]], width: usize, height: usize, sigma
         return;
     }
     let taps = Taps::new(sigma.min(MAX_BLUR_SIGMA));
+    // Each column's edge weights, the same for every row: computed once.
+    let edges: Vec<(f32, f32)> = (0..width as i64)
+        .map(|x| taps.edge_weights(x, width as i64))
+        .collect();
     // Horizontal pass, row by row.
     pixels.par_chunks_mut(width).for_each_init(
         || Vec::with_capacity(width),
@@ -87,8 +91,7 @@ pub fn gaussian_blur(pixels: &mut [[f32; 4]], width: usize, height: usize, sigma
             copy.clear();
             copy.extend_from_slice(row);
             let n = width as i64;
-            for (x, o) in row.iter_mut().enumerate() {
-                let (w0, w1) = taps.edge_weights(x as i64, n);
+            for ((x, o), &(w0, w1)) in row.iter_mut().enumerate().zip(&edges) {
                 let mut acc = [0.0f32; 4];
                 let mut add = |p: &[f32; 4], t: f32| axpy(&mut acc, p, t);
                 // (An edge's weight is 0 away from it, and adding 0 · p

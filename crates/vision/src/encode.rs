@@ -16,15 +16,26 @@ pub fn srgb8(rgb: &[[f32; 3]]) -> Vec<u8> {
     out.par_chunks_mut(3 * BLOCK)
         .zip(rgb.par_chunks(BLOCK))
         .enumerate()
-        .for_each(|(b, (out, px))| {
-            let table = PowerTable::get();
-            for (j, (o, p)) in out.chunks_exact_mut(3).zip(px).enumerate() {
-                let i = b * BLOCK + j;
-                for c in 0..3 {
-                    o[c] = code8(table, p[c].clamp(0.0, 1.0), 3 * i + c);
+        .for_each_init(
+            || vec![false; 3 * BLOCK],
+            |settled, (b, (out, px))| {
+                let table = PowerTable::get();
+                let samples = px.as_flattened();
+                let k0 = 3 * b * BLOCK;
+                let settled = &mut settled[..samples.len()];
+                // The table's codes, a wide loop over the block; then the
+                // samples it could not settle, one by one.
+                crate::wide_math::dispatch(
+                    #[inline(always)]
+                    || table.codes(samples, k0, out, settled),
+                );
+                for (j, (o, &v)) in out.iter_mut().zip(samples).enumerate() {
+                    if !settled[j] {
+                        *o = code8(table, v.clamp(0.0, 1.0), k0 + j);
+                    }
                 }
-            }
-        });
+            },
+        );
     out
 }
 
@@ -52,6 +63,7 @@ fn dithered8(v: f32, k: usize) -> u8 {
 }
 
 /// Sample `k`'s triangular noise in (−1, 1).
+#[inline(always)]
 fn dither(k: usize) -> f64 {
     let k = k as u64;
     uniform(k, 0) + uniform(k, 1) - 1.0
@@ -76,6 +88,8 @@ struct PowerTable {
 const SEGMENT_SHIFT: u32 = 23 - 8;
 /// The table's first point, 2^−9, as `f32` bits shifted to a segment index.
 const FIRST_SEGMENT: u32 = (127 - 9) << 8;
+/// The table's points: 256 per octave over 9 octaves, and both ends.
+const TABLE_POINTS: usize = 9 * 256 + 2;
 /// How close (in code values) to a rounding boundary the estimate may come.
 const MARGIN: f64 = 1e-3;
 
@@ -83,7 +97,7 @@ impl PowerTable {
     fn get() -> &'static Self {
         static TABLE: std::sync::OnceLock<PowerTable> = std::sync::OnceLock::new();
         TABLE.get_or_init(|| Self {
-            codes: (0..=9 * 256 + 1)
+            codes: (0..TABLE_POINTS as u32)
                 .map(|i| {
                     let x = f64::from(f32::from_bits((FIRST_SEGMENT + i) << SEGMENT_SHIFT));
                     255.0 * (1.055 * x.powf(1.0 / 2.4) - 0.055)
@@ -101,6 +115,45 @@ impl PowerTable {
         };
         let t = f64::from(bits & ((1 << SEGMENT_SHIFT) - 1)) / f64::from(1u32 << SEGMENT_SHIFT);
         Some(a + (b - a) * t)
+    }
+
+    /// [`PowerTable::code`] of every sample (`k0 + j` for sample j of
+    /// `samples`, each clamped to [0, 1]) into `out`, `settled[j]` saying
+    /// whether sample j's code is the table's; without branches, so the
+    /// loop vectorises: the same arithmetic, each step taken for every
+    /// sample and its outcome chosen by a select.
+    #[inline(always)]
+    fn codes(&self, samples: &[f32], k0: usize, out: &mut [u8], settled: &mut [bool]) {
+        let n = samples.len();
+        let (out, settled) = (&mut out[..n], &mut settled[..n]);
+        let codes: &[f64; TABLE_POINTS] = match self.codes[..].try_into() {
+            Ok(codes) => codes,
+            Err(_) => return settled.fill(false),
+        };
+        let last = TABLE_POINTS as i32 - 2;
+        for j in 0..n {
+            let linear = samples[j].clamp(0.0, 1.0);
+            let bits = linear.to_bits();
+            // (NaN's bits give a segment past the table: not settled.)
+            let segment = (bits >> SEGMENT_SHIFT) as i32 - FIRST_SEGMENT as i32;
+            let in_table = (segment >= 0) & (segment <= last);
+            let i = segment.clamp(0, last) as usize;
+            let (a, b) = (codes[i], codes[i + 1]);
+            let t = f64::from(bits & ((1 << SEGMENT_SHIFT) - 1)) / f64::from(1u32 << SEGMENT_SHIFT);
+            let v = a + (b - a) * t;
+            let x = v + dither(k0 + j);
+            // 9 < x < 256 where the code is taken: i32 holds it, and `as`
+            // truncates down as in `round_code`.
+            let whole = x as i32;
+            let fraction = x - f64::from(whole);
+            let up = (fraction >= 0.5) as i32;
+            out[j] = (whole + up).clamp(0, 255) as u8;
+            // (`&`, not `&&`: no branches.)
+            settled[j] = (linear > SRGB_KNEE)
+                & in_table
+                & (v < 255.0 - MARGIN)
+                & ((fraction - 0.5).abs() > MARGIN);
+        }
     }
 
     /// Sample `k`'s code of `linear` (above the knee) when the estimate
@@ -171,6 +224,7 @@ pub fn pq_encode(luminance: f64) -> f64 {
 }
 
 /// A uniform number in [0, 1) from a counter (SplitMix64's finaliser).
+#[inline(always)]
 fn uniform(k: u64, stream: u64) -> f64 {
     let mut z = k
         .wrapping_mul(2)

@@ -14,7 +14,7 @@
 //! ΔEOK on the test colours) and keeps the hue exactly (docs/vision.md).
 
 use scotopia_color::space::{
-    delta_e_ok, oklab_to_oklch, oklab_to_xyz, oklch_to_oklab, xyz_to_oklab, RgbColorSpace,
+    delta_e_ok, oklab_to_oklch, oklab_to_xyz, xyz_to_oklab, RgbColorSpace,
 };
 
 /// ΔEOK of a just-noticeable difference (CSS Color 4).
@@ -38,7 +38,8 @@ pub fn map_to_gamut(xyz: [f64; 3], space: &RgbColorSpace) -> [f64; 3] {
         return rgb;
     }
     let origin = xyz_to_oklab(xyz);
-    let [l, _, h] = oklab_to_oklch(origin);
+    let lch = oklab_to_oklch(origin);
+    let l = lch[0];
     // Beyond white or black there is no chroma to keep.
     if l >= 1.0 {
         return [1.0; 3];
@@ -46,33 +47,52 @@ pub fn map_to_gamut(xyz: [f64; 3], space: &RgbColorSpace) -> [f64; 3] {
     if l.is_nan() || l <= 0.0 {
         return [0.0; 3];
     }
-    let clipped = css_color_4(rgb, origin, space);
-    restore_hue(clipped, h, space)
+    // The hue's sine and cosine, for both searches (taken once).
+    let hue = lch[2].to_radians().sin_cos();
+    let (_, clipped_lab) = css_color_4(rgb, origin, lch, hue, space);
+    restore_hue(clipped_lab, hue, space)
+}
+
+/// OkLCh → Oklab at a hue fixed by its (sine, cosine): the searches below
+/// move chroma only, so the hue's sine and cosine are taken once
+/// (`oklch_to_oklab` computes the same products).
+fn oklab_at(l: f64, chroma: f64, (sin, cos): (f64, f64)) -> [f64; 3] {
+    [l, chroma * cos, chroma * sin]
 }
 
 /// CSS Color 4's binary search with local MINDE, for an out-of-gamut
-/// colour (`rgb` in `space`, `origin` in Oklab, 0 < L < 1).
-fn css_color_4(rgb: [f64; 3], origin: [f64; 3], space: &RgbColorSpace) -> [f64; 3] {
-    let [l, c, h] = oklab_to_oklch(origin);
+/// colour (`rgb` in `space`, `origin` in Oklab and `lch` in OkLCh,
+/// 0 < L < 1; `hue` the sine and cosine of its hue). Returns the result
+/// with its Oklab, which the search computed (restoring the hue needs it).
+fn css_color_4(
+    rgb: [f64; 3],
+    origin: [f64; 3],
+    lch: [f64; 3],
+    hue: (f64, f64),
+    space: &RgbColorSpace,
+) -> ([f64; 3], [f64; 3]) {
+    let [l, c, _] = lch;
     let oklab_of = |rgb: [f64; 3]| xyz_to_oklab(space.rgb_to_xyz(rgb));
     let mut clipped = clip(rgb);
-    if delta_e_ok(oklab_of(clipped), origin) < JND {
-        return clipped;
+    let mut clipped_lab = oklab_of(clipped);
+    if delta_e_ok(clipped_lab, origin) < JND {
+        return (clipped, clipped_lab);
     }
     let (mut min, mut max, mut min_in_gamut) = (0.0, c, true);
     while max - min > EPSILON {
         let chroma = 0.5 * (min + max);
-        let current = oklch_to_oklab([l, chroma, h]);
+        let current = oklab_at(l, chroma, hue);
         let rgb = space.xyz_to_rgb(oklab_to_xyz(current));
         if min_in_gamut && in_gamut(rgb) {
             min = chroma;
             continue;
         }
         clipped = clip(rgb);
-        let e = delta_e_ok(oklab_of(clipped), current);
+        clipped_lab = oklab_of(clipped);
+        let e = delta_e_ok(clipped_lab, current);
         if e < JND {
             if JND - e < EPSILON {
-                return clipped;
+                return (clipped, clipped_lab);
             }
             min_in_gamut = false;
             min = chroma;
@@ -80,15 +100,16 @@ fn css_color_4(rgb: [f64; 3], origin: [f64; 3], space: &RgbColorSpace) -> [f64; 
             max = chroma;
         }
     }
-    clipped
+    (clipped, clipped_lab)
 }
 
-/// The in-gamut colour `rgb` turned back to hue `h` at its own OkLCh
-/// lightness and chroma, with chroma lowered (bisection to ε) until the
-/// result is in gamut; grey at that lightness always is.
-fn restore_hue(rgb: [f64; 3], h: f64, space: &RgbColorSpace) -> [f64; 3] {
-    let [l, c, _] = oklab_to_oklch(xyz_to_oklab(space.rgb_to_xyz(rgb)));
-    let at = |chroma: f64| space.xyz_to_rgb(oklab_to_xyz(oklch_to_oklab([l, chroma, h])));
+/// The in-gamut colour whose Oklab is `lab` turned back to the hue whose
+/// sine and cosine are `hue`, at its own OkLCh lightness and chroma, with
+/// chroma lowered (bisection to ε) until the result is in gamut; grey at
+/// that lightness always is.
+fn restore_hue(lab: [f64; 3], hue: (f64, f64), space: &RgbColorSpace) -> [f64; 3] {
+    let [l, c, _] = oklab_to_oklch(lab);
+    let at = |chroma: f64| space.xyz_to_rgb(oklab_to_xyz(oklab_at(l, chroma, hue)));
     let full = at(c);
     if in_gamut(full) {
         return full;
@@ -152,7 +173,12 @@ mod tests {
                 assert!(out.iter().all(|c| (0.0..=1.0).contains(c)), "{out:?}");
                 let dh = (hue(space.rgb_to_xyz(out)) - hue(xyz) + 540.0).rem_euclid(360.0) - 180.0;
                 worst_hue = worst_hue.max(dh.abs());
-                let css = css_color_4(space.xyz_to_rgb(xyz), xyz_to_oklab(xyz), space);
+                let origin = xyz_to_oklab(xyz);
+                let lch = oklab_to_oklch(origin);
+                let hue = lch[2].to_radians().sin_cos();
+                let (css, css_lab) = css_color_4(space.xyz_to_rgb(xyz), origin, lch, hue, space);
+                // The Oklab it returns is its result's.
+                assert_eq!(css_lab, xyz_to_oklab(space.rgb_to_xyz(css)));
                 let ok = |rgb: [f64; 3]| xyz_to_oklab(space.rgb_to_xyz(rgb));
                 // Within about one JND of CSS Color 4's own answer.
                 assert!(delta_e_ok(ok(out), ok(css)) < 1.5 * JND, "{rgb:?}");

@@ -19,6 +19,7 @@ pub mod pipeline;
 pub mod pyramid;
 pub mod screen;
 pub mod tonemap;
+pub mod wide_math;
 
 pub use pipeline::{
     display, display_observed, display_owned, DisplayParams, Displayed, Report, Stage, ToneOperator,

@@ -148,7 +148,9 @@ pub fn reduce4(
 /// per-pixel work instead of holding whole expanded planes.
 pub struct Bilinear {
     src_width: usize,
-    cols: Vec<(usize, usize, f32)>,
+    /// Per destination column, the two source columns and the weight of
+    /// the second, as separate arrays (u32: the wide loop gathers by them).
+    cols: Columns,
     rows: Vec<(usize, usize, f32)>,
 }
 
@@ -166,7 +168,7 @@ impl Bilinear {
         };
         Self {
             src_width: src.0,
-            cols: taps(src.0, dst.0),
+            cols: Columns::of(&taps(src.0, dst.0)),
             rows: taps(src.1, dst.1),
         }
     }
@@ -185,13 +187,61 @@ impl Bilinear {
         let top = &src[y0 * w..(y0 + 1) * w];
         let bottom = &src[y1 * w..(y1 + 1) * w];
         BLENDED.with_borrow_mut(|blended| {
-            blended.clear();
-            blended.extend(top.iter().zip(bottom).map(|(&t, &b)| t + fy * (b - t)));
-            for (o, &(x0, x1, fx)) in out.iter_mut().zip(&self.cols) {
-                let (a, b) = (blended[x0], blended[x1]);
-                *o = a + fx * (b - a);
-            }
+            blended.resize(w, 0.0);
+            let cols = &self.cols;
+            crate::wide_math::dispatch(
+                #[inline(always)]
+                || blend_row(top, bottom, fy, cols, blended, out),
+            );
         });
+    }
+}
+
+/// [`Bilinear::row`]'s arithmetic: rows `top` and `bottom` blended by
+/// `fy` into `blended`, then interpolated across by `cols` into `out`.
+#[inline(always)]
+fn blend_row(
+    top: &[f32],
+    bottom: &[f32],
+    fy: f32,
+    cols: &Columns,
+    blended: &mut [f32],
+    out: &mut [f32],
+) {
+    for ((m, &t), &b) in blended.iter_mut().zip(top).zip(bottom) {
+        *m = t + fy * (b - t);
+    }
+    let blended = &*blended;
+    let n = out.len().min(cols.first.len());
+    let (out, first, second, weight) = (
+        &mut out[..n],
+        &cols.first[..n],
+        &cols.second[..n],
+        &cols.weight[..n],
+    );
+    for x in 0..n {
+        // (Every index is inside the source row: `get` only keeps the
+        // loop free of a panic branch.)
+        let a = blended.get(first[x] as usize).copied().unwrap_or(0.0);
+        let b = blended.get(second[x] as usize).copied().unwrap_or(0.0);
+        out[x] = a + weight[x] * (b - a);
+    }
+}
+
+/// [`Bilinear`]'s column taps.
+struct Columns {
+    first: Vec<u32>,
+    second: Vec<u32>,
+    weight: Vec<f32>,
+}
+
+impl Columns {
+    fn of(taps: &[(usize, usize, f32)]) -> Self {
+        Self {
+            first: taps.iter().map(|t| t.0 as u32).collect(),
+            second: taps.iter().map(|t| t.1 as u32).collect(),
+            weight: taps.iter().map(|t| t.2).collect(),
+        }
     }
 }
 

@@ -34,12 +34,14 @@ impl KernelSpectra {
     /// sample is left out of the spectra (reported in `centre`) for the
     /// caller to apply at a finer resolution.
     pub fn new(fft: &Fft2, degrees_per_pixel: f64, s: f64, without_centre: bool) -> Self {
-        let (mut k, has_halo) = sample(fft.width, fft.height, degrees_per_pixel, s);
-        let total = k
-            .par_iter()
+        let grid = Sampled::new(fft.width, fft.height, degrees_per_pixel, s);
+        let n = fft.width * fft.height;
+        let total = (0..n)
+            .into_par_iter()
             .fold(
                 || [0.0f64; 4],
-                |mut a, v| {
+                |mut a, i| {
+                    let v = grid.at(i);
                     for c in 0..4 {
                         a[c] += v[c];
                     }
@@ -47,23 +49,26 @@ impl KernelSpectra {
                 },
             )
             .reduce(|| [0.0; 4], |a, b| std::array::from_fn(|c| a[c] + b[c]));
-        let centre: [f32; 4] = std::array::from_fn(|c| (k[0][c] / total[c]) as f32);
-        if without_centre {
-            k[0] = [0.0; 4];
-        }
+        let k0 = grid.at(0);
+        let centre: [f32; 4] = std::array::from_fn(|c| (k0[c] / total[c]) as f32);
         // Channel pairs packed as real + i·imaginary; a real, even kernel's
         // spectrum is real, so the two come back as the real and the
         // imaginary parts.
-        let pairs: &[(usize, usize)] = if has_halo {
+        let pairs: &[(usize, usize)] = if grid.has_halo {
             &[(0, 1), (2, 3)]
         } else {
             &[(0, 0)]
         };
         let mut spectra = Vec::new();
         for &(a, b) in pairs {
-            let mut packed: Vec<Complex32> = k
-                .par_iter()
-                .map(|v| {
+            let mut packed: Vec<Complex32> = (0..n)
+                .into_par_iter()
+                .map(|i| {
+                    let v = if without_centre && i == 0 {
+                        [0.0; 4]
+                    } else {
+                        grid.at(i)
+                    };
                     let im = if a == b { 0.0 } else { v[b] / total[b] };
                     Complex32::new((v[a] / total[a]) as f32, im as f32)
                 })
@@ -80,37 +85,73 @@ impl KernelSpectra {
 
 /// The PSF (X, Y, Z, V′) on a `pw` × `ph` grid centred at index (0, 0) and
 /// wrapped, pixels near the centre averaged over their area; and whether
-/// the channels differ (a halo).
+/// the channels differ (a halo). (The whole grid, from [`Sampled`].)
+#[cfg(test)]
 pub(super) fn sample(
     pw: usize,
     ph: usize,
     degrees_per_pixel: f64,
     s: f64,
 ) -> (Vec<[f64; 4]>, bool) {
-    let w = weights(s);
-    let halo = (w[3] > 0.0).then(Halo::shared);
-    // Signed offset of grid index i on an n-long wrapped axis.
-    let signed = |i: usize, n: usize| {
-        if i <= n / 2 {
-            i as i64
-        } else {
-            i as i64 - n as i64
-        }
-    };
-    let psf = |dx: f64, dy: f64| -> [f64; 4] {
-        let theta = (dx * dx + dy * dy).sqrt() * degrees_per_pixel;
-        let shared = scatter(theta, &w);
-        match &halo {
-            Some(h) => h.eval_all(theta).map(|f| shared + w[3] * f),
-            None => [shared; 4],
-        }
-    };
-    let mut k = vec![[0.0f64; 4]; pw * ph];
-    k.par_chunks_mut(pw).enumerate().for_each(|(j, row)| {
-        let dy = signed(j, ph);
-        for (i, v) in row.iter_mut().enumerate() {
-            let dx = signed(i, pw);
-            *v = if dx.abs() <= SUPERSAMPLED_RADIUS && dy.abs() <= SUPERSAMPLED_RADIUS {
+    let grid = Sampled::new(pw, ph, degrees_per_pixel, s);
+    ((0..pw * ph).map(|i| grid.at(i)).collect(), grid.has_halo)
+}
+
+/// The sampled PSF of a `pw` × `ph` wrapped grid, stored once per
+/// distinct value: beyond the supersampled core the PSF depends on
+/// dx² + dy² only, so one quadrant (|dx|, |dy|) holds every value, a
+/// quarter of the evaluations and of the memory (a full-HD image's grid of
+/// four f64 channels was 17 MB, which a fresh process pays for page by
+/// page); the core's 9 × 9 pixels, averaged over sub-pixel samples, are
+/// kept by signed offset. Every value is the one the whole grid had.
+struct Sampled {
+    pw: usize,
+    ph: usize,
+    /// Quadrant width, pw/2 + 1.
+    qw: usize,
+    quadrant: Vec<[f64; 4]>,
+    core: Vec<[f64; 4]>,
+    has_halo: bool,
+}
+
+/// Core side, 2·SUPERSAMPLED_RADIUS + 1.
+const CORE: usize = 2 * SUPERSAMPLED_RADIUS as usize + 1;
+
+/// Signed offset of grid index i on an n-long wrapped axis.
+fn signed(i: usize, n: usize) -> i64 {
+    if i <= n / 2 {
+        i as i64
+    } else {
+        i as i64 - n as i64
+    }
+}
+
+impl Sampled {
+    fn new(pw: usize, ph: usize, degrees_per_pixel: f64, s: f64) -> Self {
+        let w = weights(s);
+        let halo = (w[3] > 0.0).then(Halo::shared);
+        let psf = |dx: f64, dy: f64| -> [f64; 4] {
+            let theta = (dx * dx + dy * dy).sqrt() * degrees_per_pixel;
+            let shared = scatter(theta, &w);
+            match &halo {
+                Some(h) => h.eval_all(theta).map(|f| shared + w[3] * f),
+                None => [shared; 4],
+            }
+        };
+        let (qw, qh) = (pw / 2 + 1, ph / 2 + 1);
+        let mut quadrant = vec![[0.0f64; 4]; qw * qh];
+        quadrant
+            .par_chunks_mut(qw)
+            .enumerate()
+            .for_each(|(dy, row)| {
+                for (dx, v) in row.iter_mut().enumerate() {
+                    *v = psf(dx as f64, dy as f64);
+                }
+            });
+        let r = SUPERSAMPLED_RADIUS;
+        let core = (-r..=r)
+            .flat_map(|dy| (-r..=r).map(move |dx| (dx, dy)))
+            .map(|(dx, dy)| {
                 let n = SUBSAMPLES as f64;
                 let mut sum = [0.0; 4];
                 for sy in 0..SUBSAMPLES {
@@ -124,17 +165,76 @@ pub(super) fn sample(
                     }
                 }
                 sum
-            } else {
-                psf(dx as f64, dy as f64)
-            };
+            })
+            .collect();
+        Self {
+            pw,
+            ph,
+            qw,
+            quadrant,
+            core,
+            has_halo: halo.is_some(),
         }
-    });
-    (k, halo.is_some())
+    }
+
+    /// The PSF at grid index `i` (row-major, `pw` wide).
+    fn at(&self, i: usize) -> [f64; 4] {
+        let (dx, dy) = (signed(i % self.pw, self.pw), signed(i / self.pw, self.ph));
+        let r = SUPERSAMPLED_RADIUS;
+        if dx.abs() <= r && dy.abs() <= r {
+            self.core[(dy + r) as usize * CORE + (dx + r) as usize]
+        } else {
+            self.quadrant[dy.unsigned_abs() as usize * self.qw + dx.unsigned_abs() as usize]
+        }
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_quadrant_and_core_hold_every_value_of_the_whole_grid() {
+        // The grid as it was sampled whole, pixel by pixel: the same bits.
+        for (pw, ph, s) in [(40, 30, 0.0), (33, 17, 0.5), (64, 48, 1.0)] {
+            let w = weights(s);
+            let halo = (w[3] > 0.0).then(Halo::shared);
+            let psf = |dx: f64, dy: f64| -> [f64; 4] {
+                let theta = (dx * dx + dy * dy).sqrt() * 0.2;
+                let shared = scatter(theta, &w);
+                match &halo {
+                    Some(h) => h.eval_all(theta).map(|f| shared + w[3] * f),
+                    None => [shared; 4],
+                }
+            };
+            let (k, _) = sample(pw, ph, 0.2, s);
+            for (i, v) in k.iter().enumerate() {
+                let (dx, dy) = (signed(i % pw, pw), signed(i / pw, ph));
+                let want = if dx.abs() <= SUPERSAMPLED_RADIUS && dy.abs() <= SUPERSAMPLED_RADIUS {
+                    let n = SUBSAMPLES as f64;
+                    let mut sum = [0.0; 4];
+                    for sy in 0..SUBSAMPLES {
+                        for sx in 0..SUBSAMPLES {
+                            let ox = (sx as f64 + 0.5) / n - 0.5;
+                            let oy = (sy as f64 + 0.5) / n - 0.5;
+                            let f = psf(dx as f64 + ox, dy as f64 + oy);
+                            for c in 0..4 {
+                                sum[c] += f[c] / (n * n);
+                            }
+                        }
+                    }
+                    sum
+                } else {
+                    psf(dx as f64, dy as f64)
+                };
+                assert_eq!(
+                    v.map(f64::to_bits),
+                    want.map(f64::to_bits),
+                    "{pw}×{ph} at {i}"
+                );
+            }
+        }
+    }
 
     #[test]
     fn packed_spectra_equal_each_kernel_transformed_alone() {

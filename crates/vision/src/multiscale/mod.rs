@@ -42,8 +42,9 @@ use rayon::prelude::*;
 use scotopia_color::space::Cat;
 use scotopia_color::{Mat3, RgbSpace};
 
-use crate::mode::image_statistics;
+use crate::mode::log_average;
 use crate::pyramid::{collapse_with, gaussian, reduce4, zeroed, Bilinear, Plane};
+use crate::wide_math;
 
 /// What the eye adapts to in the model's gain control.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -160,10 +161,12 @@ fn receptors(m: &Matrices, px: &[f32; 4]) -> [f32; 4] {
     [l, mm, s, clean[3]]
 }
 
+#[inline(always)]
 fn apply(m: &[[f32; 3]; 3], v: [f32; 3]) -> [f32; 3] {
     m.map(|row| row[0] * v[0] + row[1] * v[1] + row[2] * v[2])
 }
 
+#[inline(always)]
 fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
@@ -178,10 +181,68 @@ pub fn multiscale(
     height: usize,
     p: &MultiscaleParams,
 ) -> Vec<[f32; 3]> {
+    run_with::<Wide>(pixels, width, height, p)
+}
+
+/// [`multiscale`] with libm's `powf` and `expf` per pixel: the model as
+/// it was computed before the rows went wide, kept as the reference the
+/// wide rows are tested against (they differ from it by an f32 ulp here
+/// and there, multiscale's tests).
+pub fn multiscale_libm(
+    pixels: &[[f32; 4]],
+    width: usize,
+    height: usize,
+    p: &MultiscaleParams,
+) -> Vec<[f32; 3]> {
+    run_with::<Libm>(pixels, width, height, p)
+}
+
+fn run_with<M: RowMath>(
+    pixels: &[[f32; 4]],
+    width: usize,
+    height: usize,
+    p: &MultiscaleParams,
+) -> Vec<[f32; 3]> {
     let mut out = pixels.to_vec();
     Model::new(pixels, width, height, p)
-        .display(&mut out, |o, xyz| *o = [xyz[0], xyz[1], xyz[2], 0.0]);
+        .display::<M>(&mut out, |o, xyz| *o = [xyz[0], xyz[1], xyz[2], 0.0]);
     out.into_iter().map(|q| [q[0], q[1], q[2]]).collect()
+}
+
+/// The per-pixel transcendental functions of the model's rows: the wide
+/// polynomials of `wide_math` in the pipeline, libm's in the reference.
+pub(crate) trait RowMath {
+    /// The receptor gain `g` at adaptation `i`.
+    fn gain(g: &GainFunction, i: f32) -> f32;
+    fn exp(x: f32) -> f32;
+}
+
+/// libm's `powf` and `expf` ([`GainFunction::gain`]): the reference.
+pub(crate) struct Libm;
+
+impl RowMath for Libm {
+    #[inline(always)]
+    fn gain(g: &GainFunction, i: f32) -> f32 {
+        g.gain(i)
+    }
+    #[inline(always)]
+    fn exp(x: f32) -> f32 {
+        x.exp()
+    }
+}
+
+/// `wide_math`'s: the same formulas, vectorised.
+pub(crate) struct Wide;
+
+impl RowMath for Wide {
+    #[inline(always)]
+    fn gain(g: &GainFunction, i: f32) -> f32 {
+        g.gain_wide(i)
+    }
+    #[inline(always)]
+    fn exp(x: f32) -> f32 {
+        wide_math::expf(x)
+    }
 }
 
 /// As [`multiscale`], writing pixel i's result `finish(&pixels[i],
@@ -197,7 +258,7 @@ pub fn multiscale_in_place(
     // The model keeps no reference to the pixels once its pyramids are
     // built, so they can be overwritten.
     let model = Model::new(pixels, width, height, p);
-    model.display(pixels, |q, xyz| *q = finish(q, xyz));
+    model.display::<Wide>(pixels, |q, xyz| *q = finish(q, xyz));
 }
 
 /// The model's state: receptor pyramids and the gains that depend on them.
@@ -219,11 +280,12 @@ struct Model<'a> {
     display_gain: f32,
 }
 
-/// Per-thread rows: a level's receptor signals and the expanded local
-/// means of the next coarser level.
+/// Per-thread rows: a level's receptor signals, the expanded local
+/// means of the next coarser level, and the band's display cones.
 struct Scratch {
     fine: [Vec<f32>; 4],
     mean: [Vec<f32>; 4],
+    cones: [Vec<f32>; 3],
 }
 
 impl Scratch {
@@ -231,6 +293,7 @@ impl Scratch {
         Self {
             fine: std::array::from_fn(|_| vec![0.0; width]),
             mean: std::array::from_fn(|_| vec![0.0; width]),
+            cones: std::array::from_fn(|_| vec![0.0; width]),
         }
     }
 }
@@ -279,7 +342,7 @@ impl<'a> Model<'a> {
         // The whole image's adaptation: stated, or its log-average.
         let la = match p.adaptation {
             GainAdaptation::Global(la) => la,
-            GainAdaptation::Local => image_statistics(pixels).log_average,
+            GainAdaptation::Local => log_average(pixels),
         };
         let wide = global_adaptation(pixels, &m, la);
         let wide_y = p.cones.gain(dot(m.luminance, [wide[0], wide[1], wide[2]]));
@@ -309,18 +372,23 @@ impl<'a> Model<'a> {
     /// the cones' at its luminance times their von Kries ratios, the rods'
     /// at their own signal; with a global adaptation, the fixed gains.
     fn gains(&self, local: [f32; 4]) -> [f32; 4] {
-        self.fixed_gains.unwrap_or_else(|| {
-            let g = self
-                .p
-                .cones
-                .gain(dot(self.m.luminance, [local[0], local[1], local[2]]));
-            [
-                g * self.chroma_ratio[0],
-                g * self.chroma_ratio[1],
-                g * self.chroma_ratio[2],
-                self.p.rods.gain(local[3]),
-            ]
-        })
+        self.fixed_gains
+            .unwrap_or_else(|| self.local_gains::<Libm>(local))
+    }
+
+    /// The gains at a local adaptation (no fixed gains), through `M`.
+    #[inline(always)]
+    fn local_gains<M: RowMath>(&self, local: [f32; 4]) -> [f32; 4] {
+        let g = M::gain(
+            &self.p.cones,
+            dot(self.m.luminance, [local[0], local[1], local[2]]),
+        );
+        [
+            g * self.chroma_ratio[0],
+            g * self.chroma_ratio[1],
+            g * self.chroma_ratio[2],
+            M::gain(&self.p.rods, local[3]),
+        ]
     }
 
     fn size(&self, level: usize) -> (usize, usize) {
@@ -338,45 +406,49 @@ impl<'a> Model<'a> {
         to_display_cones(&self.m, x).map(|v| v / self.display_gain)
     }
 
-    /// Row `y` of band `level` as display cones, given to `emit(x, cones)`:
+    /// Row `y` of band `level` as display cones, into `scratch.cones`:
     /// each receptor's band (the level, whose row the caller has put in
     /// `scratch.fine`, minus the next coarser one expanded) gain-controlled
-    /// at that local mean, rods joined, over the display's gain.
-    fn band_row(
-        &self,
-        level: usize,
-        y: usize,
-        scratch: &mut Scratch,
-        mut emit: impl FnMut(usize, [f32; 3]),
-    ) {
+    /// at that local mean, rods joined, over the display's gain. The
+    /// per-pixel loop runs wide (`wide_math::dispatch`).
+    fn band_cones<M: RowMath>(&self, level: usize, y: usize, scratch: &mut Scratch) {
         let (w, _) = self.size(level);
         for (c, row) in scratch.mean.iter_mut().enumerate() {
             self.up[level].row(&self.pyramids[c][level + 1].data, y, &mut row[..w]);
         }
-        let [m0, m1, m2, m3] = &scratch.mean;
-        let means = m0.iter().zip(m1).zip(m2).zip(m3).take(w);
-        for (x, (((&l, &m), &s), &r)) in means.enumerate() {
-            let local = [l, m, s, r];
-            let gains = self.gains(local);
-            let band: [f32; 4] =
-                std::array::from_fn(|c| (scratch.fine[c][x] - local[c]) * gains[c]);
-            emit(
-                x,
-                to_display_cones(&self.m, band).map(|v| v / self.display_gain),
-            );
-        }
+        let k = BandRow {
+            fixed: self.fixed_gains,
+            cones: self.p.cones,
+            rods: self.p.rods,
+            luminance: self.m.luminance,
+            ratio: self.chroma_ratio,
+            rod_cones: self.m.rod_cones,
+            display_gain: self.display_gain,
+        };
+        let fine: [&[f32]; 4] = std::array::from_fn(|c| &scratch.fine[c][..w]);
+        let mean: [&[f32]; 4] = std::array::from_fn(|c| &scratch.mean[c][..w]);
+        let [l, m, s] = &mut scratch.cones;
+        let out = [&mut l[..w], &mut m[..w], &mut s[..w]];
+        wide_math::dispatch(
+            #[inline(always)]
+            move || band_row::<M>(k, fine, mean, out),
+        );
     }
 
     /// Display X, Y, Z of each pixel of `pixels` (the image the model was
     /// built from), given to `put` with the pixel to overwrite.
-    fn display(&self, pixels: &mut [[f32; 4]], put: impl Fn(&mut [f32; 4], [f32; 3]) + Sync) {
+    fn display<M: RowMath>(
+        &self,
+        pixels: &mut [[f32; 4]],
+        put: impl Fn(&mut [f32; 4], [f32; 3]) + Sync,
+    ) {
         // Combining a display band with the collapsed coarser levels: one
         // gain per receptor scales bands and mean alike, so a plain sum is
         // exact and cannot undershoot; local gains need the contrast
         // roll-off.
         match self.fixed_gains {
-            Some(_) => self.display_with(|m, b| m + b, pixels, put),
-            None => self.display_with(add_contrast, pixels, put),
+            Some(_) => self.display_with::<M>(|m, b| m + b, pixels, put),
+            None => self.display_with::<M>(add_contrast::<M>, pixels, put),
         }
     }
 
@@ -384,7 +456,7 @@ impl<'a> Model<'a> {
     /// but the finest collapsed onto it with `combine`, and the finest band
     /// fused with the last collapse step and the return to X, Y, Z so no
     /// full-size band plane is ever stored.
-    fn display_with(
+    fn display_with<M: RowMath>(
         &self,
         combine: impl Fn(f32, f32) -> f32 + Sync + Copy,
         out: &mut [[f32; 4]],
@@ -404,7 +476,7 @@ impl<'a> Model<'a> {
         }
         let mut bands: [Vec<Plane>; 3] = Default::default();
         for level in 1..n.max(1) - 1 {
-            for (c, plane) in self.band_planes(level).into_iter().enumerate() {
+            for (c, plane) in self.band_planes::<M>(level).into_iter().enumerate() {
                 bands[c].push(plane);
             }
         }
@@ -413,11 +485,11 @@ impl<'a> Model<'a> {
             .zip(bands)
             .map(|(r, b)| collapse_with(&b, Plane::new(cw, ch, r), combine))
             .collect();
-        let to_xyz = |cones: [f32; 3]| {
-            // Cone signals cannot be negative (a band's undershoot next to a
-            // bright edge); clamping there, not in XYZ, keeps hues.
-            apply(&self.m.xyz, cones.map(|v| v.max(0.0))).map(|c| c.max(0.0))
-        };
+        let xyz = self.m.xyz;
+        // Cone signals cannot be negative (a band's undershoot next to a
+        // bright edge); clamping there, not in XYZ, keeps hues.
+        let to_xyz =
+            move |cones: [f32; 3]| apply(&xyz, cones.map(|v| v.max(0.0))).map(|c| c.max(0.0));
         if n == 1 {
             for (i, o) in out.iter_mut().enumerate() {
                 put(o, to_xyz(std::array::from_fn(|c| coarser[c].data[i])));
@@ -439,18 +511,37 @@ impl<'a> Model<'a> {
                         fine[x] = v;
                     }
                 }
-                self.band_row(0, y, scratch, |x, band| {
-                    put(
-                        &mut row[x],
-                        to_xyz(std::array::from_fn(|c| combine(mean[c][x], band[c]))),
-                    );
-                });
+                self.band_cones::<M>(0, y, scratch);
+                // The band on the collapsed coarser levels, back to X, Y,
+                // Z in place of the band's cones (wide), then handed out.
+                let [a, b, c] = &mut scratch.cones;
+                let (a, b, c) = (&mut a[..width], &mut b[..width], &mut c[..width]);
+                let m = [&mean[0][..width], &mean[1][..width], &mean[2][..width]];
+                wide_math::dispatch(
+                    #[inline(always)]
+                    move || {
+                        let (b, c) = (&mut b[..a.len()], &mut c[..a.len()]);
+                        let [m0, m1, m2] = m.map(|r| &r[..a.len()]);
+                        for x in 0..a.len() {
+                            let v = [
+                                combine(m0[x], a[x]),
+                                combine(m1[x], b[x]),
+                                combine(m2[x], c[x]),
+                            ];
+                            [a[x], b[x], c[x]] = to_xyz(v);
+                        }
+                    },
+                );
+                let (a, b, c) = (&scratch.cones[0], &scratch.cones[1], &scratch.cones[2]);
+                for (x, px) in row.iter_mut().enumerate() {
+                    put(px, [a[x], b[x], c[x]]);
+                }
             },
         );
     }
 
     /// Band `level`'s display cone signals as three planes.
-    fn band_planes(&self, level: usize) -> [Plane; 3] {
+    fn band_planes<M: RowMath>(&self, level: usize) -> [Plane; 3] {
         let (w, h) = self.size(level);
         let mut out: [Vec<f32>; 3] = std::array::from_fn(|_| zeroed(w * h));
         let [l, m, s] = &mut out;
@@ -464,9 +555,10 @@ impl<'a> Model<'a> {
                     for (c, fine) in scratch.fine.iter_mut().enumerate() {
                         fine.copy_from_slice(&self.pyramids[c][level].data[y * w..(y + 1) * w]);
                     }
-                    self.band_row(level, y, scratch, |x, cones| {
-                        [l[x], m[x], s[x]] = cones;
-                    })
+                    self.band_cones::<M>(level, y, scratch);
+                    for (plane, cones) in [l, m, s].into_iter().zip(&scratch.cones) {
+                        plane.copy_from_slice(&cones[..w]);
+                    }
                 },
             );
         out.map(|data| Plane::new(w, h, data))
@@ -480,12 +572,78 @@ impl<'a> Model<'a> {
 /// band gain-controlled at its own local adaptation), a plain sum would
 /// undershoot into negative light; the roll-off keeps the slope 1 at zero
 /// contrast, so small contrasts are untouched. (scotopia's addition; the
-/// paper sums bands.)
-fn add_contrast(mean: f32, band: f32) -> f32 {
+/// paper sums bands.) Both sides are computed and one chosen, so a row of
+/// them vectorises.
+#[inline(always)]
+fn add_contrast<M: RowMath>(mean: f32, band: f32) -> f32 {
+    let plain = (mean + band).max(0.0);
+    let rolled = mean * M::exp(band / mean);
     if band >= 0.0 || mean <= 0.0 {
-        return (mean + band).max(0.0);
+        plain
+    } else {
+        rolled
     }
-    mean * (band / mean).exp()
+}
+
+/// What a band row's per-pixel loop reads besides the rows, by value:
+/// nothing it reads can then alias what it writes, and the loop
+/// vectorises.
+#[derive(Clone, Copy)]
+struct BandRow {
+    /// With a global adaptation, every band's four gains.
+    fixed: Option<[f32; 4]>,
+    cones: GainFunction,
+    rods: GainFunction,
+    luminance: [f32; 3],
+    ratio: [f32; 3],
+    rod_cones: [f32; 3],
+    display_gain: f32,
+}
+
+/// A band row's display cones into `out`: each receptor's band (`fine`
+/// minus `mean`, the expanded next coarser level) times its gain at that
+/// local mean ([`Model::gains`], through `M`), rods joined, over the
+/// display's gain.
+#[inline(always)]
+fn band_row<M: RowMath>(k: BandRow, fine: [&[f32]; 4], mean: [&[f32]; 4], out: [&mut [f32]; 3]) {
+    let [l, m, s] = out;
+    let w = l.len();
+    let (m, s) = (&mut m[..w], &mut s[..w]);
+    let [f0, f1, f2, f3] = fine.map(|r| &r[..w]);
+    let [m0, m1, m2, m3] = mean.map(|r| &r[..w]);
+    let finish = |band: [f32; 4]| display_band(band, k.rod_cones, k.display_gain);
+    match k.fixed {
+        Some(g) => {
+            for x in 0..w {
+                let band = [
+                    (f0[x] - m0[x]) * g[0],
+                    (f1[x] - m1[x]) * g[1],
+                    (f2[x] - m2[x]) * g[2],
+                    (f3[x] - m3[x]) * g[3],
+                ];
+                [l[x], m[x], s[x]] = finish(band);
+            }
+        }
+        None => {
+            for x in 0..w {
+                let gc = M::gain(&k.cones, dot(k.luminance, [m0[x], m1[x], m2[x]]));
+                let band = [
+                    (f0[x] - m0[x]) * (gc * k.ratio[0]),
+                    (f1[x] - m1[x]) * (gc * k.ratio[1]),
+                    (f2[x] - m2[x]) * (gc * k.ratio[2]),
+                    (f3[x] - m3[x]) * M::gain(&k.rods, m3[x]),
+                ];
+                [l[x], m[x], s[x]] = finish(band);
+            }
+        }
+    }
+}
+
+/// A gain-controlled band [L, M, S, R] as display cones over the
+/// display's gain ([`to_display_cones`], for the wide loops).
+#[inline(always)]
+fn display_band(band: [f32; 4], rod_cones: [f32; 3], display_gain: f32) -> [f32; 3] {
+    std::array::from_fn(|c| (band[c] + band[3] * rod_cones[c]) / display_gain)
 }
 
 /// Gain-controlled receptor signals [L, M, S, R] → the cone signals a

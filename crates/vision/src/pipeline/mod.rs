@@ -210,7 +210,13 @@ fn run(
     // 1. Visual mode, from the pixels that are finite and not absurd.
     let statistics = image_statistics(&pixels);
     // Where the left-out pixels are (usually nowhere), for stage 5.
-    let left_out = screen::left_out_pixels(&pixels);
+    // (Listed only when the statistics counted some: a clean image is not
+    // screened twice.)
+    let left_out = if statistics.left_out.total() > 0 {
+        screen::left_out_pixels(&pixels)
+    } else {
+        Vec::new()
+    };
     let mut scene = pixels.into_owned();
     // The pixels left out take the others' mean colour at their
     // log-average luminance in the spatial stages, so they neither glare

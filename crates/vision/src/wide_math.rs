@@ -1,0 +1,170 @@
+//! log₂, 2^x and eˣ written so that a loop over a row compiles to wide
+//! SIMD (no calls into libm, no branches: selects, integer bit moves and
+//! polynomials), for the multiscale model's per-pixel gains and contrast
+//! roll-off. They work in f64 and are accurate to 1e-11, so the f32
+//! results they feed equal libm's `powf` and `expf` (themselves within an
+//! ulp of exact) in all but the rare cases where the exact value lies near
+//! an f32 rounding boundary — then they differ by one ulp (tested here
+//! and, through the whole model, in multiscale's tests).
+//!
+//! [`dispatch`] runs a closure compiled for the best instruction set the
+//! CPU has (pulp's run-time dispatch; safe code, `unsafe` stays in pulp).
+//! Rust never fuses a multiply and an add on its own, so every level
+//! computes the same bits.
+
+/// Runs `f` inside a function compiled for the CPU's widest SIMD level
+/// (AVX-512, AVX2+FMA, SSE4.2 or plain x86-64): the loops in `f` that
+/// call only the `#[inline(always)]` functions here vectorise to it.
+#[inline(always)]
+pub fn dispatch<R>(f: impl FnOnce() -> R) -> R {
+    pulp::Arch::new().dispatch(f)
+}
+
+/// 1.5·2⁵²: adding it rounds an f64 of magnitude below 2⁵¹ to an
+/// integer, which lands in the low mantissa bits.
+const ROUNDER: f64 = 6_755_399_441_055_744.0;
+
+/// 2^y for y in [−1000, 1000] (clamped there; NaN stays NaN).
+#[inline(always)]
+pub fn exp2(y: f64) -> f64 {
+    // Clamped with comparisons, not `clamp`/`max`, so NaN passes through.
+    let y = if y < -1000.0 { -1000.0 } else { y };
+    let y = if y > 1000.0 { 1000.0 } else { y };
+    // y = k + f, k an integer, |f| ≤ ½.
+    let r = y + ROUNDER;
+    let k = r - ROUNDER;
+    let f = y - k;
+    // 2^f = e^(f·ln 2), |f·ln 2| ≤ 0.347: Taylor to degree 9 leaves
+    // 0.347¹⁰/10! < 1e-11, far below an f32 ulp (6e-8).
+    let x = f * std::f64::consts::LN_2;
+    let mut p = 1.0 / 362_880.0; // 1/9!
+    for d in INV_FACTORIALS {
+        p = p * x + d;
+    }
+    // 2^k: r's low mantissa bits hold k (two's complement); k + 1023 in
+    // the exponent field is 2^k for −1022 ≤ k ≤ 1023.
+    let scale = f64::from_bits(r.to_bits().wrapping_add(1023) << 52);
+    p * scale
+}
+
+/// 1/8!, 1/7!, …, 1/1!, 1/0!: the Horner steps after 1/9!.
+const INV_FACTORIALS: [f64; 9] = [
+    1.0 / 40_320.0,
+    1.0 / 5_040.0,
+    1.0 / 720.0,
+    1.0 / 120.0,
+    1.0 / 24.0,
+    1.0 / 6.0,
+    1.0 / 2.0,
+    1.0,
+    1.0,
+];
+
+/// eˣ (x·log₂e clamped to [−1000, 1000]).
+#[inline(always)]
+pub fn exp(x: f64) -> f64 {
+    exp2(x * std::f64::consts::LOG2_E)
+}
+
+/// log₂ t for a positive, normal, finite f32 `t`, in f64.
+#[inline(always)]
+pub fn log2(t: f32) -> f64 {
+    let bits = t.to_bits();
+    // t = 2^e · m, m in [1, 2), then m moved to [√½, √2).
+    let e = ((bits >> 23) as i32 - 127) as f32;
+    let m = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000);
+    let high = m > std::f32::consts::SQRT_2;
+    let m = if high { 0.5 * m } else { m };
+    let e = if high { e + 1.0 } else { e };
+    // ln m = 2 atanh s, s = (m − 1)/(m + 1), |s| ≤ 0.1716: the series
+    // 2(s + s³/3 + … + s¹³/13) leaves 2·0.1716¹⁵/15 < 5e-13.
+    let m = f64::from(m);
+    let s = (m - 1.0) / (m + 1.0);
+    let z = s * s;
+    let mut p = 1.0 / 13.0;
+    for d in ODD_RECIPROCALS {
+        p = p * z + d;
+    }
+    f64::from(e) + 2.0 * s * p * std::f64::consts::LOG2_E
+}
+
+/// 1/11, 1/9, …, 1/3, 1: the Horner steps after 1/13.
+const ODD_RECIPROCALS: [f64; 6] = [1.0 / 11.0, 1.0 / 9.0, 1.0 / 7.0, 1.0 / 5.0, 1.0 / 3.0, 1.0];
+
+/// `t.powf(n)` for a positive, normal, finite f32 `t`: t^n through
+/// [`log2`] and [`exp2`], rounded once to f32.
+#[inline(always)]
+pub fn powf(t: f32, n: f32) -> f32 {
+    exp2(f64::from(n) * log2(t)) as f32
+}
+
+/// `x.exp()` in f32, through [`exp`], rounded once.
+#[inline(always)]
+pub fn expf(x: f32) -> f32 {
+    exp(f64::from(x)) as f32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// ulps between two positive f32s.
+    fn ulps(a: f32, b: f32) -> u32 {
+        a.to_bits().abs_diff(b.to_bits())
+    }
+
+    #[test]
+    fn exp2_and_log2_are_exact_to_1e11() {
+        for i in -4000..4000 {
+            let y = i as f64 * 0.2371;
+            let want = y.exp2();
+            let rel = (exp2(y) / want - 1.0).abs();
+            assert!(rel < 1e-11, "2^{y}: {} vs {want}", exp2(y));
+        }
+        for i in 0..20000 {
+            let t = 10f32.powf(-3.0 + i as f32 * 0.0007);
+            let want = f64::from(t).log2();
+            assert!((log2(t) - want).abs() < 1e-12, "{t}");
+        }
+        assert!(exp2(f64::NAN).is_nan());
+        assert_eq!(exp2(-5000.0), (-1000f64).exp2());
+    }
+
+    #[test]
+    fn powf_and_expf_are_libms_within_an_ulp_and_usually_equal() {
+        // The gains' range: adaptation 1e-3 to 1e9 cd/m², exponent 0.85.
+        let (mut differ, mut n) = (0, 0);
+        for i in 0..200_000 {
+            let t = 10f32.powf(-3.0 + i as f32 * 6e-5);
+            let (a, b) = (powf(t, 0.85), t.powf(0.85));
+            assert!(ulps(a, b) <= 1, "{t}^0.85: {a} vs {b}");
+            differ += (a != b) as usize;
+            n += 1;
+        }
+        // The contrast roll-off's range: e^c for c in [−60, 0].
+        for i in 0..200_000 {
+            let x = -(i as f32) * 3e-4;
+            let (a, b) = (expf(x), x.exp());
+            assert!(ulps(a, b) <= 1, "e^{x}: {a} vs {b}");
+            differ += (a != b) as usize;
+            n += 1;
+        }
+        assert!(differ * 1000 < n, "{differ} of {n} differ from libm");
+        // Far below f32's range the result is 0, as libm's.
+        assert_eq!(expf(-200.0), 0.0);
+    }
+
+    #[test]
+    fn the_dispatched_loop_gives_the_scalar_bits() {
+        let xs: Vec<f32> = (0..1000).map(|i| 1e-3 + i as f32 * 7.3).collect();
+        let mut wide = vec![0.0f32; xs.len()];
+        dispatch(|| {
+            for (o, &x) in wide.iter_mut().zip(&xs) {
+                *o = powf(x, 0.85) + expf(-x * 1e-2);
+            }
+        });
+        for (o, &x) in wide.iter().zip(&xs) {
+            assert_eq!(o.to_bits(), (powf(x, 0.85) + expf(-x * 1e-2)).to_bits());
+        }
+    }
+}
