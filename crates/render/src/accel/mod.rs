@@ -5,13 +5,14 @@ mod aabb;
 mod block;
 mod bvh;
 mod instance;
+mod node;
 mod prims;
 mod query;
 #[cfg(test)]
 mod tests;
 
 pub use aabb::Aabb;
-pub use bvh::{Bvh, LeafCost, Visit};
+pub use bvh::{Bvh, LeafCost, Visit, Width};
 pub use instance::{Instance, ShapeGroup};
 
 use crate::geometry::{Hit, PlaneTest, Shape, Surface};
@@ -56,6 +57,16 @@ const MIXED: u16 = 0x8000;
 /// steps: on a million triangles they trace 10–25 % faster, on the
 /// Cornell box's 32 primitives 13 % slower (docs/performance.md).
 pub const WIDE_LEAVES_FROM: usize = 4096;
+
+/// The node width for a scene of `count` primitives.
+/// TEMPORARY: SCOTOPIA_BVH_WIDTH=4|8 for measuring.
+fn node_width(count: usize) -> Width {
+    let _ = count;
+    match std::env::var("SCOTOPIA_BVH_WIDTH").as_deref() {
+        Ok("4") => Width::Four,
+        _ => Width::Eight,
+    }
+}
 
 /// One leaf: its triangles, planar shapes and other primitives, each a run
 /// from a first index, tested in that order.
@@ -124,18 +135,24 @@ impl Aggregate {
         } else {
             LeafCost::SCALAR
         };
-        Self::built_with(&cost, shapes, instances)
+        Self::built_with(&cost, node_width(count), shapes, instances)
     }
 
-    /// [`Aggregate::with_instances`] with leaves costed by `cost`.
-    pub fn built_with(cost: &LeafCost, shapes: Vec<Shape>, instances: Vec<Instance>) -> Self {
+    /// [`Aggregate::with_instances`] with leaves costed by `cost`, in
+    /// nodes of `width`.
+    pub fn built_with(
+        cost: &LeafCost,
+        width: Width,
+        shapes: Vec<Shape>,
+        instances: Vec<Instance>,
+    ) -> Self {
         // Primitives are numbered shape by shape, then the instances.
         let bounds: Vec<Aabb> = shapes
             .iter()
             .flat_map(|shape| (0..shape.primitive_count()).map(move |p| shape.bounds(p)))
             .chain(instances.iter().map(|i| i.bounds()))
             .collect();
-        let mut bvh = Bvh::build_for(&bounds, cost);
+        let mut bvh = Bvh::build_for(&bounds, cost, width);
         drop(bounds);
         // Primitive numbers → (shape, primitive), for the leaves' items.
         let mut first = Vec::with_capacity(shapes.len() + 1);
