@@ -6,10 +6,9 @@
 
 use rayon::prelude::*;
 
-use super::node::{Node, Query, WideNode};
+use super::node::{Node, NodeLanes, Query, WideNode};
 use super::Aabb;
 use crate::math::{Ray, Vec3};
-use crate::simd::Lanes8;
 
 /// Bins per split axis.
 const BINS: usize = 16;
@@ -204,7 +203,7 @@ impl Bvh {
     /// Builds over primitives with the given bounds (empty bounds are left
     /// out: such primitives can never be hit).
     pub fn build(bounds: &[Aabb]) -> Self {
-        Self::build_for(bounds, &LeafCost::SCALAR, Width::Four)
+        Self::build_for(bounds, &LeafCost::SCALAR, Width::Eight)
     }
 
     /// Builds with leaves costed by `cost`, into nodes of `width`.
@@ -320,7 +319,7 @@ impl Bvh {
     /// children by distance: closest-hit queries need it to shrink t_max
     /// early; any-hit queries skip the sort.
     #[inline(always)]
-    pub fn traverse<const NEAREST_FIRST: bool, L: Lanes8>(
+    pub(crate) fn traverse<const NEAREST_FIRST: bool, L: NodeLanes>(
         &self,
         l: L,
         ray: &Ray,
@@ -330,10 +329,14 @@ impl Bvh {
         let query = Query::new(l, ray);
         match &self.nodes {
             Nodes::Four(n) if !n.is_empty() => {
-                Walk { nodes: n, l }.walk::<NEAREST_FIRST>(&query, 0, t_max, &mut hit).0
+                Walk { nodes: n, l }
+                    .walk::<NEAREST_FIRST>(&query, 0, t_max, &mut hit)
+                    .0
             }
             Nodes::Eight(n) if !n.is_empty() => {
-                Walk { nodes: n, l }.walk::<NEAREST_FIRST>(&query, 0, t_max, &mut hit).0
+                Walk { nodes: n, l }
+                    .walk::<NEAREST_FIRST>(&query, 0, t_max, &mut hit)
+                    .0
             }
             _ => t_max,
         }
@@ -363,7 +366,7 @@ struct Walk<'a, T, L> {
 /// index is above them).
 const SLOT_BITS: u32 = 3;
 
-impl<T: WideNode, L: Lanes8> Walk<'_, T, L> {
+impl<T: WideNode, L: NodeLanes> Walk<'_, T, L> {
     /// Traverses the subtree under node `root` with a fixed stack of
     /// (entry distance, node, child slot) words; a subtree that would
     /// overflow it (only in pathologically deep trees) is walked by
@@ -403,8 +406,8 @@ impl<T: WideNode, L: Lanes8> Walk<'_, T, L> {
             if n > 0 && node.count(hits[n - 1].1 as usize) == 0 {
                 n -= 1;
                 for &(t, c) in &hits[..n] {
-                    let (t, stop) =
-                        self.push::<NEAREST_FIRST>(&mut stack, &mut sp, q, current, c, t, t_max, hit);
+                    let (t, stop) = self
+                        .push::<NEAREST_FIRST>(&mut stack, &mut sp, q, current, c, t, t_max, hit);
                     t_max = t;
                     if stop {
                         return (t_max, true);

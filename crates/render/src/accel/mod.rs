@@ -58,16 +58,6 @@ const MIXED: u16 = 0x8000;
 /// Cornell box's 32 primitives 13 % slower (docs/performance.md).
 pub const WIDE_LEAVES_FROM: usize = 4096;
 
-/// The node width for a scene of `count` primitives.
-/// TEMPORARY: SCOTOPIA_BVH_WIDTH=4|8 for measuring.
-fn node_width(count: usize) -> Width {
-    let _ = count;
-    match std::env::var("SCOTOPIA_BVH_WIDTH").as_deref() {
-        Ok("4") => Width::Four,
-        _ => Width::Eight,
-    }
-}
-
 /// One leaf: its triangles, planar shapes and other primitives, each a run
 /// from a first index, tested in that order.
 #[derive(Debug, Clone, Copy)]
@@ -126,7 +116,10 @@ impl Aggregate {
     /// depends on the primitive count only, never on the SIMD level, so
     /// that every level renders the same image: [`LeafCost::SCALAR`] for
     /// small scenes, leaves costed by 8-lane steps (the most
-    /// [`Aggregate::intersect`] uses) from [`WIDE_LEAVES_FROM`] primitives.
+    /// [`Aggregate::intersect`] uses) from [`WIDE_LEAVES_FROM`] primitives;
+    /// 8-wide nodes at every size (fewer instructions than 4-wide ones on
+    /// the Cornell box's 32 primitives as on a million triangles:
+    /// docs/performance.md, "Issue 23: 8-wide nodes").
     pub fn with_instances(shapes: Vec<Shape>, instances: Vec<Instance>) -> Self {
         let count: usize =
             shapes.iter().map(Shape::primitive_count).sum::<usize>() + instances.len();
@@ -135,7 +128,7 @@ impl Aggregate {
         } else {
             LeafCost::SCALAR
         };
-        Self::built_with(&cost, node_width(count), shapes, instances)
+        Self::built_with(&cost, Width::Eight, shapes, instances)
     }
 
     /// [`Aggregate::with_instances`] with leaves costed by `cost`, in

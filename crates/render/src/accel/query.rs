@@ -4,17 +4,18 @@
 
 use super::block::{lanes, Planes, Triangles, WideRay};
 use super::bvh::Visit;
+use super::node::NodeLanes;
 use super::{Aggregate, Leaf, MIXED};
 use crate::geometry::{Hit, RayShear};
 use crate::math::Ray;
-use crate::simd::{Kernel, Lanes8, Level, Scalar8, Wide};
+use crate::simd::{Kernel, Level, Scalar8, Wide};
 
 /// How a leaf's primitives are tested: which of their lanes the scalar
 /// test must decide, `LANES` at a time.
 pub(super) trait Tester: Copy {
     type Ray;
     /// The lanes of the 8-wide node test.
-    type Lanes: Lanes8;
+    type Lanes: NodeLanes;
     const LANES: usize;
     fn level(self) -> Level;
     fn lanes(self) -> Self::Lanes;
@@ -206,9 +207,11 @@ impl Aggregate {
         };
         // Any-hit queries skip sorting a node's children by distance.
         if ANY {
-            self.bvh.traverse::<false, _>(tester.lanes(), ray, ray.t_max, &mut visit);
+            self.bvh
+                .traverse::<false, _>(tester.lanes(), ray, ray.t_max, &mut visit);
         } else {
-            self.bvh.traverse::<true, _>(tester.lanes(), ray, ray.t_max, &mut visit);
+            self.bvh
+                .traverse::<true, _>(tester.lanes(), ray, ray.t_max, &mut visit);
         }
         if ANY && visit.any {
             // Any hit will do: a placeholder at the ray's end.

@@ -320,9 +320,17 @@ fn eight_wide_nodes_find_the_brute_force_hits_at_every_level() {
                         h.t
                     );
                 }
-                assert_eq!(agg.occluded_at(level, ray), want.is_some(), "{n}: ray {i} at {level}");
+                assert_eq!(
+                    agg.occluded_at(level, ray),
+                    want.is_some(),
+                    "{n}: ray {i} at {level}"
+                );
                 // The same tree at 4 wide gives the same hit.
-                assert_eq!(got, four.intersect_at(level, ray), "{n}: ray {i} at {level}");
+                assert_eq!(
+                    got,
+                    four.intersect_at(level, ray),
+                    "{n}: ray {i} at {level}"
+                );
             }
         }
         assert!(hits > r.len() / 10 && hits < r.len(), "{n}: {hits} hits");

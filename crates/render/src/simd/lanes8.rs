@@ -223,7 +223,11 @@ mod tests {
         a.map(f32::to_bits)
     }
 
-    fn run_ops<L: Lanes8>(l: L, a: [f32; 8], b: [f32; 8]) -> ([u32; 8], [u32; 8], [u32; 8], [u32; 8], u32) {
+    fn run_ops<L: Lanes8>(
+        l: L,
+        a: [f32; 8],
+        b: [f32; 8],
+    ) -> ([u32; 8], [u32; 8], [u32; 8], [u32; 8], u32) {
         let (x, y) = (l.load(&a), l.load(&b));
         (
             bits(l.store(l.sub(x, y))),
