@@ -137,8 +137,9 @@ impl WideNode for Node<8> {
 
 /// The 8-wide node test on the lanes `Self`: the 4-wide test's
 /// operations, in its order, in registers; lane by lane at the scalar
-/// level, where eight-lane arrays operation by operation measured 34 %
-/// more instructions per ray (the same values either way).
+/// level, where eight-lane arrays taken operation by operation cost 1,112
+/// and 1,944 instructions per primary and incoherent ray on a million
+/// triangles against 838 and 1,445 (the same values either way).
 pub(crate) trait NodeLanes: Lanes8 {
     #[inline(always)]
     fn hit8(self, node: &Node<8>, q: &Query<Self>, t_max: f32) -> (u32, [f32; 8]) {
