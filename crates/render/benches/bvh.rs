@@ -4,7 +4,7 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use scotopia_render::accel::{Aggregate, LeafCost};
+use scotopia_render::accel::{Aggregate, LeafCost, Width};
 use scotopia_render::geometry::{Shape, TriangleMesh};
 use scotopia_render::math::{Ray, Transform, Vec3};
 use scotopia_render::simd::Level;
@@ -76,8 +76,9 @@ fn incoherent_rays() -> Vec<Ray> {
 }
 
 /// With `BVH_COUNT=level,primary` (or `incoherent`; then optionally
-/// `,wide` for leaves costed by the level's own steps) set, traces that
-/// ray set once at that level instead of benchmarking,
+/// `,wide` for leaves costed by the level's own steps, and `,4` for
+/// 4-wide nodes instead of 8) set, traces that ray set once at that
+/// level instead of benchmarking,
 /// for instruction counts: `valgrind --tool=callgrind
 /// --toggle-collect='*intersect_many*'` counts the tracing alone.
 fn count_once(what: &str) {
@@ -88,11 +89,18 @@ fn count_once(what: &str) {
         eprintln!("BVH_COUNT: no such level {level}");
         return;
     };
-    let cost = match parts.next() {
-        Some("wide") => LeafCost::wide(level.lanes()),
-        _ => LeafCost::SCALAR,
+    let rest: Vec<&str> = parts.collect();
+    let cost = if rest.contains(&"wide") {
+        LeafCost::wide(level.lanes())
+    } else {
+        LeafCost::SCALAR
     };
-    let agg = Aggregate::built_with(&cost, vec![terrain()], Vec::new());
+    let width = if rest.contains(&"4") {
+        Width::Four
+    } else {
+        Width::Eight
+    };
+    let agg = Aggregate::built_with(&cost, width, vec![terrain()], Vec::new());
     let mesh: usize = agg
         .shapes
         .iter()
@@ -153,25 +161,25 @@ fn bench(c: &mut Criterion) {
     group.bench_function("build", |b| {
         b.iter(|| black_box(Aggregate::new(vec![shape.clone()])))
     });
-    // The default BVH at each level; and trees with leaves costed by 8-
-    // and by the widest level's steps.
-    let built = |cost: &LeafCost| Aggregate::built_with(cost, vec![shape.clone()], Vec::new());
-    let default = built(&LeafCost::SCALAR);
-    let mut wide_levels = vec![Level::Avx2, Level::best()];
-    wide_levels.retain(|l| *l >= Level::Avx2 && l.supported());
-    wide_levels.dedup();
-    let wide: Vec<(Level, Aggregate)> = wide_levels
-        .into_iter()
-        .map(|l| (l, built(&LeafCost::wide(l.lanes()))))
-        .collect();
+    // The default BVH (8-wide nodes, leaves costed by 8-lane steps) at
+    // each level; the same leaves under 4-wide nodes; and scalar-costed
+    // leaves.
+    let built = |cost: &LeafCost, width: Width| {
+        Aggregate::built_with(cost, width, vec![shape.clone()], Vec::new())
+    };
+    let default = Aggregate::new(vec![shape.clone()]);
+    let four = built(&LeafCost::wide(8), Width::Four);
+    let scalar_leaves = built(&LeafCost::SCALAR, Width::Eight);
     let mut runs: Vec<(String, Level, &Aggregate)> = Level::available()
         .into_iter()
         .map(|l| (l.to_string(), l, &default))
         .collect();
-    runs.extend(
-        wide.iter()
-            .map(|(l, a)| (format!("{l}_wide_leaves"), *l, a)),
-    );
+    for l in Level::available() {
+        if l >= Level::Avx2 {
+            runs.push((format!("{l}_4wide"), l, &four));
+            runs.push((format!("{l}_scalar_leaves"), l, &scalar_leaves));
+        }
+    }
     for (name, rays) in [
         ("primary", primary_rays()),
         ("incoherent", incoherent_rays()),

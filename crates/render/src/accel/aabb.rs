@@ -70,7 +70,7 @@ impl Aabb {
     /// 1 + 2γ₃ so grazing hits are not lost to rounding (pbrt-v4 §6.1.2).
     /// The near plane of each slab is chosen by the direction's sign, not
     /// by comparing distances, so the test is branch-free (the BVH's
-    /// 4-wide node test is the same, per lane). A NaN distance (0·∞, when
+    /// node tests are the same, per lane). A NaN distance (0·∞, when
     /// the origin lies on a slab plane) leaves the bound as it was.
     #[inline]
     pub fn hit(&self, ray: &Ray, inv_d: Vec3, t_max: f32) -> bool {

@@ -1,12 +1,12 @@
 //! A bounding volume hierarchy built with the binned surface-area heuristic
 //! (Wald 2007, "On fast Construction of SAH-based Bounding Volume
-//! Hierarchies"), in parallel, then collapsed into a 4-wide tree for
-//! traversal (as Embree's BVH4, Wald et al. 2014): each node tests its four
-//! child boxes at once, in a form the compiler turns into SIMD.
+//! Hierarchies"), in parallel, then collapsed into a 4- or 8-wide tree for
+//! traversal (as Embree's BVH4 and BVH8, Wald et al. 2014): each node
+//! tests its child boxes at once (`node.rs`).
 
 use rayon::prelude::*;
 
-use super::aabb::GAMMA3;
+use super::node::{Node, NodeLanes, Query, WideNode};
 use super::Aabb;
 use crate::math::{Ray, Vec3};
 
@@ -69,10 +69,25 @@ const WIDE_STEP_COST: f32 = 2.0;
 /// Subtrees larger than this are built in parallel.
 const PARALLEL_MIN: usize = 4096;
 
+/// Children per node of the traversal tree. The tree depends on it and
+/// the primitives only, never on the SIMD level.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Width {
+    Four,
+    Eight,
+}
+
+/// The tree's nodes, at its width.
+#[derive(Debug, Clone)]
+enum Nodes {
+    Four(Vec<Node<4>>),
+    Eight(Vec<Node<8>>),
+}
+
 /// A BVH over primitives given by their bounds.
 #[derive(Debug, Clone)]
 pub struct Bvh {
-    nodes: Vec<Node4>,
+    nodes: Nodes,
     bounds: Aabb,
     /// Primitive indices in leaf order.
     order: Vec<u32>,
@@ -188,11 +203,11 @@ impl Bvh {
     /// Builds over primitives with the given bounds (empty bounds are left
     /// out: such primitives can never be hit).
     pub fn build(bounds: &[Aabb]) -> Self {
-        Self::build_for(bounds, &LeafCost::SCALAR)
+        Self::build_for(bounds, &LeafCost::SCALAR, Width::Eight)
     }
 
-    /// Builds with leaves costed by `cost`.
-    pub fn build_for(bounds: &[Aabb], cost: &LeafCost) -> Self {
+    /// Builds with leaves costed by `cost`, into nodes of `width`.
+    pub fn build_for(bounds: &[Aabb], cost: &LeafCost, width: Width) -> Self {
         let mut items: Vec<Item> = bounds
             .par_iter()
             .enumerate()
@@ -205,7 +220,7 @@ impl Bvh {
             .collect();
         if items.is_empty() {
             return Self {
-                nodes: Vec::new(),
+                nodes: Nodes::Four(Vec::new()),
                 bounds: Aabb::EMPTY,
                 order: Vec::new(),
                 leaves: Vec::new(),
@@ -223,8 +238,12 @@ impl Bvh {
             build(&mut items, 0, cost)
         };
         let mut leaves = Vec::new();
+        let nodes = match width {
+            Width::Four => Nodes::Four(collapse(&root, &mut leaves)),
+            Width::Eight => Nodes::Eight(collapse(&root, &mut leaves)),
+        };
         Self {
-            nodes: collapse(&root, &mut leaves),
+            nodes,
             bounds: root.bounds(),
             order: items.iter().map(|it| it.index).collect(),
             leaves,
@@ -256,25 +275,34 @@ impl Bvh {
     /// must not be 0, which marks interior children). Lets the caller find
     /// a leaf's primitives without a table lookup.
     pub fn relabel_leaves(&mut self, f: impl Fn(u32) -> (u32, u16)) {
-        for node in &mut self.nodes {
-            for c in 0..4 {
-                if node.count[c] != 0 {
-                    let (child, count) = f(node.child[c]);
-                    assert!(count != 0, "a leaf's count must not be 0");
-                    (node.child[c], node.count[c]) = (child, count);
-                }
-            }
+        match &mut self.nodes {
+            Nodes::Four(nodes) => relabel(nodes, f),
+            Nodes::Eight(nodes) => relabel(nodes, f),
         }
     }
 
-    /// Nodes of the 4-wide tree.
+    /// Children per node.
+    pub fn width(&self) -> Width {
+        match self.nodes {
+            Nodes::Four(_) => Width::Four,
+            Nodes::Eight(_) => Width::Eight,
+        }
+    }
+
+    /// Nodes of the wide tree.
     pub fn node_count(&self) -> usize {
-        self.nodes.len()
+        match &self.nodes {
+            Nodes::Four(n) => n.len(),
+            Nodes::Eight(n) => n.len(),
+        }
     }
 
     /// Bytes of the nodes.
     pub fn node_bytes(&self) -> usize {
-        std::mem::size_of_val(&self.nodes[..])
+        match &self.nodes {
+            Nodes::Four(n) => std::mem::size_of_val(&n[..]),
+            Nodes::Eight(n) => std::mem::size_of_val(&n[..]),
+        }
     }
 
     /// Bounds of everything.
@@ -283,26 +311,62 @@ impl Bvh {
     }
 
     /// Visits the leaves whose boxes the ray meets within (0, t_max),
-    /// nearest box first, by their number in `leaves()`.
+    /// nearest box first, by their number in `leaves()`, testing 8-wide
+    /// nodes on the lanes `l`.
     /// `hit(leaf, t_max)` returns a new, closer t_max when one of the
     /// leaf's primitives is hit; returning `Some` with `stop` true ends the
     /// traversal (any-hit queries). `NEAREST_FIRST` orders each node's
     /// children by distance: closest-hit queries need it to shrink t_max
     /// early; any-hit queries skip the sort.
     #[inline(always)]
-    pub fn traverse<const NEAREST_FIRST: bool>(
+    pub(crate) fn traverse<const NEAREST_FIRST: bool, L: NodeLanes>(
         &self,
+        l: L,
         ray: &Ray,
         t_max: f32,
         mut hit: impl Visit,
     ) -> f32 {
-        if self.nodes.is_empty() {
-            return t_max;
+        let query = Query::new(l, ray);
+        match &self.nodes {
+            Nodes::Four(n) if !n.is_empty() => {
+                Walk { nodes: n, l }
+                    .walk::<NEAREST_FIRST>(&query, 0, t_max, &mut hit)
+                    .0
+            }
+            Nodes::Eight(n) if !n.is_empty() => {
+                Walk { nodes: n, l }
+                    .walk::<NEAREST_FIRST>(&query, 0, t_max, &mut hit)
+                    .0
+            }
+            _ => t_max,
         }
-        let query = Query::new(ray);
-        self.walk::<NEAREST_FIRST>(&query, 0, t_max, &mut hit).0
     }
+}
 
+/// Rewrites each leaf child's words by `f`.
+fn relabel<const N: usize>(nodes: &mut [Node<N>], f: impl Fn(u32) -> (u32, u16)) {
+    for node in nodes {
+        for c in 0..N {
+            if node.count[c] != 0 {
+                let (child, count) = f(node.child[c]);
+                assert!(count != 0, "a leaf's count must not be 0");
+                (node.child[c], node.count[c]) = (child, count);
+            }
+        }
+    }
+}
+
+/// A traversal of nodes `T` whose 8-wide tests run on lanes `L`.
+struct Walk<'a, T, L> {
+    nodes: &'a [T],
+    l: L,
+}
+
+/// Bits of a stack entry's low word that hold the child slot (the node
+/// index is above them).
+const SLOT_BITS: u32 = 3;
+
+impl<T: WideNode, L: NodeLanes> Walk<'_, T, L> {
     /// Traverses the subtree under node `root` with a fixed stack of
     /// (entry distance, node, child slot) words; a subtree that would
     /// overflow it (only in pathologically deep trees) is walked by
@@ -310,7 +374,7 @@ impl Bvh {
     #[inline(always)]
     fn walk<const NEAREST_FIRST: bool>(
         &self,
-        q: &Query,
+        q: &Query<L>,
         root: u32,
         mut t_max: f32,
         hit: &mut impl Visit,
@@ -320,14 +384,11 @@ impl Bvh {
         let mut current = root;
         loop {
             let node = &self.nodes[current as usize];
-            let t_near = node.hit(q, t_max);
+            let (mut mask, t_near) = node.hit(self.l, q, t_max);
             // The hit children, sorted farthest first (insertion into at
-            // most four), so the nearest is pushed last and pops first.
-            let mut hits = [(0.0f32, 0u32); 4];
+            // most eight), so the nearest is pushed last and pops first.
+            let mut hits = [(0.0f32, 0u32); 8];
             let mut n = 0;
-            // +∞ marks a miss (t_max itself may be +∞); the mask is built
-            // branch-free and then walked bit by bit.
-            let mut mask = (0..4).fold(0u32, |m, c| m | ((t_near[c] != f32::INFINITY) as u32) << c);
             while mask != 0 {
                 let c = mask.trailing_zeros() as usize;
                 mask &= mask - 1;
@@ -342,7 +403,7 @@ impl Bvh {
             }
             // Descend straight into the nearest child when it is interior;
             // the others wait on the stack.
-            if n > 0 && node.count[hits[n - 1].1 as usize] == 0 {
+            if n > 0 && node.count(hits[n - 1].1 as usize) == 0 {
                 n -= 1;
                 for &(t, c) in &hits[..n] {
                     let (t, stop) = self
@@ -352,7 +413,7 @@ impl Bvh {
                         return (t_max, true);
                     }
                 }
-                current = node.child[hits[n].1 as usize];
+                current = node.child(hits[n].1 as usize);
                 continue;
             }
             for &(t, c) in &hits[..n] {
@@ -374,10 +435,13 @@ impl Bvh {
                 if f32::from_bits((e >> 32) as u32) > t_max {
                     continue;
                 }
-                let (index, slot) = ((e as u32) >> 2, (e & 3) as usize);
+                let (index, slot) = (
+                    (e as u32) >> SLOT_BITS,
+                    (e as u32 & ((1 << SLOT_BITS) - 1)) as usize,
+                );
                 let node = &self.nodes[index as usize];
-                if node.count[slot] == 0 {
-                    current = node.child[slot];
+                if node.count(slot) == 0 {
+                    current = node.child(slot);
                     break;
                 }
                 let (t, stop) = self.visit::<NEAREST_FIRST>(q, node, slot, t_max, hit);
@@ -397,7 +461,7 @@ impl Bvh {
         &self,
         stack: &mut [u64; STACK],
         sp: &mut usize,
-        q: &Query,
+        q: &Query<L>,
         index: u32,
         slot: u32,
         t: f32,
@@ -405,7 +469,7 @@ impl Bvh {
         hit: &mut impl Visit,
     ) -> (f32, bool) {
         if *sp < STACK {
-            stack[*sp] = (t.to_bits() as u64) << 32 | (index << 2 | slot) as u64;
+            stack[*sp] = (t.to_bits() as u64) << 32 | (index << SLOT_BITS | slot) as u64;
             *sp += 1;
             return (t_max, false);
         }
@@ -417,17 +481,17 @@ impl Bvh {
     #[inline(always)]
     fn visit<const NEAREST_FIRST: bool>(
         &self,
-        q: &Query,
-        node: &Node4,
+        q: &Query<L>,
+        node: &T,
         slot: usize,
         t_max: f32,
         hit: &mut impl Visit,
     ) -> (f32, bool) {
-        let child = node.child[slot];
-        if node.count[slot] == 0 {
+        let child = node.child(slot);
+        if node.count(slot) == 0 {
             return self.walk_deep::<NEAREST_FIRST>(q, child, t_max, hit);
         }
-        match hit.leaf(child, node.count[slot], t_max) {
+        match hit.leaf(child, node.count(slot), t_max) {
             Some((t, stop)) => (t, stop),
             None => (t_max, false),
         }
@@ -438,7 +502,7 @@ impl Bvh {
     #[inline(never)]
     fn walk_deep<const NEAREST_FIRST: bool>(
         &self,
-        q: &Query,
+        q: &Query<L>,
         root: u32,
         t_max: f32,
         hit: &mut impl Visit,
@@ -467,93 +531,6 @@ impl<F: FnMut(u32, f32) -> Option<(f32, bool)>> Visit for F {
 /// Entries on the traversal stack.
 const STACK: usize = 32;
 
-/// The per-ray values every box test needs.
-struct Query {
-    o: Vec3,
-    inv_d: Vec3,
-    neg: [bool; 3],
-}
-
-impl Query {
-    fn new(ray: &Ray) -> Self {
-        let inv_d = Vec3::new(1.0 / ray.d.x, 1.0 / ray.d.y, 1.0 / ray.d.z);
-        Self {
-            o: ray.o,
-            inv_d,
-            neg: [inv_d.x < 0.0, inv_d.y < 0.0, inv_d.z < 0.0],
-        }
-    }
-}
-
-/// A node of the 4-wide tree: four child boxes in structure-of-arrays
-/// form (one 4-lane register per bound) and what each child is. Unused
-/// slots hold an empty box, which no ray meets. 128 bytes.
-#[derive(Debug, Clone, Copy)]
-#[repr(C, align(64))]
-struct Node4 {
-    /// min x, min y, min z, max x, max y, max z of the four children.
-    bounds: [[f32; 4]; 6],
-    /// Interior child: its node index; leaf: its leaf number.
-    child: [u32; 4],
-    /// Primitives of a leaf child; 0 for an interior child.
-    count: [u16; 4],
-}
-
-impl Node4 {
-    const EMPTY: Node4 = Node4 {
-        bounds: [
-            [f32::INFINITY; 4],
-            [f32::INFINITY; 4],
-            [f32::INFINITY; 4],
-            [f32::NEG_INFINITY; 4],
-            [f32::NEG_INFINITY; 4],
-            [f32::NEG_INFINITY; 4],
-        ],
-        child: [0; 4],
-        count: [0; 4],
-    };
-
-    /// The slab test of `Aabb::hit` on all four children: per
-    /// child the distance at which the ray enters its box, or +∞ when it
-    /// misses within (0, t_max).
-    #[inline(always)]
-    fn hit(&self, q: &Query, t_max: f32) -> [f32; 4] {
-        let max = |a: f32, b: f32| if a > b { a } else { b };
-        let min = |a: f32, b: f32| if a < b { a } else { b };
-        let scale = 1.0 + 2.0 * GAMMA3;
-        let planes = |axis: usize| {
-            let (lo, hi) = (&self.bounds[axis], &self.bounds[axis + 3]);
-            if q.neg[axis] {
-                (hi, lo)
-            } else {
-                (lo, hi)
-            }
-        };
-        let (nx, fx) = planes(0);
-        let (ny, fy) = planes(1);
-        let (nz, fz) = planes(2);
-        let mut out = [f32::INFINITY; 4];
-        for c in 0..4 {
-            let t0 = max(
-                (nx[c] - q.o.x) * q.inv_d.x,
-                max(
-                    (ny[c] - q.o.y) * q.inv_d.y,
-                    max((nz[c] - q.o.z) * q.inv_d.z, 0.0),
-                ),
-            );
-            let t1 = min(
-                (fx[c] - q.o.x) * q.inv_d.x * scale,
-                min(
-                    (fy[c] - q.o.y) * q.inv_d.y * scale,
-                    min((fz[c] - q.o.z) * q.inv_d.z * scale, t_max),
-                ),
-            );
-            out[c] = if t0 <= t1 { t0 } else { f32::INFINITY };
-        }
-        out
-    }
-}
-
 impl BuildNode {
     fn bounds(&self) -> Aabb {
         match self {
@@ -562,11 +539,11 @@ impl BuildNode {
     }
 }
 
-/// Collapses the binary tree into 4-wide nodes: each node takes its
+/// Collapses the binary tree into N-wide nodes: each node takes its
 /// children's children, opening the largest interior child first, until
-/// it has four. Node 0 is the root.
-fn collapse(root: &BuildNode, leaves: &mut Vec<(u32, u32)>) -> Vec<Node4> {
-    let mut nodes = vec![Node4::EMPTY];
+/// it has N. Node 0 is the root.
+fn collapse<const N: usize>(root: &BuildNode, leaves: &mut Vec<(u32, u32)>) -> Vec<Node<N>> {
+    let mut nodes = vec![Node::EMPTY];
     let top: Vec<&BuildNode> = match root {
         // A lone leaf still needs a node above it.
         BuildNode::Leaf { .. } => vec![root],
@@ -576,13 +553,13 @@ fn collapse(root: &BuildNode, leaves: &mut Vec<(u32, u32)>) -> Vec<Node4> {
     nodes
 }
 
-fn fill(
+fn fill<const N: usize>(
     at: usize,
     mut kids: Vec<&BuildNode>,
-    nodes: &mut Vec<Node4>,
+    nodes: &mut Vec<Node<N>>,
     leaves: &mut Vec<(u32, u32)>,
 ) {
-    while kids.len() < 4 {
+    while kids.len() < N {
         let widest = kids
             .iter()
             .enumerate()
@@ -610,7 +587,7 @@ fn fill(
             }
             BuildNode::Interior { children, .. } => {
                 let index = nodes.len();
-                nodes.push(Node4::EMPTY);
+                nodes.push(Node::EMPTY);
                 nodes[at].child[c] = index as u32;
                 fill(index, vec![&children[0], &children[1]], nodes, leaves);
             }

@@ -5,13 +5,14 @@ mod aabb;
 mod block;
 mod bvh;
 mod instance;
+mod node;
 mod prims;
 mod query;
 #[cfg(test)]
 mod tests;
 
 pub use aabb::Aabb;
-pub use bvh::{Bvh, LeafCost, Visit};
+pub use bvh::{Bvh, LeafCost, Visit, Width};
 pub use instance::{Instance, ShapeGroup};
 
 use crate::geometry::{Hit, PlaneTest, Shape, Surface};
@@ -128,7 +129,10 @@ impl Aggregate {
     /// depends on the primitive count only, never on the SIMD level, so
     /// that every level renders the same image: [`LeafCost::SCALAR`] for
     /// small scenes, leaves costed by 8-lane steps (the most
-    /// [`Aggregate::intersect`] uses) from [`WIDE_LEAVES_FROM`] primitives.
+    /// [`Aggregate::intersect`] uses) from [`WIDE_LEAVES_FROM`] primitives;
+    /// 8-wide nodes at every size (fewer instructions than 4-wide ones on
+    /// the Cornell box's 32 primitives as on a million triangles:
+    /// docs/performance.md, "Issue 23: 8-wide nodes").
     pub fn with_instances(shapes: Vec<Shape>, instances: Vec<Instance>) -> Self {
         let count: usize =
             shapes.iter().map(Shape::primitive_count).sum::<usize>() + instances.len();
@@ -137,18 +141,24 @@ impl Aggregate {
         } else {
             LeafCost::SCALAR
         };
-        Self::built_with(&cost, shapes, instances)
+        Self::built_with(&cost, Width::Eight, shapes, instances)
     }
 
-    /// [`Aggregate::with_instances`] with leaves costed by `cost`.
-    pub fn built_with(cost: &LeafCost, shapes: Vec<Shape>, instances: Vec<Instance>) -> Self {
+    /// [`Aggregate::with_instances`] with leaves costed by `cost`, in
+    /// nodes of `width`.
+    pub fn built_with(
+        cost: &LeafCost,
+        width: Width,
+        shapes: Vec<Shape>,
+        instances: Vec<Instance>,
+    ) -> Self {
         // Primitives are numbered shape by shape, then the instances.
         let bounds: Vec<Aabb> = shapes
             .iter()
             .flat_map(|shape| (0..shape.primitive_count()).map(move |p| shape.bounds(p)))
             .chain(instances.iter().map(|i| i.bounds()))
             .collect();
-        let mut bvh = Bvh::build_for(&bounds, cost);
+        let mut bvh = Bvh::build_for(&bounds, cost, width);
         drop(bounds);
         // Primitive numbers → (shape, primitive), for the leaves' items.
         let mut first = Vec::with_capacity(shapes.len() + 1);

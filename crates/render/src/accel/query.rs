@@ -4,17 +4,21 @@
 
 use super::block::{lanes, Planes, Triangles, WideRay};
 use super::bvh::Visit;
+use super::node::NodeLanes;
 use super::{Aggregate, Leaf, MIXED};
 use crate::geometry::{Hit, RayShear};
 use crate::math::Ray;
-use crate::simd::{Kernel, Level, Wide};
+use crate::simd::{Kernel, Level, Scalar8, Wide};
 
 /// How a leaf's primitives are tested: which of their lanes the scalar
 /// test must decide, `LANES` at a time.
 pub(super) trait Tester: Copy {
     type Ray;
+    /// The lanes of the 8-wide node test.
+    type Lanes: NodeLanes;
     const LANES: usize;
     fn level(self) -> Level;
+    fn lanes(self) -> Self::Lanes;
     fn prepare(self, ray: &Ray, shear: &RayShear) -> Self::Ray;
     /// Of lanes `base … base + LANES`, those to test, as bits from bit 0.
     fn tris(self, r: &Self::Ray, tris: &Triangles, base: usize, t_max: f32) -> u32;
@@ -27,9 +31,14 @@ pub(super) struct Scalar;
 
 impl Tester for Scalar {
     type Ray = ();
+    type Lanes = Scalar8;
     const LANES: usize = 32;
     fn level(self) -> Level {
         Level::Scalar
+    }
+    #[inline(always)]
+    fn lanes(self) -> Scalar8 {
+        Scalar8
     }
     #[inline(always)]
     fn prepare(self, _: &Ray, _: &RayShear) {}
@@ -49,9 +58,14 @@ pub(super) struct Wider<W>(pub W);
 
 impl<W: Wide> Tester for Wider<W> {
     type Ray = WideRay<W>;
+    type Lanes = W;
     const LANES: usize = W::LANES;
     fn level(self) -> Level {
         W::LEVEL
+    }
+    #[inline(always)]
+    fn lanes(self) -> W {
+        self.0
     }
     #[inline(always)]
     fn prepare(self, ray: &Ray, shear: &RayShear) -> WideRay<W> {
@@ -193,9 +207,11 @@ impl Aggregate {
         };
         // Any-hit queries skip sorting a node's children by distance.
         if ANY {
-            self.bvh.traverse::<false>(ray, ray.t_max, &mut visit);
+            self.bvh
+                .traverse::<false, _>(tester.lanes(), ray, ray.t_max, &mut visit);
         } else {
-            self.bvh.traverse::<true>(ray, ray.t_max, &mut visit);
+            self.bvh
+                .traverse::<true, _>(tester.lanes(), ray, ray.t_max, &mut visit);
         }
         if ANY && visit.any {
             // Any hit will do: a placeholder at the ray's end.

@@ -216,8 +216,10 @@ fn check(name: &str, agg: &Aggregate, rays: &[Ray]) {
 /// of up to 16 for the widest level.
 fn check_builds(name: &str, shapes: Vec<Shape>, instances: Vec<Instance>, rays: &[Ray]) {
     for cost in [LeafCost::SCALAR, LeafCost::wide(Level::best().lanes())] {
-        let agg = Aggregate::built_with(&cost, shapes.clone(), instances.clone());
-        check(&format!("{name} ({cost:?})"), &agg, rays);
+        for width in [Width::Four, Width::Eight] {
+            let agg = Aggregate::built_with(&cost, width, shapes.clone(), instances.clone());
+            check(&format!("{name} ({cost:?}, {width:?})"), &agg, rays);
+        }
     }
 }
 
@@ -280,7 +282,57 @@ fn one_big_leaf_gives_the_scalar_hits() {
         brute_force: 1000,
         ..LeafCost::wide(Level::best().lanes())
     };
-    let agg = Aggregate::built_with(&cost, shapes, Vec::new());
+    let agg = Aggregate::built_with(&cost, Width::Eight, shapes, Vec::new());
     assert_eq!(agg.leaves.len(), 1, "{} primitives", bounds.len());
     check("one leaf", &agg, &r);
+}
+
+/// The 8-wide tree on random triangles: at every level, the closest hit
+/// of each random ray is brute force's (the same t within the rounding
+/// of the division-free distance test), and a ray is blocked exactly when
+/// it hits; the tree really is 8-wide (fewer nodes than the 4-wide one).
+#[test]
+fn eight_wide_nodes_find_the_brute_force_hits_at_every_level() {
+    let mut rng = Rng(2024);
+    for (n, cost) in [(300, LeafCost::SCALAR), (5000, LeafCost::wide(8))] {
+        let shapes = vec![soup(&mut rng, n)];
+        let r = rays(&mut rng, &shapes, 1.0, 2000);
+        let four = Aggregate::built_with(&cost, Width::Four, shapes.clone(), Vec::new());
+        let agg = Aggregate::built_with(&cost, Width::Eight, shapes, Vec::new());
+        assert_eq!(agg.bvh().width(), Width::Eight);
+        assert!(
+            agg.bvh().node_count() < four.bvh().node_count(),
+            "{} 8-wide nodes against {} 4-wide",
+            agg.bvh().node_count(),
+            four.bvh().node_count()
+        );
+        let mut hits = 0;
+        for (i, ray) in r.iter().enumerate() {
+            let want = brute_force(&agg, ray);
+            hits += want.is_some() as usize;
+            for level in Level::available() {
+                let got = agg.intersect_at(level, ray);
+                assert_eq!(got.is_some(), want.is_some(), "{n}: ray {i} at {level}");
+                if let (Some(h), Some(t)) = (got, want) {
+                    assert!(
+                        (h.t - t).abs() <= 4.0 * f32::EPSILON * t,
+                        "{n}: ray {i} at {level}: {} against brute force {t}",
+                        h.t
+                    );
+                }
+                assert_eq!(
+                    agg.occluded_at(level, ray),
+                    want.is_some(),
+                    "{n}: ray {i} at {level}"
+                );
+                // The same tree at 4 wide gives the same hit.
+                assert_eq!(
+                    got,
+                    four.intersect_at(level, ray),
+                    "{n}: ray {i} at {level}"
+                );
+            }
+        }
+        assert!(hits > r.len() / 10 && hits < r.len(), "{n}: {hits} hits");
+    }
 }

@@ -10,8 +10,10 @@
 //! Kernels must give the same results at every level where the scalar
 //! code is the reference (the tests compare them).
 
+mod lanes8;
 mod level;
 mod wide;
 
+pub use lanes8::{Lanes8, Scalar8};
 pub use level::{Kernel, Level, SimdError, ENV_VAR};
 pub use wide::{first_lane, Wide};

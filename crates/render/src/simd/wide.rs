@@ -7,7 +7,7 @@
 use super::Level;
 
 /// A pulp SIMD level with the operations scotopia's kernels use.
-pub trait Wide: pulp::Simd {
+pub trait Wide: pulp::Simd + super::Lanes8 {
     const LEVEL: Level;
     /// 32-bit lanes per register.
     const LANES: usize;
