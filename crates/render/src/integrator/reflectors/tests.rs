@@ -184,15 +184,7 @@ fn without_reflectors_the_bsdf_sample_is_unchanged() {
     let at = ShadingPoint::from([0.0, 0.0]);
     let frame = Frame::from_normal(Vec3::new(0.0, 0.0, 1.0));
     let wi = Vec3::new(0.0, 0.0, 1.0);
-    let a = none.sample(
-        (&white, 1),
-        &wl,
-        at,
-        (Vec3::ZERO, frame),
-        wi,
-        0.1,
-        [0.3, 0.7],
-    );
+    let a = none.sample(&white, &wl, at, (Vec3::ZERO, frame), wi, 0.1, [0.3, 0.7]);
     let b = white.sample(&wl, at, wi, 0.1, [0.3, 0.7], Transport::Radiance);
     assert_eq!(a, b);
 }
