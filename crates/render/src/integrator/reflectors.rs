@@ -436,7 +436,7 @@ impl Reflectors {
                 }
                 hit
             })
-            .or_else(|| facing().last())?;
+            .or_else(|| facing().next_back())?;
         let (k, _, _) = t
             .cells
             .sample_discrete((u / t.mass).clamp(0.0, 1.0 - f32::EPSILON))?;
