@@ -65,9 +65,12 @@ demo:
 	@# The Cornell box, the showcase and the night street get more samples
 	@# than their files ask for, so that their pictures are not grainy as
 	@# the eye sees them (the Cornell box's 64 are, in its shadows: 512 take
-	@# about 30 s more; about 4½ minutes for the whole demo on 2 cores).
+	@# about 30 s more). The night street's 176 take as long as 256 did
+	@# before its diffuse bounces were aimed in part at the lamp-lit poles
+	@# (README, "Fireflies in the demo"). About 5 minutes for the whole
+	@# demo on 2 cores.
 	@for s in $(DEMO_SCENES); do \
-	  case $$s in cornell-box) i=; n=512;; material-showcase) i=bdpt; n=192;; night-street) i=; n=256;; *) i=; n=;; esac; \
+	  case $$s in cornell-box) i=; n=512;; material-showcase) i=bdpt; n=192;; night-street) i=; n=176;; *) i=; n=;; esac; \
 	  $(BIN) render scenes/$$s.xml $${i:+--integrator $$i} $${n:+--spp $$n} -o $(DEMO_OUT)/$$s.exr --preview $(DEMO_OUT)/$$s.png; done
 	@for lamp in A D65 F2 F11; do \
 	  $(BIN) spectrum --illuminant $$lamp --plot $(DEMO_OUT)/illuminant-$$lamp.png > /dev/null; done

@@ -7,6 +7,7 @@ mod equiangular;
 mod light_choice;
 mod measure;
 mod path;
+mod reflectors;
 mod volume;
 mod wavefront;
 
@@ -14,6 +15,7 @@ pub use bdpt::Splat;
 pub use light_choice::LightChoice;
 pub use measure::{measure, Measured, Receiver};
 pub use path::CameraSample;
+pub use reflectors::Reflectors;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -280,6 +282,9 @@ pub struct Renderer<'a> {
     /// The path tracer's light choice for next-event estimation, by power
     /// over squared distance.
     pub nee_choice: LightChoice,
+    /// Glossy surfaces lamps light brightly, which the path tracer's
+    /// diffuse bounces aim at in part (`reflectors`).
+    pub reflectors: Reflectors,
     pub wavelengths: WavelengthSampler,
     pub filter: FilterSampler,
     center: Vec3,
@@ -355,6 +360,14 @@ impl<'a> Renderer<'a> {
             bdpt::LightSpectra::new(&scene.lights, p)
         });
         let nee_choice = LightChoice::new(&scene.lights, &power, &extent);
+        let reflectors = Reflectors::new(
+            &scene.materials,
+            &scene.shape_material,
+            &scene.shape_light,
+            &scene.lights,
+            &power,
+            &extent,
+        );
         let volumetric = scene.integrator.media
             && (!scene.media.is_empty() || scene.materials.iter().any(|m| m.may_pass()));
         let targets = if volumetric {
@@ -372,6 +385,7 @@ impl<'a> Renderer<'a> {
         };
         Self {
             nee_choice,
+            reflectors,
             wavelengths: WavelengthSampler::new(strategy, &scene.lights, &power, &fluorescent),
             light_choice,
             integrator,
