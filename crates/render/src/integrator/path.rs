@@ -357,7 +357,8 @@ impl Renderer<'_> {
                         let w = if ls.delta {
                             1.0
                         } else {
-                            power_heuristic(p_light, bsdf.pdf_at(&now, at, wi, wo))
+                            let p_bsdf = bsdf.pdf_at(&now, at, wi, wo);
+                            power_heuristic(p_light, self.reflectors.pdf(bsdf, p, ls.wi, p_bsdf))
                         };
                         shadow = Some((ray, path.beta * f * ls.radiance * (w / p_light)));
                     }
@@ -370,8 +371,13 @@ impl Renderer<'_> {
             goes_on: false,
         };
 
-        // Continue by sampling the BSDF.
-        let Some(bs) = bsdf.sample(&now, at, wi, u_lobe, [u_b0, u_b1], Transport::Radiance) else {
+        // Continue by sampling the BSDF (at diffuse vertices, partly
+        // towards lamp-lit glossy surfaces: `reflectors`).
+        let u_b = [u_b0, u_b1];
+        let Some(bs) = self
+            .reflectors
+            .sample(bsdf, &now, at, (p, frame), wi, u_lobe, u_b)
+        else {
             return stop;
         };
         if bs.collapse {
