@@ -72,6 +72,11 @@ fn ball_obj() -> String {
     s
 }
 
+/// The cube is a smooth conductor: a rough one would be a reflector that
+/// the path tracer aims diffuse bounces at (`integrator/reflectors.rs`)
+/// among the copies' top-level meshes but not inside instances, so the
+/// two renders would draw different (equally unbiased) paths.
+///
 /// The shapes of a group, each placed by its own `to_world` followed by
 /// the operations `then` (an instance's placement, for the copies).
 /// `sphere`: a glass sphere too (a sphere may only be scaled uniformly).
@@ -86,8 +91,7 @@ fn members(then: &str, sphere: bool) -> String {
 </shape>
 <shape type="cube">
     <transform name="to_world"><scale x="0.4" y="0.3" z="0.5"/><rotate y="1" angle="25"/><translate x="1.4" y="-0.6"/>{then}</transform>
-    <bsdf type="roughconductor"><string name="material" value="Au"/>
-        <float name="alpha_u" value="0.05"/><float name="alpha_v" value="0.3"/></bsdf>
+    <bsdf type="conductor"><string name="material" value="Au"/></bsdf>
 </shape>
 <shape type="rectangle">
     <transform name="to_world"><scale x="0.8" y="0.5"/><rotate y="1" angle="40"/><translate x="-1.3" y="0.2" z="0.4"/>{then}</transform>
