@@ -151,21 +151,7 @@ impl Sampled {
         let r = SUPERSAMPLED_RADIUS;
         let core = (-r..=r)
             .flat_map(|dy| (-r..=r).map(move |dx| (dx, dy)))
-            .map(|(dx, dy)| {
-                let n = SUBSAMPLES as f64;
-                let mut sum = [0.0; 4];
-                for sy in 0..SUBSAMPLES {
-                    for sx in 0..SUBSAMPLES {
-                        let ox = (sx as f64 + 0.5) / n - 0.5;
-                        let oy = (sy as f64 + 0.5) / n - 0.5;
-                        let f = psf(dx as f64 + ox, dy as f64 + oy);
-                        for c in 0..4 {
-                            sum[c] += f[c] / (n * n);
-                        }
-                    }
-                }
-                sum
-            })
+            .map(|(dx, dy)| supersampled(&psf, dx, dy))
             .collect();
         Self {
             pw,
@@ -187,6 +173,24 @@ impl Sampled {
             self.quadrant[dy.unsigned_abs() as usize * self.qw + dx.unsigned_abs() as usize]
         }
     }
+}
+
+/// The PSF averaged over pixel (dx, dy) on a SUBSAMPLES² grid: the core,
+/// where it changes too fast for one value per pixel.
+fn supersampled(psf: &impl Fn(f64, f64) -> [f64; 4], dx: i64, dy: i64) -> [f64; 4] {
+    let n = SUBSAMPLES as f64;
+    let mut sum = [0.0; 4];
+    for sy in 0..SUBSAMPLES {
+        for sx in 0..SUBSAMPLES {
+            let ox = (sx as f64 + 0.5) / n - 0.5;
+            let oy = (sy as f64 + 0.5) / n - 0.5;
+            let f = psf(dx as f64 + ox, dy as f64 + oy);
+            for c in 0..4 {
+                sum[c] += f[c] / (n * n);
+            }
+        }
+    }
+    sum
 }
 
 #[cfg(test)]
@@ -211,19 +215,7 @@ mod tests {
             for (i, v) in k.iter().enumerate() {
                 let (dx, dy) = (signed(i % pw, pw), signed(i / pw, ph));
                 let want = if dx.abs() <= SUPERSAMPLED_RADIUS && dy.abs() <= SUPERSAMPLED_RADIUS {
-                    let n = SUBSAMPLES as f64;
-                    let mut sum = [0.0; 4];
-                    for sy in 0..SUBSAMPLES {
-                        for sx in 0..SUBSAMPLES {
-                            let ox = (sx as f64 + 0.5) / n - 0.5;
-                            let oy = (sy as f64 + 0.5) / n - 0.5;
-                            let f = psf(dx as f64 + ox, dy as f64 + oy);
-                            for c in 0..4 {
-                                sum[c] += f[c] / (n * n);
-                            }
-                        }
-                    }
-                    sum
+                    supersampled(&psf, dx, dy)
                 } else {
                     psf(dx as f64, dy as f64)
                 };
