@@ -9,7 +9,9 @@ use std::sync::Mutex;
 use std::time::Duration;
 
 use scotopia_render::film::Checkpoint;
-use scotopia_render::integrator::{render, render_resumable, Checkpointing, RenderOptions};
+use scotopia_render::integrator::{
+    render, render_observed, render_resumable, Checkpointing, Observer, RenderOptions,
+};
 use scotopia_render::scene::IntegratorKind;
 use scotopia_scene::load_scene;
 use scotopia_scene::mitsuba::Parameters;
@@ -113,4 +115,42 @@ fn a_resumed_render_is_bit_identical_to_an_uninterrupted_one() {
         assert!(e.to_string().contains("another scene"), "{e}");
     }
     let _ = std::fs::remove_file(&file);
+}
+
+#[test]
+fn an_observer_sees_the_film_grow_and_its_last_look_is_the_result() {
+    let mut params = Parameters::new();
+    params.insert("res".into(), "8".into());
+    let scene = load_scene(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-box.xml"),
+        &params,
+    )
+    .unwrap();
+    let opts = RenderOptions {
+        spp: Some(40),
+        ..RenderOptions::default()
+    };
+    let seen = Mutex::new(Vec::new());
+    let see = |film: &scotopia_render::film::Film, spp: u32| {
+        seen.lock().unwrap().push((spp, film.xyzv()));
+    };
+    let observer = Observer {
+        every: Duration::ZERO,
+        see: &see,
+    };
+    let rendered = render_observed(
+        &scene,
+        &opts,
+        &AtomicBool::new(false),
+        &|_, _| {},
+        None,
+        Some(observer),
+    )
+    .unwrap();
+    let seen = seen.into_inner().unwrap();
+    // Every pass boundary (1, 2, 4, 8, 16, 32 spp) and the end (40).
+    let spps: Vec<u32> = seen.iter().map(|(s, _)| *s).collect();
+    assert_eq!(spps, [1, 2, 4, 8, 16, 32, 40]);
+    assert_eq!(seen.last().unwrap().1, rendered.film.xyzv());
+    assert_ne!(seen[0].1, rendered.film.xyzv());
 }

@@ -596,22 +596,50 @@ pub fn render_resumable(
     progress: &(dyn Fn(u32, u32) + Sync),
     checkpoints: Option<Checkpointing>,
 ) -> Result<Rendered, RenderError> {
+    render_observed(scene, options, cancel, progress, checkpoints, None)
+}
+
+/// Looks at the film while a render runs (a live viewer, tev): `see(film,
+/// spp)` is called at the first pass boundary after every `every` and once
+/// at the end, on the rendering thread, so it should copy what it needs
+/// and return.
+pub struct Observer<'a> {
+    pub every: Duration,
+    pub see: &'a (dyn Fn(&Film, u32) + Sync),
+}
+
+/// `render_resumable`, showing the film to `observer` as it converges.
+pub fn render_observed(
+    scene: &Scene,
+    options: &RenderOptions,
+    cancel: &AtomicBool,
+    progress: &(dyn Fn(u32, u32) + Sync),
+    checkpoints: Option<Checkpointing>,
+    observer: Option<Observer>,
+) -> Result<Rendered, RenderError> {
+    let hooks = (progress, checkpoints, observer);
     match options.cluster {
-        1 => render_k::<1>(scene, options, cancel, progress, checkpoints),
-        2 => render_k::<2>(scene, options, cancel, progress, checkpoints),
-        4 => render_k::<4>(scene, options, cancel, progress, checkpoints),
-        8 => render_k::<8>(scene, options, cancel, progress, checkpoints),
-        16 => render_k::<16>(scene, options, cancel, progress, checkpoints),
+        1 => render_k::<1>(scene, options, cancel, hooks),
+        2 => render_k::<2>(scene, options, cancel, hooks),
+        4 => render_k::<4>(scene, options, cancel, hooks),
+        8 => render_k::<8>(scene, options, cancel, hooks),
+        16 => render_k::<16>(scene, options, cancel, hooks),
         k => Err(RenderError::Cluster(k)),
     }
 }
+
+/// What a render reports to as it goes: progress, checkpoints, an observer.
+type Hooks<'a, 'b> = (
+    &'a (dyn Fn(u32, u32) + Sync),
+    Option<Checkpointing<'b>>,
+    Option<Observer<'b>>,
+);
 
 fn render_k<const K: usize>(
     scene: &Scene,
     options: &RenderOptions,
     cancel: &AtomicBool,
-    progress: &(dyn Fn(u32, u32) + Sync),
-    mut checkpoints: Option<Checkpointing>,
+    (progress, mut checkpoints, observer): Hooks,
 ) -> Result<Rendered, RenderError> {
     // A time limit alone renders until the time is spent.
     let total = match (options.spp, options.time_limit) {
@@ -683,6 +711,7 @@ fn render_k<const K: usize>(
     let resumed_at = state.done;
     let mut cancelled = false;
     let mut last_save = Instant::now();
+    let mut last_seen = Instant::now();
     // Passes grow from 1 spp so that progress, time limits and Ctrl-C are
     // honoured early, to at most 16 spp per pass.
     while state.done < total {
@@ -723,9 +752,18 @@ fn render_k<const K: usize>(
                 last_save = Instant::now();
             }
         }
+        if let Some(o) = &observer {
+            if state.done < total && last_seen.elapsed() >= o.every {
+                (o.see)(&state.film, state.done);
+                last_seen = Instant::now();
+            }
+        }
     }
     if let Some(cp) = &checkpoints {
         (cp.save)(&state).map_err(RenderError::Checkpoint)?;
+    }
+    if let Some(o) = &observer {
+        (o.see)(&state.film, state.done);
     }
     let Checkpoint {
         done,
