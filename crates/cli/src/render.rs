@@ -15,33 +15,22 @@ use scotopia_render::integrator::{
 };
 use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_exr};
 use scotopia_render::scene::IntegratorKind;
+use scotopia_render::scene::Scene;
 use scotopia_render::wavelength::WavelengthStrategy;
-use scotopia_scene::{checkpoint_key, load_scene_with};
+use scotopia_scene::mitsuba::Parameters;
+use scotopia_scene::{checkpoint_key, load_scene_with, LoadOptions};
 
 use crate::display::{write_shown, VisionArgs};
 use crate::info::{load_options, parameters};
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// The scene (Mitsuba 3 XML).
-    scene: PathBuf,
+    #[command(flatten)]
+    setup: Setup,
     /// The output: a 32-bit float OpenEXR with channels X, Y, Z (cd/m²) and
     /// V (scotopic cd/m²).
     #[arg(short, long, value_name = "OUT.exr")]
     output: PathBuf,
-    /// Set a scene parameter, overriding its <default> (repeatable).
-    #[arg(short = 'D', value_name = "NAME=VALUE")]
-    define: Vec<String>,
-    /// Override the film size: W (keeping the film's aspect) or WxH. The
-    /// field of view along the film's fov_axis stays, as in Mitsuba.
-    #[arg(long, value_name = "W|WxH")]
-    res: Option<String>,
-    /// Samples per pixel (default: the scene's sampler).
-    #[arg(long)]
-    spp: Option<u32>,
-    /// Render for this many seconds (with --spp: whichever ends first).
-    #[arg(long, value_name = "SECONDS", value_parser = crate::numbers::seconds)]
-    time: Option<Duration>,
     /// Save the film's exact sums to OUT.exr.ckpt every SECONDS and at the
     /// end (complete, interrupted or out of time), so that a killed render
     /// can be resumed, or a finished one given more samples.
@@ -52,6 +41,43 @@ pub struct Args {
     /// bit-identical to an uninterrupted render of as many samples.
     #[arg(long)]
     resume: bool,
+    /// Also write the spectral radiance image as a spectral OpenEXR
+    /// (Fichet et al. 2021: channels S0.<λ>nm, W·m⁻²·sr⁻¹·nm⁻¹).
+    #[arg(long, value_name = "OUT.exr")]
+    spectral: Option<PathBuf>,
+    /// Bands of the spectral image, equal over 360–830 nm (47: 10 nm).
+    #[arg(long, default_value_t = 47, value_name = "N")]
+    bands: usize,
+    /// Also write a quick auto-exposed sRGB preview.
+    #[arg(long, value_name = "OUT.png")]
+    preview: Option<PathBuf>,
+    /// Also run the vision pipeline (as `scotopia display`, with the
+    /// camera's field of view) and write what the eye would see.
+    #[arg(long, value_name = "OUT.png")]
+    display: Option<PathBuf>,
+    #[command(flatten)]
+    vision: VisionArgs,
+}
+
+/// What a render is of and how it samples: the arguments `render` and
+/// `view` share.
+#[derive(clap::Args)]
+pub struct Setup {
+    /// The scene (Mitsuba 3 XML).
+    pub scene: PathBuf,
+    /// Set a scene parameter, overriding its <default> (repeatable).
+    #[arg(short = 'D', value_name = "NAME=VALUE")]
+    define: Vec<String>,
+    /// Override the film size: W (keeping the film's aspect) or WxH. The
+    /// field of view along the film's fov_axis stays, as in Mitsuba.
+    #[arg(long, value_name = "W|WxH")]
+    res: Option<String>,
+    /// Samples per pixel (default: the scene's sampler).
+    #[arg(long)]
+    pub spp: Option<u32>,
+    /// Render for this many seconds (with --spp: whichever ends first).
+    #[arg(long, value_name = "SECONDS", value_parser = crate::numbers::seconds)]
+    time: Option<Duration>,
     /// Worker threads (default: all cores; at most 4096).
     #[arg(long, value_parser = crate::numbers::threads)]
     threads: Option<usize>,
@@ -86,22 +112,86 @@ pub struct Args {
     /// whatever the scene's integrator; zero where no surface is seen.
     #[arg(long, default_value = "radiance", value_name = "radiance|illuminance")]
     quantity: String,
-    /// Also write the spectral radiance image as a spectral OpenEXR
-    /// (Fichet et al. 2021: channels S0.<λ>nm, W·m⁻²·sr⁻¹·nm⁻¹).
-    #[arg(long, value_name = "OUT.exr")]
-    spectral: Option<PathBuf>,
-    /// Bands of the spectral image, equal over 360–830 nm (47: 10 nm).
-    #[arg(long, default_value_t = 47, value_name = "N")]
-    bands: usize,
-    /// Also write a quick auto-exposed sRGB preview.
-    #[arg(long, value_name = "OUT.png")]
-    preview: Option<PathBuf>,
-    /// Also run the vision pipeline (as `scotopia display`, with the
-    /// camera's field of view) and write what the eye would see.
-    #[arg(long, value_name = "OUT.png")]
-    display: Option<PathBuf>,
-    #[command(flatten)]
-    vision: VisionArgs,
+}
+
+/// A scene loaded and its render options checked, ready to render.
+pub struct Prepared {
+    pub scene: Scene,
+    pub options: RenderOptions,
+    pub params: Parameters,
+    pub load: LoadOptions,
+    /// Samples per pixel the render aims at (0: until its time is up).
+    pub total: u32,
+    pub pool: rayon::ThreadPool,
+}
+
+impl Setup {
+    /// Checks the options, loads the scene (printing its warnings) and
+    /// starts the worker threads. `bands`: the spectral image's, if any.
+    pub fn prepare(&self, bands: Option<usize>) -> Result<Prepared> {
+        let strategy = sampling_options(&self.wavelengths, self.cluster)?;
+        let integrator = match &self.integrator {
+            Some(name) => Some(
+                IntegratorKind::from_name(name)
+                    .with_context(|| format!("--integrator {name}: use path or bdpt"))?,
+            ),
+            None => None,
+        };
+        let tracer = Tracer::from_name(&self.tracer)
+            .with_context(|| format!("--tracer {}: use wavefront or scalar", self.tracer))?;
+        let quantity = Quantity::from_name(&self.quantity).with_context(|| {
+            format!("--quantity {}: use radiance or illuminance", self.quantity)
+        })?;
+        let only_strategy = match &self.bdpt_strategy {
+            Some(text) => {
+                let parsed: Option<Vec<usize>> =
+                    text.split(',').map(|v| v.trim().parse().ok()).collect();
+                match parsed.as_deref() {
+                    Some(&[s, t]) => Some([s, t]),
+                    _ => bail!("--bdpt-strategy {text}: give two counts S,T, e.g. 2,1"),
+                }
+            }
+            None => None,
+        };
+        if self.spp == Some(0) {
+            bail!("--spp must be positive");
+        }
+        let load = load_options(self.res.as_deref())?;
+        let params = parameters(&self.define)?;
+        let scene = load_scene_with(&self.scene, &params, &load)?;
+        for w in &scene.warnings {
+            eprintln!("scotopia: warning: {w}");
+        }
+        let options = RenderOptions {
+            spp: self.spp,
+            time_limit: self.time,
+            seed: self.seed,
+            strategy,
+            cluster: self.cluster,
+            bands,
+            integrator,
+            only_strategy,
+            tracer,
+            quantity,
+        };
+        let total = options.spp.unwrap_or(if self.time.is_some() {
+            0
+        } else {
+            scene.samples_per_pixel
+        });
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(self.threads.unwrap_or(0))
+            .build()
+            .context("cannot start the worker threads")?;
+        Ok(Prepared {
+            scene,
+            options,
+            params,
+            load,
+            total,
+            pool,
+        })
+    }
 }
 
 /// What `render` and `measure` check before loading anything: the SIMD
@@ -127,39 +217,16 @@ pub fn cancel_on_interrupt() -> Result<Arc<AtomicBool>> {
 }
 
 pub fn run(args: Args) -> Result<()> {
-    let strategy = sampling_options(&args.wavelengths, args.cluster)?;
-    let integrator = match &args.integrator {
-        Some(name) => Some(
-            IntegratorKind::from_name(name)
-                .with_context(|| format!("--integrator {name}: use path or bdpt"))?,
-        ),
-        None => None,
-    };
-    let tracer = Tracer::from_name(&args.tracer)
-        .with_context(|| format!("--tracer {}: use wavefront or scalar", args.tracer))?;
-    let quantity = Quantity::from_name(&args.quantity)
-        .with_context(|| format!("--quantity {}: use radiance or illuminance", args.quantity))?;
-    let only_strategy = match &args.bdpt_strategy {
-        Some(text) => {
-            let parsed: Option<Vec<usize>> =
-                text.split(',').map(|v| v.trim().parse().ok()).collect();
-            match parsed.as_deref() {
-                Some(&[s, t]) => Some([s, t]),
-                _ => bail!("--bdpt-strategy {text}: give two counts S,T, e.g. 2,1"),
-            }
-        }
-        None => None,
-    };
-    let time_limit = args.time;
-    if args.spp == Some(0) {
-        bail!("--spp must be positive");
-    }
-    let load = load_options(args.res.as_deref())?;
-    let params = parameters(&args.define)?;
-    let scene = load_scene_with(&args.scene, &params, &load)?;
-    for w in &scene.warnings {
-        eprintln!("scotopia: warning: {w}");
-    }
+    let Prepared {
+        scene,
+        options,
+        params,
+        load,
+        total,
+        pool,
+    } = args
+        .setup
+        .prepare(args.spectral.is_some().then_some(args.bands))?;
     // The vision pipeline's settings and size, checked before rendering.
     let display = match &args.display {
         Some(_) => {
@@ -172,27 +239,10 @@ pub fn run(args: Args) -> Result<()> {
         }
         None => None,
     };
-    let options = RenderOptions {
-        spp: args.spp,
-        time_limit,
-        seed: args.seed,
-        strategy,
-        cluster: args.cluster,
-        bands: args.spectral.is_some().then_some(args.bands),
-        integrator,
-        only_strategy,
-        tracer,
-        quantity,
-    };
 
     // Ctrl-C or SIGTERM: finish the current pass, write, exit non-zero.
     let cancel = cancel_on_interrupt()?;
 
-    let total = options.spp.unwrap_or(if time_limit.is_some() {
-        0
-    } else {
-        scene.samples_per_pixel
-    });
     let pixels = scene.camera.width as u64 * scene.camera.height as u64;
     let bar = progress_bar(total as u64);
     let started = std::time::Instant::now();
@@ -209,10 +259,6 @@ pub fn run(args: Args) -> Result<()> {
             eprintln!("scotopia: {done} spp, {secs:.0} s, {rate:.2} Msamples/s");
         }
     };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0))
-        .build()
-        .context("cannot start the worker threads")?;
     let ckpt_path = checkpoint_path(&args.output);
     let every = match args.checkpoint {
         Some(t) if t.is_finite() && (0.0..=1e9).contains(&t) => Some(Duration::from_secs_f64(t)),
@@ -239,8 +285,9 @@ pub fn run(args: Args) -> Result<()> {
     let save = |c: &Checkpoint| c.write(&ckpt_path);
     let checkpoints = if every.is_some() || resume.is_some() {
         Some(Checkpointing {
-            key: checkpoint_key(&args.scene, &params, &load, &options)
-                .with_context(|| format!("{}: cannot read the scene", args.scene.display()))?,
+            key: checkpoint_key(&args.setup.scene, &params, &load, &options).with_context(
+                || format!("{}: cannot read the scene", args.setup.scene.display()),
+            )?,
             resume,
             // Resuming without --checkpoint still saves when interrupted.
             every: every.unwrap_or(Duration::MAX),
@@ -264,7 +311,7 @@ pub fn run(args: Args) -> Result<()> {
         &scene,
         &options,
         &rendered,
-        &args.scene.display().to_string(),
+        &args.setup.scene.display().to_string(),
     );
     write_xyzv_exr(&args.output, &rendered, &meta)?;
     if let Some(spectral) = &args.spectral {
