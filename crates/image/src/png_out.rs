@@ -79,68 +79,99 @@ pub fn write_png(
     samples: PngSamples,
     colour: PngColour,
 ) -> Result<(), ImageError> {
-    let count = match samples {
-        PngSamples::Rgb8(v) => v.len(),
-        PngSamples::Rgb16(v) => v.len(),
-    };
-    if count != (width as usize) * (height as usize) * 3 {
-        return Err(ImageError::Invalid(format!(
-            "{}: {count} samples for a {width}×{height} RGB image",
-            path.display()
-        )));
-    }
     let name = path.display().to_string();
+    check_count(&name, width, height, samples)?;
     let io = |cause| ImageError::Io {
         path: name.clone(),
         cause,
     };
-    let png_err = |e: png::EncodingError| ImageError::Png {
-        path: name.clone(),
-        message: e.to_string(),
-    };
     let tmp = tmp_path(path);
     let result = (|| {
         let file = File::create(&tmp).map_err(io)?;
-        let (bytes, depth): (std::borrow::Cow<[u8]>, _) = match samples {
-            PngSamples::Rgb8(v) => (v.into(), png::BitDepth::Eight),
-            PngSamples::Rgb16(v) => {
-                // PNG stores 16-bit samples big-endian.
-                let mut bytes = vec![0u8; 2 * v.len()];
-                for (b, s) in bytes.chunks_exact_mut(2).zip(v) {
-                    b.copy_from_slice(&s.to_be_bytes());
-                }
-                (bytes.into(), png::BitDepth::Sixteen)
+        encode_to(BufWriter::new(file), width, height, samples, colour).map_err(|e| {
+            ImageError::Png {
+                path: name.clone(),
+                message: e.to_string(),
             }
-        };
-        let compression = if worth_compressing(width, height, depth, &bytes) {
-            // fdeflate with an adaptive row filter: on a dithered
-            // 1920×1080 night image ~25× faster than the default (zlib
-            // level 6) for files ~1.2× larger (1.07× at 16 bits); README,
-            // benchmarks.
-            png::Compression::Fast
-        } else {
-            png::Compression::NoCompression
-        };
-        let mut encoder = png::Encoder::new(BufWriter::new(file), width, height);
-        encoder.set_color(png::ColorType::Rgb);
-        encoder.set_depth(depth);
-        encoder.set_compression(compression);
-        if colour == PngColour::SRGB {
-            encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
-        }
-        let mut writer = encoder.write_header().map_err(png_err)?;
-        // Matrix 0 (RGB), full range.
-        writer
-            .write_chunk(png::chunk::cICP, &[colour.primaries, colour.transfer, 0, 1])
-            .map_err(png_err)?;
-        writer.write_image_data(&bytes).map_err(png_err)?;
-        writer.finish().map_err(png_err)?;
+        })?;
         std::fs::rename(&tmp, path).map_err(io)
     })();
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
     result
+}
+
+/// The bytes of the PNG file [`write_png`] would write (for a server's
+/// response); `name` is what errors call the image.
+pub fn encode_png(
+    name: &str,
+    width: u32,
+    height: u32,
+    samples: PngSamples,
+    colour: PngColour,
+) -> Result<Vec<u8>, ImageError> {
+    check_count(name, width, height, samples)?;
+    let mut bytes = Vec::new();
+    encode_to(&mut bytes, width, height, samples, colour).map_err(|e| ImageError::Png {
+        path: name.into(),
+        message: e.to_string(),
+    })?;
+    Ok(bytes)
+}
+
+fn check_count(name: &str, width: u32, height: u32, samples: PngSamples) -> Result<(), ImageError> {
+    let count = match samples {
+        PngSamples::Rgb8(v) => v.len(),
+        PngSamples::Rgb16(v) => v.len(),
+    };
+    if count != (width as usize) * (height as usize) * 3 {
+        return Err(ImageError::Invalid(format!(
+            "{name}: {count} samples for a {width}×{height} RGB image"
+        )));
+    }
+    Ok(())
+}
+
+fn encode_to<W: std::io::Write>(
+    out: W,
+    width: u32,
+    height: u32,
+    samples: PngSamples,
+    colour: PngColour,
+) -> Result<(), png::EncodingError> {
+    let (bytes, depth): (std::borrow::Cow<[u8]>, _) = match samples {
+        PngSamples::Rgb8(v) => (v.into(), png::BitDepth::Eight),
+        PngSamples::Rgb16(v) => {
+            // PNG stores 16-bit samples big-endian.
+            let mut bytes = vec![0u8; 2 * v.len()];
+            for (b, s) in bytes.chunks_exact_mut(2).zip(v) {
+                b.copy_from_slice(&s.to_be_bytes());
+            }
+            (bytes.into(), png::BitDepth::Sixteen)
+        }
+    };
+    let compression = if worth_compressing(width, height, depth, &bytes) {
+        // fdeflate with an adaptive row filter: on a dithered
+        // 1920×1080 night image ~25× faster than the default (zlib
+        // level 6) for files ~1.2× larger (1.07× at 16 bits); README,
+        // benchmarks.
+        png::Compression::Fast
+    } else {
+        png::Compression::NoCompression
+    };
+    let mut encoder = png::Encoder::new(out, width, height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(depth);
+    encoder.set_compression(compression);
+    if colour == PngColour::SRGB {
+        encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+    }
+    let mut writer = encoder.write_header()?;
+    // Matrix 0 (RGB), full range.
+    writer.write_chunk(png::chunk::cICP, &[colour.primaries, colour.transfer, 0, 1])?;
+    writer.write_image_data(&bytes)?;
+    writer.finish()
 }
 
 /// Whether fdeflate makes the image's rows (`bytes`) clearly smaller than

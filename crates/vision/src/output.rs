@@ -5,7 +5,9 @@
 use std::path::Path;
 
 use scotopia_color::RgbSpace;
-use scotopia_image::{sheet, write_exr, write_png, ImageError, Meta, Panel, PngColour, PngSamples};
+use scotopia_image::{
+    encode_png, sheet, write_exr, ImageError, Meta, Panel, PngColour, PngSamples,
+};
 
 use crate::encode::{pq16, srgb16, srgb8};
 use crate::pipeline::{display_observed, DisplayParams, Displayed, Stage};
@@ -73,35 +75,13 @@ pub fn write_display(
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase)
         .unwrap_or_default();
-    let (w, h) = (d.width as u32, d.height as u32);
     match ext.as_str() {
-        "png" if png.hdr => {
-            if p.gamut != RgbSpace::Rec2020 {
-                return Err(ImageError::Invalid(format!(
-                    "{}: HDR (PQ) output is Rec. 2100, whose primaries are Rec. 2020: use --gamut rec2020",
-                    path.display()
-                )));
-            }
-            let codes = pq16(&d.rgb, p.display_peak);
-            write_png(path, w, h, PngSamples::Rgb16(&codes), PngColour::REC2100_PQ)
-        }
         "png" => {
-            let colour = match p.gamut {
-                RgbSpace::Srgb => PngColour::SRGB,
-                RgbSpace::DisplayP3 => PngColour::DISPLAY_P3,
-                RgbSpace::Rec2020 => PngColour::REC2020_SRGB,
-                RgbSpace::AcesCg => {
-                    return Err(ImageError::Invalid(format!(
-                        "{}: ACEScg is not a display gamut: use srgb, p3 or rec2020",
-                        path.display()
-                    )))
-                }
-            };
-            if png.sixteen_bit {
-                write_png(path, w, h, PngSamples::Rgb16(&srgb16(&d.rgb)), colour)
-            } else {
-                write_png(path, w, h, PngSamples::Rgb8(&srgb8(&d.rgb)), colour)
-            }
+            let bytes = display_png(&path.display().to_string(), d, p, png)?;
+            scotopia_image::write_atomic(path, &bytes).map_err(|cause| ImageError::Io {
+                path: path.display().to_string(),
+                cause,
+            })
         }
         "exr" => {
             let channel = |c: usize| d.rgb.iter().map(|p| p[c]).collect::<Vec<f32>>();
@@ -130,6 +110,41 @@ pub fn write_display(
             "{}: unknown output type {ext:?}: use .png or .exr",
             path.display()
         ))),
+    }
+}
+
+/// The PNG file's bytes for `d` (see [`PngOptions`]); `name` is what
+/// errors call it.
+pub fn display_png(
+    name: &str,
+    d: &Displayed,
+    p: &DisplayParams,
+    png: PngOptions,
+) -> Result<Vec<u8>, ImageError> {
+    let (w, h) = (d.width as u32, d.height as u32);
+    if png.hdr {
+        if p.gamut != RgbSpace::Rec2020 {
+            return Err(ImageError::Invalid(format!(
+                "{name}: HDR (PQ) output is Rec. 2100, whose primaries are Rec. 2020: use --gamut rec2020"
+            )));
+        }
+        let codes = pq16(&d.rgb, p.display_peak);
+        return encode_png(name, w, h, PngSamples::Rgb16(&codes), PngColour::REC2100_PQ);
+    }
+    let colour = match p.gamut {
+        RgbSpace::Srgb => PngColour::SRGB,
+        RgbSpace::DisplayP3 => PngColour::DISPLAY_P3,
+        RgbSpace::Rec2020 => PngColour::REC2020_SRGB,
+        RgbSpace::AcesCg => {
+            return Err(ImageError::Invalid(format!(
+                "{name}: ACEScg is not a display gamut: use srgb, p3 or rec2020"
+            )))
+        }
+    };
+    if png.sixteen_bit {
+        encode_png(name, w, h, PngSamples::Rgb16(&srgb16(&d.rgb)), colour)
+    } else {
+        encode_png(name, w, h, PngSamples::Rgb8(&srgb8(&d.rgb)), colour)
     }
 }
 
