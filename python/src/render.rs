@@ -126,7 +126,12 @@ fn render<'py>(
             RenderError::TooLarge(_) => PyMemoryError::new_err(e.to_string()),
             _ => err(e.to_string()),
         })?;
-    let meta = render_metadata(&scene, &options, &rendered, &path.display().to_string());
+    let meta = render_metadata(
+        &scene,
+        &options,
+        &rendered.facts(),
+        &path.display().to_string(),
+    );
     if let Some(out) = output {
         write_xyzv_exr(&out, &rendered, &meta).map_err(|e| err(e.to_string()))?;
     }

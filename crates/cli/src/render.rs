@@ -310,7 +310,7 @@ pub fn run(args: Args) -> Result<()> {
     let meta = render_metadata(
         &scene,
         &options,
-        &rendered,
+        &rendered.facts(),
         &args.setup.scene.display().to_string(),
     );
     write_xyzv_exr(&args.output, &rendered, &meta)?;

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use scotopia_image::{write_exr, ImageError, Meta};
 
-use crate::integrator::{Quantity, RenderOptions, Rendered};
+use crate::integrator::{Quantity, RenderOptions, Rendered, RunFacts};
 use crate::scene::Scene;
 
 /// Header attributes of a render: fields of view in degrees, samples per
@@ -14,7 +14,7 @@ use crate::scene::Scene;
 pub fn render_metadata(
     scene: &Scene,
     options: &RenderOptions,
-    rendered: &Rendered,
+    rendered: &RunFacts,
     scene_file: &str,
 ) -> Vec<(&'static str, Meta)> {
     let (fov_x, fov_y) = scene.camera.fov_degrees();
@@ -54,12 +54,25 @@ pub fn write_xyzv_exr(
     rendered: &Rendered,
     metadata: &[(&str, Meta)],
 ) -> Result<(), ImageError> {
-    let px = rendered.film.xyzv();
+    let film = &rendered.film;
+    let (w, h) = (film.width as usize, film.height as usize);
+    write_xyzv_pixels(path, w, h, &film.xyzv(), metadata)
+}
+
+/// Writes X, Y, Z, V′ pixels (row-major, `w` × `h`) as channels X, Y, Z,
+/// V of an OpenEXR, atomically.
+pub fn write_xyzv_pixels(
+    path: &Path,
+    w: usize,
+    h: usize,
+    px: &[[f32; 4]],
+    metadata: &[(&str, Meta)],
+) -> Result<(), ImageError> {
     let channel = |c: usize| px.iter().map(|p| p[c]).collect::<Vec<f32>>();
     write_exr(
         path,
-        rendered.film.width as usize,
-        rendered.film.height as usize,
+        w,
+        h,
         vec![
             ("X".into(), channel(0)),
             ("Y".into(), channel(1)),

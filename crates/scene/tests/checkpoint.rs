@@ -10,7 +10,7 @@ use std::time::Duration;
 
 use scotopia_render::film::Checkpoint;
 use scotopia_render::integrator::{
-    render, render_observed, render_resumable, Checkpointing, Observer, RenderOptions,
+    render, render_observed, render_resumable, Checkpointing, Observer, RenderOptions, RunFacts,
 };
 use scotopia_render::scene::IntegratorKind;
 use scotopia_scene::load_scene;
@@ -131,8 +131,8 @@ fn an_observer_sees_the_film_grow_and_its_last_look_is_the_result() {
         ..RenderOptions::default()
     };
     let seen = Mutex::new(Vec::new());
-    let see = |film: &scotopia_render::film::Film, spp: u32| {
-        seen.lock().unwrap().push((spp, film.xyzv()));
+    let see = |film: &scotopia_render::film::Film, facts: &RunFacts| {
+        seen.lock().unwrap().push((facts.spp, film.xyzv()));
     };
     let observer = Observer {
         every: Duration::ZERO,

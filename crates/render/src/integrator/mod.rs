@@ -156,7 +156,31 @@ pub struct Rendered {
     pub quantity: Quantity,
 }
 
+/// What a render has done so far (or did): for an image's metadata and
+/// for observers.
+#[derive(Debug, Clone, Copy)]
+pub struct RunFacts {
+    pub spp: u32,
+    pub rays: u64,
+    pub elapsed: Duration,
+    pub cancelled: bool,
+    pub integrator: IntegratorKind,
+    pub quantity: Quantity,
+}
+
 impl Rendered {
+    /// Its [`RunFacts`].
+    pub fn facts(&self) -> RunFacts {
+        RunFacts {
+            spp: self.spp,
+            rays: self.rays,
+            elapsed: self.elapsed,
+            cancelled: self.cancelled,
+            integrator: self.integrator,
+            quantity: self.quantity,
+        }
+    }
+
     /// The share of kept samples whose cluster collapsed (0 with one
     /// wavelength per path, where there is nothing to collapse).
     pub fn collapsed_fraction(&self) -> f64 {
@@ -600,12 +624,12 @@ pub fn render_resumable(
 }
 
 /// Looks at the film while a render runs (a live viewer, tev): `see(film,
-/// spp)` is called at the first pass boundary after every `every` and once
+/// facts)` is called at the first pass boundary after every `every` and once
 /// at the end, on the rendering thread, so it should copy what it needs
 /// and return.
 pub struct Observer<'a> {
     pub every: Duration,
-    pub see: &'a (dyn Fn(&Film, u32) + Sync),
+    pub see: &'a (dyn Fn(&Film, &RunFacts) + Sync),
 }
 
 /// `render_resumable`, showing the film to `observer` as it converges.
@@ -754,7 +778,15 @@ fn render_k<const K: usize>(
         }
         if let Some(o) = &observer {
             if state.done < total && last_seen.elapsed() >= o.every {
-                (o.see)(&state.film, state.done);
+                let facts = RunFacts {
+                    spp: state.done,
+                    rays: state.counts[2],
+                    elapsed: start.elapsed(),
+                    cancelled: false,
+                    integrator,
+                    quantity,
+                };
+                (o.see)(&state.film, &facts);
                 last_seen = Instant::now();
             }
         }
@@ -762,16 +794,13 @@ fn render_k<const K: usize>(
     if let Some(cp) = &checkpoints {
         (cp.save)(&state).map_err(RenderError::Checkpoint)?;
     }
-    if let Some(o) = &observer {
-        (o.see)(&state.film, state.done);
-    }
     let Checkpoint {
         done,
         counts: [dropped, dropped_splats, rays, collapsed],
         film,
         ..
     } = state;
-    Ok(Rendered {
+    let rendered = Rendered {
         film,
         spp: done,
         nonfinite: dropped,
@@ -782,7 +811,11 @@ fn render_k<const K: usize>(
         cancelled,
         integrator,
         quantity,
-    })
+    };
+    if let Some(o) = &observer {
+        (o.see)(&rendered.film, &rendered.facts());
+    }
+    Ok(rendered)
 }
 
 #[cfg(test)]
