@@ -52,7 +52,7 @@ pub struct VisionArgs {
     bits: u8,
 }
 
-fn on_off(name: &str, value: &str) -> Result<bool> {
+pub(crate) fn on_off(name: &str, value: &str) -> Result<bool> {
     match value.to_ascii_lowercase().as_str() {
         "on" | "yes" | "true" | "1" => Ok(true),
         "off" | "no" | "false" | "0" => Ok(false),
@@ -61,6 +61,30 @@ fn on_off(name: &str, value: &str) -> Result<bool> {
 }
 
 impl VisionArgs {
+    /// The settings as (flag, value) pairs, flags without their dashes:
+    /// what `view` reports and merges a page's query into. A switch
+    /// (`hdr`) is "on" or "off"; flags not given are left out.
+    pub fn pairs(&self) -> Vec<(&'static str, String)> {
+        let mut p = vec![
+            ("adaptation", self.adaptation.clone()),
+            ("glare", self.glare.clone()),
+            ("night-shift", self.night_shift.clone()),
+            ("tonemap", self.tonemap.clone()),
+            ("hdr", if self.hdr { "on" } else { "off" }.into()),
+            ("bits", self.bits.to_string()),
+        ];
+        if let Some(f) = self.fov {
+            p.push(("fov", f.to_string()));
+        }
+        if let Some(peak) = self.display_peak {
+            p.push(("display-peak", peak.to_string()));
+        }
+        if let Some(g) = &self.gamut {
+            p.push(("gamut", g.clone()));
+        }
+        p
+    }
+
     /// The pipeline's parameters for an image `width` pixels wide whose
     /// file gives `fov` (degrees), with any notes for the user.
     pub fn params(

@@ -382,7 +382,7 @@ fn checkpoint_path(output: &Path) -> PathBuf {
 
 /// A bar with elapsed time, ETA and throughput on a terminal (hidden
 /// elsewhere, where `run` prints plain lines instead).
-fn progress_bar(total: u64) -> ProgressBar {
+pub(crate) fn progress_bar(total: u64) -> ProgressBar {
     if total == 0 {
         // Time-limited: a spinner.
         let bar = ProgressBar::new_spinner();
