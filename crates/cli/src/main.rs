@@ -8,6 +8,7 @@ mod measure;
 mod numbers;
 mod render;
 mod spectrum;
+mod tev;
 
 use std::process::ExitCode;
 

@@ -9,9 +9,10 @@ use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use scotopia_image::{preview_srgb8, write_png_rgb8};
-use scotopia_render::film::Checkpoint;
+use scotopia_render::film::{Checkpoint, Film};
 use scotopia_render::integrator::{
-    render_resumable, Checkpointing, Quantity, RenderError, RenderOptions, Tracer, CLUSTER_SIZES,
+    render_observed, Checkpointing, Observer, Quantity, RenderError, RenderOptions, Tracer,
+    CLUSTER_SIZES,
 };
 use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_exr};
 use scotopia_render::scene::IntegratorKind;
@@ -55,6 +56,19 @@ pub struct Args {
     /// camera's field of view) and write what the eye would see.
     #[arg(long, value_name = "OUT.png")]
     display: Option<PathBuf>,
+    /// Show the film in the tev image viewer while it renders, over TCP
+    /// (tev's default port: 127.0.0.1:14158): channels X, Y, Z, V as in
+    /// the EXR and a layer `seen` (what --display would show, linear
+    /// RGB), about once a second and at the end. Nothing blocks the
+    /// render: if tev is not there it says so once and retries.
+    #[arg(
+        long,
+        value_name = "HOST:PORT",
+        num_args = 0..=1,
+        default_missing_value = crate::tev::DEFAULT,
+        value_parser = crate::tev::address,
+    )]
+    tev: Option<crate::tev::Address>,
     #[command(flatten)]
     vision: VisionArgs,
 }
@@ -240,6 +254,20 @@ pub fn run(args: Args) -> Result<()> {
         None => None,
     };
 
+    let viewer = match &args.tev {
+        Some(address) => Some(start_viewer(address, &args, &scene)?),
+        None => None,
+    };
+    let see = |film: &Film, _spp: u32| {
+        if let Some(v) = &viewer {
+            v.see(film);
+        }
+    };
+    let observer = viewer.as_ref().map(|_| Observer {
+        every: crate::tev::every(),
+        see: &see,
+    });
+
     // Ctrl-C or SIGTERM: finish the current pass, write, exit non-zero.
     let cancel = cancel_on_interrupt()?;
 
@@ -298,7 +326,7 @@ pub fn run(args: Args) -> Result<()> {
     };
     let saving = checkpoints.is_some();
     let rendered = pool
-        .install(|| render_resumable(&scene, &options, &cancel, &progress, checkpoints))
+        .install(|| render_observed(&scene, &options, &cancel, &progress, checkpoints, observer))
         .map_err(|e| match e {
             RenderError::Checkpoint(m) if !m.contains(&*ckpt_path.to_string_lossy()) => {
                 anyhow::anyhow!("{}: {m}", ckpt_path.display())
@@ -359,6 +387,10 @@ pub fn run(args: Args) -> Result<()> {
         crate::display::say_left_out(&shown);
         write_shown(out, &shown, &params, png)?;
     }
+    if let Some(v) = viewer {
+        // The last frame is on its way: let it arrive, briefly.
+        v.finish(Duration::from_secs(2));
+    }
     if rendered.cancelled {
         let resume = if saving {
             format!("; continue with --resume (from {})", ckpt_path.display())
@@ -371,6 +403,34 @@ pub fn run(args: Args) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// `--tev`: the viewer's sender, with the vision pipeline's settings for
+/// its seen layer (left out, with a note, if the image is too large for
+/// the pipeline).
+fn start_viewer(
+    address: &crate::tev::Address,
+    args: &Args,
+    scene: &Scene,
+) -> Result<crate::tev::Viewer> {
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let vision = match scotopia_vision::pipeline::check_size(w as usize, h as usize) {
+        Ok(()) => {
+            let fov = Some(scene.camera.fov_degrees().0 as f64);
+            Some(args.vision.params(w as usize, fov).context("--tev")?.0)
+        }
+        Err(e) => {
+            eprintln!("scotopia: note: --tev: no seen layer: {e}");
+            None
+        }
+    };
+    let name = args.output.file_name().unwrap_or_default();
+    let image = crate::tev::Image {
+        name: name.to_string_lossy().into_owned(),
+        width: w,
+        height: h,
+    };
+    Ok(crate::tev::Viewer::start(address.clone(), image, vision))
 }
 
 /// Where `--checkpoint` saves and `--resume` reads: beside the output.
