@@ -11,8 +11,8 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use scotopia_image::{preview_srgb8, write_png_rgb8};
 use scotopia_render::film::{Checkpoint, Film};
 use scotopia_render::integrator::{
-    render_observed, Checkpointing, Observer, Quantity, RenderError, RenderOptions, Tracer,
-    CLUSTER_SIZES,
+    render_observed, Checkpointing, Observer, Quantity, RenderError, RenderOptions, RunFacts,
+    Tracer, CLUSTER_SIZES,
 };
 use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_exr};
 use scotopia_render::scene::IntegratorKind;
@@ -258,7 +258,7 @@ pub fn run(args: Args) -> Result<()> {
         Some(address) => Some(start_viewer(address, &args, &scene)?),
         None => None,
     };
-    let see = |film: &Film, _spp: u32| {
+    let see = |film: &Film, _: &RunFacts| {
         if let Some(v) = &viewer {
             v.see(film);
         }
