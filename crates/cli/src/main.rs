@@ -9,6 +9,7 @@ mod numbers;
 mod render;
 mod spectrum;
 mod tev;
+mod view;
 
 use std::process::ExitCode;
 
@@ -39,6 +40,11 @@ enum Command {
     /// Measure photopic and scotopic illuminance (lx) at points of a scene,
     /// with standard errors and the S/P ratio: a lighting calculation grid.
     Measure(measure::Args),
+    /// Render a scene progressively (or open an X, Y, Z, V′ EXR) and show it
+    /// as the eye sees it on a local web page, with the light level,
+    /// adaptation, glare, night shift, tone operator, display and false
+    /// colour at hand; the pixel under the cursor in cd/m².
+    View(Box<view::Args>),
 }
 
 /// Writes `text` to standard output; a closed pipe (`| head`) is not an error.
@@ -58,6 +64,7 @@ fn main() -> ExitCode {
         Command::Render(args) => render::run(*args),
         Command::Display(args) => display::run(args),
         Command::Measure(args) => measure::run(args),
+        Command::View(args) => view::run(*args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

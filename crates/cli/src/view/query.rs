@@ -1,0 +1,204 @@
+//! The page's settings: `display`'s flags, the light level and the view,
+//! read from a URL's query exactly as from a command line (the same clap
+//! definitions), so that a setting means one thing in both.
+
+use std::collections::BTreeMap;
+
+use anyhow::{anyhow, bail, Result};
+use clap::{CommandFactory, FromArgMatches, Parser};
+
+use crate::display::{on_off, VisionArgs};
+
+/// What the page shows and how: the flags of `scotopia display`, plus
+/// the light level and the view.
+#[derive(clap::Args, Clone)]
+pub struct Settings {
+    #[command(flatten)]
+    pub vision: VisionArgs,
+    /// The light level: the scene as if every light were K times brighter
+    /// (exact: light transport is linear). The page's slider spans 1e-4
+    /// (starlight for a lit street) to 1e4 (daylight for a dim room).
+    #[arg(long, default_value_t = 1.0, value_name = "K")]
+    pub scale: f64,
+    /// What the page shows first: seen (what the eye sees), stages (mode,
+    /// glare, adaptation, night shift and the final image side by side)
+    /// or false-colour (a map of --false-colour with a scale bar).
+    #[arg(long, default_value = "seen", value_name = "seen|stages|false-colour")]
+    pub view: String,
+    /// The false-colour view's quantity.
+    #[arg(
+        long = "false-colour",
+        default_value = "luminance",
+        value_name = "luminance|mesopic|illuminance"
+    )]
+    pub false_colour: String,
+    /// The false-colour range LO:HI (default: 0 to the 99th percentile).
+    #[arg(long, value_name = "LO:HI")]
+    pub range: Option<String>,
+    /// A logarithmic false-colour scale.
+    #[arg(long)]
+    pub log: bool,
+}
+
+/// What a page asks for.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum View {
+    Seen,
+    Stages,
+    FalseColour,
+}
+
+impl Settings {
+    /// The settings as flag → value, flags without dashes.
+    pub fn pairs(&self) -> Pairs {
+        let mut p: Pairs = self
+            .vision
+            .pairs()
+            .into_iter()
+            .map(|(k, v)| (k.to_string(), v))
+            .collect();
+        p.insert("scale".into(), self.scale.to_string());
+        p.insert("view".into(), self.view.clone());
+        p.insert("false-colour".into(), self.false_colour.clone());
+        p.insert("log".into(), if self.log { "on" } else { "off" }.into());
+        if let Some(r) = &self.range {
+            p.insert("range".into(), r.clone());
+        }
+        p
+    }
+
+    /// The checked view and light level.
+    pub fn view(&self) -> Result<(View, f32)> {
+        let view = match self.view.as_str() {
+            "seen" => View::Seen,
+            "stages" => View::Stages,
+            "false-colour" => View::FalseColour,
+            v => bail!("--view {v}: use seen, stages or false-colour"),
+        };
+        let k = self.scale;
+        if !(k.is_finite() && k > 0.0 && (k as f32).is_normal()) {
+            bail!("--scale {k}: must be a positive factor");
+        }
+        Ok((view, k as f32))
+    }
+}
+
+/// Settings as flag → value (`scale` → `0.02`).
+pub type Pairs = BTreeMap<String, String>;
+
+#[derive(Parser)]
+#[command(
+    name = "settings",
+    no_binary_name = true,
+    args_override_self = true,
+    disable_help_flag = true
+)]
+struct Query {
+    #[command(flatten)]
+    settings: Settings,
+}
+
+/// `base` with the `key=value`s of a URL query over it (keys as the
+/// flags, with `-` or `_`), and the settings they make, checked as the
+/// command line checks them. `skip`: keys that are not settings.
+pub fn merge(base: &Pairs, query: &str, skip: &[&str]) -> Result<(Pairs, Settings)> {
+    let mut pairs = base.clone();
+    for (k, v) in form_urlencoded::parse(query.as_bytes()) {
+        let key = k.replace('_', "-");
+        if skip.contains(&key.as_str()) {
+            continue;
+        }
+        if flag(&key).is_none() {
+            bail!("unknown setting '{key}': use {}", names().join(", "));
+        }
+        pairs.insert(key, v.into_owned());
+    }
+    let settings = parse(&pairs)?;
+    Ok((pairs, settings))
+}
+
+/// The settings `pairs` make.
+pub fn parse(pairs: &Pairs) -> Result<Settings> {
+    let mut argv = Vec::new();
+    for (k, v) in pairs {
+        let takes_value = flag(k)
+            .ok_or_else(|| anyhow!("unknown setting '{k}'"))?
+            .get_action()
+            .takes_values();
+        if takes_value {
+            // `--k=v`, so that a value may start with a dash.
+            argv.push(format!("--{k}={v}"));
+        } else if on_off(k, v)? {
+            argv.push(format!("--{k}"));
+        }
+    }
+    let matches = Query::command().try_get_matches_from(argv).map_err(|e| {
+        let text = e.to_string();
+        let first = text.lines().next().unwrap_or_default();
+        anyhow!("{}", first.trim_start_matches("error: "))
+    })?;
+    Ok(Query::from_arg_matches(&matches)?.settings)
+}
+
+fn flag(long: &str) -> Option<clap::Arg> {
+    Query::command()
+        .get_arguments()
+        .find(|a| a.get_long() == Some(long))
+        .cloned()
+}
+
+fn names() -> Vec<String> {
+    Query::command()
+        .get_arguments()
+        .filter_map(|a| a.get_long().map(String::from))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn defaults() -> Pairs {
+        parse(&Pairs::new()).unwrap().pairs()
+    }
+
+    #[test]
+    fn a_query_overrides_the_base_and_is_checked_like_the_command_line() {
+        let (pairs, s) = merge(&defaults(), "scale=0.02&night_shift=off&hdr=on", &[]).unwrap();
+        assert_eq!(s.scale, 0.02);
+        assert_eq!(pairs["night-shift"], "off");
+        assert_eq!(pairs["adaptation"], "global");
+        assert!(s.vision.pairs().contains(&("hdr", "on".into())));
+        // The pairs parse back to the same settings.
+        assert_eq!(parse(&pairs).unwrap().pairs(), pairs);
+    }
+
+    #[test]
+    fn bad_settings_are_errors_naming_the_flag() {
+        let e = merge(&defaults(), "colour=blue", &[])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("unknown setting 'colour'") && e.contains("scale"),
+            "{e}"
+        );
+        let e = merge(&defaults(), "scale=abc", &[])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("--scale"), "{e}");
+        let e = merge(&defaults(), "hdr=maybe", &[])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("--hdr maybe"), "{e}");
+        let (_, s) = merge(&defaults(), "scale=-1", &[]).unwrap();
+        assert!(s.view().is_err());
+        let (_, s) = merge(&defaults(), "view=sideways", &[]).unwrap();
+        assert!(s
+            .view()
+            .unwrap_err()
+            .to_string()
+            .contains("--view sideways"));
+        // Keys that are not settings are passed over when asked.
+        assert!(merge(&defaults(), "x=3&y=4", &["x", "y"]).is_ok());
+    }
+}

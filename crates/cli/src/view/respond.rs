@@ -1,0 +1,167 @@
+//! What each route answers: the status, the picture for a page's
+//! settings, a pixel's values, and saving.
+
+use anyhow::{bail, Context, Result};
+use serde_json::json;
+
+use scotopia_image::{encode_png, write_atomic, PngColour, PngSamples};
+use scotopia_render::output::write_xyzv_pixels;
+use scotopia_vision::display_owned;
+use scotopia_vision::output::{compare_sheet, display_png};
+
+use super::live::Live;
+use super::query::{merge, View};
+use super::server::Reply;
+
+/// `GET /status`.
+pub fn status(live: &Live) -> serde_json::Value {
+    let f = live.frame();
+    json!({
+        "name": live.name,
+        "phase": live.phase().name(),
+        "spp": f.spp,
+        "target_spp": live.target_spp,
+        "seconds": f.seconds,
+        "width": f.image.width,
+        "height": f.image.height,
+        "fov": f.image.fov_horizontal,
+        "quantity": f.image.quantity.as_deref().unwrap_or("radiance"),
+        "settings": live.settings(),
+        "output": live.output.display().to_string(),
+    })
+}
+
+/// `GET /image.png?SETTINGS`: the picture, with what the eye did in its
+/// headers (mode, adaptation luminance) and the film's spp.
+pub fn image(live: &Live, query: &str) -> Reply {
+    match picture(live, query) {
+        Ok((bytes, headers)) => Reply::png(bytes, headers),
+        Err(e) => Reply::error(400, format!("{e:#}")),
+    }
+}
+
+type Headers = Vec<(&'static str, String)>;
+
+fn picture(live: &Live, query: &str) -> Result<(Vec<u8>, Headers)> {
+    let (pairs, settings) = merge(&live.settings(), query, &[])?;
+    let (view, k) = settings.view()?;
+    let frame = live.frame();
+    let mut image = frame.image.clone();
+    for p in &mut image.pixels {
+        *p = p.map(|v| v * k);
+    }
+    let (w, h) = (image.width, image.height);
+    let mut headers = vec![("X-Scotopia-Spp", frame.spp.to_string())];
+    let name = "image.png";
+    let bytes = if view == View::FalseColour {
+        let map = crate::false_colour::map(
+            &settings.false_colour,
+            settings.range.as_deref(),
+            settings.log,
+            &image,
+            &live.name,
+        )?;
+        headers.push(("X-Scotopia-Legend", map.legend));
+        let (mw, mh) = (map.width as u32, map.height as u32);
+        encode_png(name, mw, mh, PngSamples::Rgb8(&map.rgb), PngColour::SRGB)?
+    } else {
+        let (params, png, _) = settings.vision.params(w, image.fov_horizontal)?;
+        let (shown, bytes) = if view == View::Stages {
+            let (shown, (sw, sh, rgb)) = compare_sheet(&image.pixels, w, h, &params, h.min(360));
+            let (sw, sh) = (sw as u32, sh as u32);
+            let bytes = encode_png(name, sw, sh, PngSamples::Rgb8(&rgb), PngColour::SRGB)?;
+            (shown, bytes)
+        } else {
+            let shown = display_owned(image.pixels, w, h, &params);
+            let bytes = display_png(name, &shown, &params, png)?;
+            (shown, bytes)
+        };
+        let state = &shown.report.state;
+        headers.push(("X-Scotopia-Mode", state.mode.name().into()));
+        headers.push(("X-Scotopia-Adaptation", format!("{:.4e}", state.luminance)));
+        bytes
+    };
+    live.set_settings(pairs);
+    Ok((bytes, headers))
+}
+
+/// `GET /pixel?x=X&y=Y[&scale=K]`: the pixel's X, Y, Z, V′ (times the
+/// light level), luminance, chromaticity and S/P ratio.
+pub fn pixel(live: &Live, query: &str) -> Reply {
+    match pixel_values(live, query) {
+        Ok(v) => Reply::json(v),
+        Err(e) => Reply::error(400, format!("{e:#}")),
+    }
+}
+
+fn pixel_values(live: &Live, query: &str) -> Result<serde_json::Value> {
+    let (_, settings) = merge(&live.settings(), query, &["x", "y"])?;
+    let (_, k) = settings.view()?;
+    let coordinate = |name: &str| -> Result<usize> {
+        let text = form_urlencoded::parse(query.as_bytes())
+            .find(|(key, _)| key == name)
+            .map(|(_, v)| v.into_owned())
+            .with_context(|| format!("give {name}, a pixel coordinate"))?;
+        text.parse()
+            .with_context(|| format!("{name}={text}: not a pixel coordinate"))
+    };
+    let (x, y) = (coordinate("x")?, coordinate("y")?);
+    let frame = live.frame();
+    let image = &frame.image;
+    if x >= image.width || y >= image.height {
+        bail!(
+            "pixel ({x}, {y}) is outside the {}×{} image",
+            image.width,
+            image.height
+        );
+    }
+    let [cx, cy, cz, cv] = image.pixels[y * image.width + x].map(|v| f64::from(v * k));
+    let sum = cx + cy + cz;
+    let unit = match image.quantity.as_deref() {
+        Some("illuminance") => "lx",
+        _ => "cd/m²",
+    };
+    Ok(json!({
+        "x": x,
+        "y": y,
+        "X": cx,
+        "Y": cy,
+        "Z": cz,
+        "V": cv,
+        "luminance": cy,
+        "unit": unit,
+        "chromaticity": (sum > 0.0).then(|| [cx / sum, cy / sum]),
+        "sp_ratio": (cy > 0.0).then(|| cv / cy),
+        "spp": frame.spp,
+    }))
+}
+
+/// `POST /save?SETTINGS`: the film as an EXR at the output path and the
+/// picture for the settings as a PNG beside it.
+pub fn save(live: &Live, query: &str) -> Reply {
+    match save_files(live, query) {
+        Ok(v) => Reply::json(v),
+        Err(e) => Reply::error(500, format!("{e:#}")),
+    }
+}
+
+fn save_files(live: &Live, query: &str) -> Result<serde_json::Value> {
+    let (bytes, _) = picture(live, query)?;
+    let frame = live.frame();
+    let image = &frame.image;
+    let exr = &live.output;
+    write_xyzv_pixels(exr, image.width, image.height, &image.pixels, &frame.meta)?;
+    let png = exr.with_extension("png");
+    write_atomic(&png, &bytes).with_context(|| format!("{}: cannot write", png.display()))?;
+    eprintln!(
+        "scotopia: saved {} spp → {} and {}",
+        frame.spp,
+        exr.display(),
+        png.display()
+    );
+    Ok(json!({
+        "exr": exr.display().to_string(),
+        "png": png.display().to_string(),
+        "spp": frame.spp,
+    }))
+}
