@@ -15,7 +15,7 @@ use scotopia_vision::output::{
 use scotopia_vision::{display_owned, DisplayParams, Displayed, ToneOperator};
 
 /// The pipeline's switches, shared by `display` and `render --display`.
-#[derive(clap::Args, Clone)]
+#[derive(clap::Args, Clone, Debug)]
 pub struct VisionArgs {
     /// Horizontal field of view in degrees (default: the image's metadata).
     #[arg(long, value_name = "DEG", value_parser = crate::numbers::fov)]

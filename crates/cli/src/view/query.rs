@@ -11,7 +11,7 @@ use crate::display::{on_off, VisionArgs};
 
 /// What the page shows and how: the flags of `scotopia display`, plus
 /// the light level and the view.
-#[derive(clap::Args, Clone)]
+#[derive(clap::Args, Clone, Debug)]
 pub struct Settings {
     #[command(flatten)]
     pub vision: VisionArgs,
@@ -41,7 +41,7 @@ pub struct Settings {
 }
 
 /// What a page asks for.
-#[derive(Clone, Copy, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum View {
     Seen,
     Stages,

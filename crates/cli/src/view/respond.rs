@@ -53,6 +53,8 @@ fn picture(live: &Live, query: &str) -> Result<(Vec<u8>, Headers)> {
     let (w, h) = (image.width, image.height);
     let mut headers = vec![("X-Scotopia-Spp", frame.spp.to_string())];
     let name = "image.png";
+    // Checked in every view, so that a bad setting is never kept.
+    let (params, png, _) = settings.vision.params(w, image.fov_horizontal)?;
     let bytes = if view == View::FalseColour {
         let map = crate::false_colour::map(
             &settings.false_colour,
@@ -65,7 +67,6 @@ fn picture(live: &Live, query: &str) -> Result<(Vec<u8>, Headers)> {
         let (mw, mh) = (map.width as u32, map.height as u32);
         encode_png(name, mw, mh, PngSamples::Rgb8(&map.rgb), PngColour::SRGB)?
     } else {
-        let (params, png, _) = settings.vision.params(w, image.fov_horizontal)?;
         let (shown, bytes) = if view == View::Stages {
             let (shown, (sw, sh, rgb)) = compare_sheet(&image.pixels, w, h, &params, h.min(360));
             let (sw, sh) = (sw as u32, sh as u32);
