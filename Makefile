@@ -9,7 +9,7 @@ CARGO     ?= cargo
 BIN       := target/release/scotopia
 DEMO_OUT  := out/demo
 
-.PHONY: all test demo gallery lighting bench tables fmt lint cargo-test python pytest toolchain clean fuzz
+.PHONY: all test demo gallery lighting bench tables fmt lint cargo-test python pytest toolchain clean fuzz browser binary
 
 all: test
 
@@ -38,7 +38,31 @@ python: $(STAMP)
 	VIRTUAL_ENV=$(CURDIR)/$(VENV) PATH=$(CURDIR)/$(VENV)/bin:$$PATH \
 	  $(VENV)/bin/maturin develop --release --quiet -m python/Cargo.toml
 
-pytest: python
+## The release binary: test_view_browser runs `scotopia view` from it.
+binary:
+	$(CARGO) build --release -p scotopia
+
+## Debian's Chromium for test_view_browser, which drives it with Playwright
+## (from requirements-dev.txt; Playwright's own browser download is not
+## reachable, so `playwright install` is never run). Installed with apt-get
+## when missing, as root or with passwordless sudo. Where it cannot be, this
+## says so and goes on: the browser tests then fail, saying how to install it.
+CHROMIUM := /usr/bin/chromium
+
+browser:
+	@if [ -x $(CHROMIUM) ]; then exit 0; fi; \
+	fail() { echo "make browser: $$1: the browser tests will fail (install Debian's chromium: apt-get install chromium)" >&2; exit 0; }; \
+	command -v apt-get >/dev/null || fail "$(CHROMIUM) is missing and there is no apt-get"; \
+	if [ "$$(id -u)" = 0 ]; then sudo=; elif sudo -n true 2>/dev/null; then sudo="sudo -n"; \
+	else fail "$(CHROMIUM) is missing and apt-get needs root or passwordless sudo"; fi; \
+	echo "make browser: apt-get install chromium"; \
+	export DEBIAN_FRONTEND=noninteractive; \
+	$$sudo apt-get install -y -q chromium >/dev/null 2>&1 \
+	  || { $$sudo apt-get update -q >/dev/null && $$sudo apt-get install -y -q chromium >/dev/null; } \
+	  || fail "apt-get could not install chromium"; \
+	[ -x $(CHROMIUM) ] || fail "apt-get installed chromium but $(CHROMIUM) is missing"
+
+pytest: python browser binary
 	$(PY) -m pytest -q python/tests
 
 ## The seeded fuzz tests at length: every input format through the CLI
