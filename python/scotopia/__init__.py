@@ -23,6 +23,7 @@ import warnings
 from . import bsdf, vision  # noqa: F401
 from ._scotopia import display as _display
 from ._scotopia import false_colour as _false_colour
+from ._scotopia import view as _view
 from ._scotopia import (  # noqa: F401
     K_M,
     K_M_SCOTOPIC,
@@ -189,8 +190,48 @@ def false_colour(image, quantity="luminance", *, range=None, log=False, output=N
     )
 
 
+def view(path, *, port=None, open_browser=True, output=None, define=None, **options):
+    """See it while it renders: ``scotopia view`` from Python.
+
+    ``path`` is a scene (Mitsuba 3 XML), rendered progressively, or an
+    X, Y, Z, V′ OpenEXR. The page (127.0.0.1, ``port``: default 8650 or
+    the next free one; 0 for any) shows it as the eye sees it, with the
+    vision pipeline's controls. ``options`` are the CLI's flags with ``_``
+    for ``-``: render options (``spp=256``, ``time=60``, ``res="640"``,
+    ``integrator="bdpt"``, …) and the page's starting display settings
+    (``scale=0.02``, ``adaptation="local"``, ``glare=False``, …);
+    ``define`` a dict of scene parameters (``-D``). Returns a ``Viewer``:
+    ``.url``, ``.status()`` (the page's ``/status`` as a dict), ``.wait()``
+    (until the render ends; the page stays up) and ``.stop()`` (ends the
+    render, writing its film to ``output`` as Ctrl-C does, and the page).
+    """
+    argv = [str(path)]
+    for name, value in (define or {}).items():
+        argv += ["-D", f"{name}={value}"]
+    if output is not None:
+        argv += ["-o", str(output)]
+    if port is not None:
+        argv += ["--port", str(int(port))]
+    if not open_browser:
+        argv.append("--no-open")
+    for name, value in options.items():
+        flag = "--" + name.replace("_", "-")
+        if value is None:
+            continue
+        if flag in ("--glare", "--night-shift"):
+            value = value if isinstance(value, str) else ("on" if value else "off")
+        if value is True:
+            argv.append(flag)
+        elif value is False:
+            continue
+        else:
+            argv.append(f"{flag}={value}")
+    return _view(argv)
+
+
 __all__ = [
     name
     for name in dir()
     if not name.startswith("_") and name not in ("os", "warnings")
 ]
+

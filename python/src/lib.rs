@@ -10,6 +10,7 @@ mod render;
 mod report;
 mod scene;
 mod spectrum;
+mod view;
 mod vision;
 
 use pyo3::exceptions::{PyOSError, PyValueError};
@@ -41,5 +42,6 @@ fn _scotopia(m: &Bound<'_, PyModule>) -> PyResult<()> {
     measure::register(m)?;
     vision::register(m)?;
     false_colour::register(m)?;
+    view::register(m)?;
     Ok(())
 }

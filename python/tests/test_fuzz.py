@@ -107,6 +107,16 @@ ENTRIES = {
         {"output", "spectral", "checkpoint"},
     ),
     "scene_info": (scotopia.scene_info, [CORNELL], dict(params=None, res=None), {"path"}, set()),
+    # Started and stopped at once: the page's server and a short render.
+    "view": (
+        lambda *a, **k: scotopia.view(*a, **k).stop(),
+        [CORNELL],
+        dict(port=0, open_browser=False, output=str(Path(SCRATCH) / "view.exr"),
+             define={"res": 4}, spp=1, time=0.3,
+             scale=1.0, adaptation="global"),
+        {"path"},
+        {"output"},
+    ),
     "measure": (
         scotopia.measure,
         [CORNELL, np.array([[0.0, 0.01, 0.0, 0.0, 1.0, 0.0]])],
@@ -219,7 +229,8 @@ ENTRIES = {
 }
 
 # Arguments named by position, for the path sets above.
-POSITIONAL_NAMES = {"render": ["path"], "scene_info": ["path"], "display": ["image"],
+POSITIONAL_NAMES = {"render": ["path"], "view": ["path"], "scene_info": ["path"],
+                    "display": ["image"],
                     "false_colour": ["image"],
                     "measure": ["path", "points"],
                     "Spectrum.from_file": ["path"], "vision.read_image": ["path"]}
@@ -241,6 +252,10 @@ def _guard(name, kwargs, args=()):
         res = kwargs.get("res")
         if isinstance(res, (int, float)) and not isinstance(res, bool) and 64 < res < 1e7:
             kwargs["res"] = 4
+    if name == "view":
+        # Never a real browser, and a bounded render (as for render).
+        kwargs["open_browser"] = False
+        kwargs["time"] = 0.3
     if name == "measure":
         spp = kwargs.get("spp")
         if isinstance(spp, (int, float)) and not isinstance(spp, bool) and 256 < spp:

@@ -1,15 +1,7 @@
 //! The `scotopia` command line. Each verb parses its arguments, calls the
 //! library, and prints or writes the result.
 
-mod display;
-mod false_colour;
-mod info;
-mod measure;
-mod numbers;
-mod render;
-mod spectrum;
-mod tev;
-mod view;
+use scotopia_cli::{display, info, measure, render, spectrum, view};
 
 use std::process::ExitCode;
 
@@ -45,15 +37,6 @@ enum Command {
     /// adaptation, glare, night shift, tone operator, display and false
     /// colour at hand; the pixel under the cursor in cd/m².
     View(Box<view::Args>),
-}
-
-/// Writes `text` to standard output; a closed pipe (`| head`) is not an error.
-pub(crate) fn print(text: &str) -> anyhow::Result<()> {
-    use std::io::Write;
-    match std::io::stdout().lock().write_all(text.as_bytes()) {
-        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e.into()),
-        _ => Ok(()),
-    }
 }
 
 fn main() -> ExitCode {

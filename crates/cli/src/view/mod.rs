@@ -10,7 +10,7 @@ mod respond;
 mod server;
 
 use std::path::{Path, PathBuf};
-use std::sync::atomic::Ordering;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -53,10 +53,74 @@ const REFRESH: Duration = Duration::from_millis(500);
 /// Request threads: each runs the vision pipeline for one page request.
 const REQUEST_THREADS: usize = 4;
 
+/// A viewer started: its page's address, and the render (if any) going on
+/// in a thread of its own.
+pub struct Viewing {
+    pub url: String,
+    live: Arc<Live>,
+    render: Option<std::thread::JoinHandle<Result<()>>>,
+    serving: server::Serving,
+}
+
+impl Viewing {
+    /// What `GET /status` answers.
+    pub fn status(&self) -> serde_json::Value {
+        respond::status(&self.live)
+    }
+
+    /// Waits for the render to end (complete, or stopped by the cancel
+    /// flag, its film written either way); an interrupted render is an
+    /// error saying what was written. The page stays up.
+    pub fn wait(&mut self) -> Result<()> {
+        match self.render.take() {
+            Some(thread) => match thread.join() {
+                Ok(result) => result,
+                Err(_) => bail!("the render thread failed"),
+            },
+            None => Ok(()),
+        }
+    }
+
+    /// Closes the page's server (after [`Self::wait`], or the render goes
+    /// on unseen).
+    pub fn close(self) {
+        self.serving.close();
+    }
+}
+
+/// `scotopia view`: until Ctrl-C.
 pub fn run(args: Args) -> Result<()> {
+    let cancel = cancel_on_interrupt()?;
+    let mut viewing = start(args, cancel.clone())?;
+    viewing.wait()?;
+    while !cancel.load(Ordering::Relaxed) {
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    Ok(())
+}
+
+/// `view`'s arguments from a command line without the verb (for Python).
+pub fn parse(argv: &[String]) -> Result<Args> {
+    #[derive(clap::Parser)]
+    #[command(name = "scotopia view", no_binary_name = true)]
+    struct Command {
+        #[command(flatten)]
+        args: Args,
+    }
+    use clap::Parser;
+    Command::try_parse_from(argv)
+        .map(|c| c.args)
+        .map_err(|e| anyhow::anyhow!("{}", e.to_string().trim_end()))
+}
+
+/// Loads the input, starts the server and, for a scene, the render; the
+/// render stops when `cancel` is set.
+pub fn start(args: Args, cancel: Arc<AtomicBool>) -> Result<Viewing> {
     // The starting settings, checked before anything is loaded.
     let settings = args.settings.pairs();
-    query::parse(&settings)?.view()?;
+    let checked = query::parse(&settings)?;
+    checked.view()?;
+    checked.vision.params(1, Some(45.0))?;
     let input = args.setup.scene.clone();
     let is_image = input
         .extension()
@@ -88,70 +152,76 @@ pub fn run(args: Args) -> Result<()> {
             meta,
         };
         let live = Arc::new(Live::new(frame, Phase::Image, settings, 0, name, output));
-        let cancel = cancel_on_interrupt()?;
-        serve(&args, live)?;
-        while !cancel.load(Ordering::Relaxed) {
-            std::thread::sleep(Duration::from_millis(100));
-        }
-        return Ok(());
+        let (url, serving) = serve(&args, live.clone())?;
+        return Ok(Viewing {
+            url,
+            live,
+            render: None,
+            serving,
+        });
     }
 
-    let Prepared {
-        scene,
-        options,
-        total,
-        pool,
-        ..
-    } = args.setup.prepare(None)?;
+    let prepared = args.setup.prepare(None)?;
+    let scene = &prepared.scene;
     let (w, h) = (scene.camera.width as usize, scene.camera.height as usize);
     scotopia_vision::pipeline::check_size(w, h).with_context(|| name.clone())?;
-    let snapshot = |film: &Film, facts: &RunFacts| Frame {
-        image: XyzvImage {
-            width: w,
-            height: h,
-            pixels: film.xyzv(),
-            fov_horizontal: Some(scene.camera.fov_degrees().0 as f64),
-            quantity: Some(quantity_name(facts).into()),
-            notes: Vec::new(),
-        },
-        spp: facts.spp,
-        seconds: facts.elapsed.as_secs_f64(),
-        meta: render_metadata(&scene, &options, facts, &name),
-    };
     let empty = Film::try_new(w as u32, h as u32, None)?;
     let start = RunFacts {
         spp: 0,
         rays: 0,
         elapsed: Duration::ZERO,
         cancelled: false,
-        integrator: options.integrator.unwrap_or(scene.integrator.kind),
-        quantity: options.quantity,
+        integrator: prepared.options.integrator.unwrap_or(scene.integrator.kind),
+        quantity: prepared.options.quantity,
     };
-    let first = snapshot(&empty, &start);
+    let first = snapshot(&prepared, &name, &empty, &start);
     drop(empty);
     let live = Arc::new(Live::new(
         first,
         Phase::Rendering,
         settings,
-        total,
+        prepared.total,
         name.clone(),
         output.clone(),
     ));
-    let cancel = cancel_on_interrupt()?;
-    serve(&args, live.clone())?;
+    let (url, serving) = serve(&args, live.clone())?;
+    let shown = live.clone();
+    let render = std::thread::spawn(move || render_live(prepared, &name, &output, &shown, &cancel));
+    Ok(Viewing {
+        url,
+        live,
+        render: Some(render),
+        serving,
+    })
+}
 
-    let bar = progress_bar(total as u64);
-    let see = |film: &Film, facts: &RunFacts| live.publish(snapshot(film, facts));
+/// Renders, showing the page the film at pass boundaries; writes the EXR
+/// at the end or when stopped.
+fn render_live(
+    prepared: Prepared,
+    name: &str,
+    output: &Path,
+    live: &Live,
+    cancel: &AtomicBool,
+) -> Result<()> {
+    let bar = progress_bar(prepared.total as u64);
+    let see = |film: &Film, facts: &RunFacts| live.publish(snapshot(&prepared, name, film, facts));
     let observer = Observer {
         every: REFRESH,
         see: &see,
     };
     let progress = |done: u32, _: u32| bar.set_position(done as u64);
-    let rendered = pool
-        .install(|| render_observed(&scene, &options, &cancel, &progress, None, Some(observer)))?;
+    let Prepared {
+        scene,
+        options,
+        pool,
+        ..
+    } = &prepared;
+    let rendered =
+        pool.install(|| render_observed(scene, options, cancel, &progress, None, Some(observer)))?;
     bar.finish_and_clear();
-    let meta = render_metadata(&scene, &options, &rendered.facts(), &name);
-    write_xyzv_exr(&output, &rendered, &meta)?;
+    let meta = render_metadata(scene, options, &rendered.facts(), name);
+    write_xyzv_exr(output, &rendered, &meta)?;
     if rendered.cancelled {
         live.set_phase(Phase::Interrupted);
         bail!(
@@ -167,27 +237,42 @@ pub fn run(args: Args) -> Result<()> {
         rendered.elapsed.as_secs_f64(),
         output.display()
     );
-    while !cancel.load(Ordering::Relaxed) {
-        std::thread::sleep(Duration::from_millis(100));
-    }
     Ok(())
 }
 
+/// One look at the film, for the page.
+fn snapshot(prepared: &Prepared, name: &str, film: &Film, facts: &RunFacts) -> Frame {
+    let scene = &prepared.scene;
+    Frame {
+        image: XyzvImage {
+            width: film.width as usize,
+            height: film.height as usize,
+            pixels: film.xyzv(),
+            fov_horizontal: Some(scene.camera.fov_degrees().0 as f64),
+            quantity: Some(quantity_name(facts).into()),
+            notes: Vec::new(),
+        },
+        spp: facts.spp,
+        seconds: facts.elapsed.as_secs_f64(),
+        meta: render_metadata(scene, &prepared.options, facts, name),
+    }
+}
+
 /// Starts the server, says where, and opens the page unless told not to.
-fn serve(args: &Args, live: Arc<Live>) -> Result<()> {
+fn serve(args: &Args, live: Arc<Live>) -> Result<(String, server::Serving)> {
     let (server, port) = server::bind(args.port)?;
     let url = format!("http://127.0.0.1:{port}/");
     eprintln!(
         "scotopia: view at {url} (Ctrl-C stops; the film is saved to {})",
         live.output.display()
     );
-    server::spawn(server, live, REQUEST_THREADS);
+    let serving = server::spawn(server, live, REQUEST_THREADS);
     if !args.no_open {
         if let Err(e) = webbrowser::open(&url) {
             eprintln!("scotopia: note: cannot open a browser ({e}): open {url}");
         }
     }
-    Ok(())
+    Ok((url, serving))
 }
 
 fn default_output(input: &Path, is_image: bool) -> PathBuf {

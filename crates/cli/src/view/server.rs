@@ -1,6 +1,7 @@
 //! The local web server: the loopback interface only, a few threads, one
 //! route per thing the page needs.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 use anyhow::{bail, Result};
@@ -45,16 +46,47 @@ pub fn bind(port: Option<u16>) -> Result<(Server, u16)> {
     Ok((server, port))
 }
 
-/// Answers requests on `threads` threads until the process ends.
-pub fn spawn(server: Server, live: Arc<Live>, threads: usize) {
+/// The server's threads, answering until closed.
+pub struct Serving {
+    server: Arc<Server>,
+    closing: Arc<AtomicBool>,
+    threads: Vec<std::thread::JoinHandle<()>>,
+}
+
+impl Serving {
+    /// Stops answering and closes the port.
+    pub fn close(self) {
+        self.closing.store(true, Ordering::Relaxed);
+        for _ in &self.threads {
+            self.server.unblock();
+        }
+        for t in self.threads {
+            let _ = t.join();
+        }
+    }
+}
+
+/// Answers requests on `threads` threads until closed.
+pub fn spawn(server: Server, live: Arc<Live>, threads: usize) -> Serving {
     let server = Arc::new(server);
-    for _ in 0..threads {
-        let (server, live) = (server.clone(), live.clone());
-        std::thread::spawn(move || {
-            while let Ok(request) = server.recv() {
-                answer(&live, request);
-            }
-        });
+    let closing = Arc::new(AtomicBool::new(false));
+    let threads = (0..threads)
+        .map(|_| {
+            let (server, live, closing) = (server.clone(), live.clone(), closing.clone());
+            std::thread::spawn(move || loop {
+                match server.recv() {
+                    Ok(request) => answer(&live, request),
+                    Err(_) if closing.load(Ordering::Relaxed) => break,
+                    // A connection that failed is that connection's end.
+                    Err(_) => continue,
+                }
+            })
+        })
+        .collect();
+    Serving {
+        server,
+        closing,
+        threads,
     }
 }
 
