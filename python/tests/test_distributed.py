@@ -232,3 +232,23 @@ def test_without_ray_the_error_names_the_extra():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert "scotopia[distributed]" in out.stdout
+
+
+def test_interrupted_render_merges_what_finished(local_ray, monkeypatch, capsys):
+    """KeyboardInterrupt (here raised as the first shard is counted)
+    cancels the other shards and merges the finished one."""
+    real_step = distributed._Progress.step
+
+    def step_then_interrupt(self, what=""):
+        real_step(self, what)
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(distributed._Progress, "step", step_then_interrupt)
+    image, meta = distributed.render(
+        CORNELL, spp=64, res=16, shards=4, split="rows", progress=False
+    )
+    assert meta["interrupted"] == 1
+    assert meta["shards"] == 4 and meta["shardsMerged"] == 1
+    seen = image[..., 1] > 0
+    assert 0 < seen.sum() < seen.size  # one band of rows only
+    assert "interrupted; merged 1 of 4 shards" in capsys.readouterr().err
