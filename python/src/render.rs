@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
-use numpy::ndarray::Array3;
+use numpy::ndarray::{Array2, Array3};
 use numpy::{IntoPyArray, PyArray3};
 use pyo3::exceptions::{PyMemoryError, PyValueError};
 use pyo3::prelude::*;
@@ -14,7 +14,8 @@ use pyo3::types::PyDict;
 use scotopia_image::Meta;
 use scotopia_render::film::Checkpoint;
 use scotopia_render::integrator::{
-    render_resumable, time_limit, Checkpointing, Quantity, RenderError, RenderOptions, Tracer,
+    render_resumable, time_limit, Checkpointing, Quantity, RenderError, RenderOptions, Shard,
+    Tracer,
 };
 use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_exr};
 use scotopia_render::scene::IntegratorKind;
@@ -60,21 +61,8 @@ fn render<'py>(
     quantity: &str,
 ) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
     let err = |e: String| PyValueError::new_err(e);
-    let strategy = wavelength_strategy(wavelengths)?;
-    let integrator = match integrator {
-        Some(name) => Some(
-            IntegratorKind::from_name(name)
-                .ok_or_else(|| err(format!("integrator '{name}': use path or bdpt")))?,
-        ),
-        None => None,
-    };
-    let tracer = Tracer::from_name(tracer)
-        .ok_or_else(|| err(format!("tracer '{tracer}': use wavefront or scalar")))?;
-    let quantity = Quantity::from_name(quantity).ok_or_else(|| {
-        err(format!(
-            "quantity '{quantity}': use radiance or illuminance"
-        ))
-    })?;
+    let (strategy, integrator, tracer, quantity) =
+        named_options(wavelengths, integrator, tracer, quantity)?;
     let time_limit = match time {
         Some(t) => Some(time_limit(t).map_err(|e| err(format!("time {e}")))?),
         None => None,
@@ -98,6 +86,7 @@ fn render<'py>(
         only_strategy: None,
         tracer,
         quantity,
+        shard: None,
     };
     let key = scotopia_scene::checkpoint_key(&path, &params, &load, &options)
         .map_err(|e| err(format!("{}: {e}", path.display())))?;
@@ -141,6 +130,45 @@ fn render<'py>(
     let (w, h) = (rendered.film.width as usize, rendered.film.height as usize);
     let flat: Vec<f32> = rendered.film.xyzv().into_iter().flatten().collect();
     let image = Array3::from_shape_vec((h, w, 4), flat).map_err(|e| err(e.to_string()))?;
+    let d = meta_dict(py, meta)?;
+    d.set_item("nonfiniteSamples", rendered.nonfinite)?;
+    d.set_item("nonfiniteSplats", rendered.nonfinite_splats)?;
+    d.set_item("collapsedFraction", rendered.collapsed_fraction())?;
+    Ok((image.into_pyarray(py), d))
+}
+
+/// The options given by name, checked: wavelength strategy, integrator,
+/// tracer, quantity.
+fn named_options(
+    wavelengths: &str,
+    integrator: Option<&str>,
+    tracer: &str,
+    quantity: &str,
+) -> PyResult<(WavelengthStrategy, Option<IntegratorKind>, Tracer, Quantity)> {
+    let err = |e: String| PyValueError::new_err(e);
+    let strategy = wavelength_strategy(wavelengths)?;
+    let integrator = match integrator {
+        Some(name) => Some(
+            IntegratorKind::from_name(name)
+                .ok_or_else(|| err(format!("integrator '{name}': use path or bdpt")))?,
+        ),
+        None => None,
+    };
+    let tracer = Tracer::from_name(tracer)
+        .ok_or_else(|| err(format!("tracer '{tracer}': use wavefront or scalar")))?;
+    let quantity = Quantity::from_name(quantity).ok_or_else(|| {
+        err(format!(
+            "quantity '{quantity}': use radiance or illuminance"
+        ))
+    })?;
+    Ok((strategy, integrator, tracer, quantity))
+}
+
+/// The metadata as a dict.
+fn meta_dict<'py>(
+    py: Python<'py>,
+    meta: Vec<(&'static str, Meta)>,
+) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     for (k, v) in meta {
         match v {
@@ -149,10 +177,104 @@ fn render<'py>(
             Meta::I32(i) => d.set_item(k, i)?,
         }
     }
-    d.set_item("nonfiniteSamples", rendered.nonfinite)?;
-    d.set_item("nonfiniteSplats", rendered.nonfinite_splats)?;
-    d.set_item("collapsedFraction", rendered.collapsed_fraction())?;
-    Ok((image.into_pyarray(py), d))
+    Ok(d)
+}
+
+/// Renders one shard of a scene for distributed rendering: sample indices
+/// `samples = (i0, i1)` of the pixels in `rows = (y0, y1)` (all rows if
+/// None). Returns a dict of the film's raw sums (not normalised):
+/// "sums" (H × W × 4 float64, X, Y, Z, V′, bdpt's light-tracing splats
+/// included), "squares" (the camera samples' squares summed), "counts"
+/// (H × W uint32 camera samples), "dropped", "dropped_splats",
+/// "collapsed", "rays", "seconds", "width", "height", "samples", "rows"
+/// and "meta" (the render's metadata). `merge_shards` adds shards up.
+#[pyfunction]
+#[pyo3(signature = (path, samples, rows = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, integrator = None, res = None, tracer = "scalar", quantity = "radiance"))]
+#[allow(clippy::too_many_arguments)]
+fn render_shard<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    samples: (u32, u32),
+    rows: Option<(u32, u32)>,
+    seed: u32,
+    wavelengths: &str,
+    cluster: usize,
+    params: Option<HashMap<String, String>>,
+    integrator: Option<&str>,
+    res: Option<Bound<'py, PyAny>>,
+    tracer: &str,
+    quantity: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let err = |e: String| PyValueError::new_err(e);
+    let (strategy, integrator, tracer, quantity) =
+        named_options(wavelengths, integrator, tracer, quantity)?;
+    if samples.0 >= samples.1 {
+        return Err(err(format!(
+            "samples ({}, {}): give sample indices i0 < i1",
+            samples.0, samples.1
+        )));
+    }
+    let load = load_options(res.as_ref())?;
+    let params = params.unwrap_or_default();
+    let scene = load_scene_with(&path, &params, &load).map_err(|e| err(e.to_string()))?;
+    let height = scene.camera.height;
+    let rows = rows.unwrap_or((0, height));
+    if rows.0 >= rows.1 || rows.1 > height {
+        return Err(err(format!(
+            "rows ({}, {}): give y0 < y1 ≤ {height}, the film's height",
+            rows.0, rows.1
+        )));
+    }
+    let options = RenderOptions {
+        seed,
+        strategy,
+        cluster,
+        integrator,
+        tracer,
+        quantity,
+        shard: Some(Shard {
+            samples: samples.0..samples.1,
+            rows: Some(rows.0..rows.1),
+        }),
+        ..RenderOptions::default()
+    };
+    let rendered = py
+        .detach(|| render_resumable(&scene, &options, &AtomicBool::new(false), &|_, _| {}, None))
+        .map_err(|e| match e {
+            RenderError::TooLarge(_) => PyMemoryError::new_err(e.to_string()),
+            _ => err(e.to_string()),
+        })?;
+    let film = &rendered.film;
+    let (w, h) = (film.width as usize, film.height as usize);
+    let sums: Vec<f64> = film.pixels.iter().flat_map(|p| p.xyzv).collect();
+    let squares: Vec<f64> = film
+        .kept_moments()
+        .unwrap_or(&[])
+        .iter()
+        .flatten()
+        .copied()
+        .collect();
+    let counts: Vec<u32> = film.pixels.iter().map(|p| p.samples).collect();
+    let shape = |v: Vec<f64>| Array3::from_shape_vec((h, w, 4), v).map_err(|e| err(e.to_string()));
+    let counts = Array2::from_shape_vec((h, w), counts).map_err(|e| err(e.to_string()))?;
+    let mut facts = rendered.facts();
+    facts.spp = samples.1 - samples.0;
+    let meta = render_metadata(&scene, &options, &facts, &path.display().to_string());
+    let d = PyDict::new(py);
+    d.set_item("sums", shape(sums)?.into_pyarray(py))?;
+    d.set_item("squares", shape(squares)?.into_pyarray(py))?;
+    d.set_item("counts", counts.into_pyarray(py))?;
+    d.set_item("dropped", rendered.nonfinite)?;
+    d.set_item("dropped_splats", rendered.nonfinite_splats)?;
+    d.set_item("collapsed", rendered.collapsed)?;
+    d.set_item("rays", rendered.rays)?;
+    d.set_item("seconds", rendered.elapsed.as_secs_f64())?;
+    d.set_item("width", w)?;
+    d.set_item("height", h)?;
+    d.set_item("samples", samples)?;
+    d.set_item("rows", rows)?;
+    d.set_item("meta", meta_dict(py, meta)?)?;
+    Ok(d)
 }
 
 /// What `render` and `measure` check first: the SIMD level
@@ -166,5 +288,6 @@ pub(crate) fn wavelength_strategy(name: &str) -> PyResult<WavelengthStrategy> {
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(render, m)?)?;
+    m.add_function(wrap_pyfunction!(render_shard, m)?)?;
     Ok(())
 }

@@ -107,6 +107,21 @@ ENTRIES = {
         {"output", "spectral", "checkpoint"},
     ),
     "scene_info": (scotopia.scene_info, [CORNELL], dict(params=None, res=None), {"path"}, set()),
+    "render_shard": (
+        scotopia.render_shard,
+        [CORNELL],
+        dict(samples=(0, 2), rows=None, seed=0, wavelengths="swc", cluster=4, params=None,
+             integrator=None, res=4, tracer="scalar", quantity="radiance"),
+        {"path"},
+        set(),
+    ),
+    "merge_shards": (
+        lambda *a: scotopia.merge_shards(*a),
+        [lambda: [scotopia.render_shard(CORNELL, samples=(0, 1), res=4)]],
+        {},
+        set(),
+        set(),
+    ),
     # Started and stopped at once: the page's server and a short render.
     "view": (
         lambda *a, **k: scotopia.view(*a, **k).stop(),
@@ -252,6 +267,15 @@ def _guard(name, kwargs, args=()):
         res = kwargs.get("res")
         if isinstance(res, (int, float)) and not isinstance(res, bool) and 64 < res < 1e7:
             kwargs["res"] = 4
+    if name == "render_shard":
+        res = kwargs.get("res")
+        if isinstance(res, (int, float)) and not isinstance(res, bool) and 64 < res < 1e7:
+            kwargs["res"] = 4
+        samples = kwargs.get("samples")
+        if (isinstance(samples, tuple) and len(samples) == 2
+                and all(isinstance(v, int) and not isinstance(v, bool) for v in samples)
+                and samples[1] - samples[0] > 64):
+            kwargs["samples"] = (samples[0], samples[0] + 4)
     if name == "view":
         # Never a real browser, and a bounded render (as for render).
         kwargs["open_browser"] = False

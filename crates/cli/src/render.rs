@@ -187,6 +187,7 @@ impl Setup {
             only_strategy,
             tracer,
             quantity,
+            shard: None,
         };
         let total = options.spp.unwrap_or(if self.time.is_some() {
             0

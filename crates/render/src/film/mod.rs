@@ -57,6 +57,10 @@ pub struct Film {
     /// Band sums, `row_stride()` values per row (one unused slot per row
     /// when there are no bands, so rows can be split the same way).
     pub spectral: Vec<f64>,
+    /// Sums of squared camera samples, `moment_stride()` per row (one
+    /// unused entry per row unless [`Film::keep_moments`] was called).
+    pub moments: Vec<[f64; 4]>,
+    moments_kept: bool,
 }
 
 /// Bytes the output takes per pixel beyond the sums (the X, Y, Z, V′
@@ -98,9 +102,33 @@ impl Film {
             pixels: vec![PixelSum::default(); width as usize * height as usize],
             bands,
             spectral: Vec::new(),
+            moments: vec![[0.0; 4]; height as usize],
+            moments_kept: false,
         };
         film.spectral = vec![0.0; film.row_stride() * height as usize];
         film
+    }
+
+    /// Keeps each pixel's sum of squared camera samples too (the second
+    /// moments a distributed render's shards return).
+    pub fn keep_moments(&mut self) {
+        self.moments = vec![[0.0; 4]; self.pixels.len()];
+        self.moments_kept = true;
+    }
+
+    /// Per-pixel sums of squared camera samples, if kept.
+    pub fn kept_moments(&self) -> Option<&[[f64; 4]]> {
+        self.moments_kept.then_some(&self.moments[..])
+    }
+
+    /// Moment entries per row: the width when kept, else 1 (one unused
+    /// entry per row, so that rows zip with the pixels either way).
+    pub fn moment_stride(&self) -> usize {
+        if self.moments_kept {
+            self.width as usize
+        } else {
+            1
+        }
     }
 
     /// Adds a light-tracing sample that landed at film position `raster`

@@ -61,6 +61,21 @@ pub struct RenderOptions {
     /// What each pixel holds: the radiance reaching the camera, or the
     /// illuminance at the first surface the pixel sees.
     pub quantity: Quantity,
+    /// Render only part of the work (distributed rendering): the film
+    /// holds that part's raw sums, to be merged with the others'.
+    pub shard: Option<Shard>,
+}
+
+/// A part of a render: sample indices `samples` of the pixels in `rows`
+/// (all rows if `None`). A pixel's random numbers depend only on (seed,
+/// pixel, index), so shards merged by adding their sums give the whole
+/// render: bit for bit when each pixel's samples are in one shard (its
+/// sum is the same additions in the same order), else within f64
+/// rounding (the sums are added in another order).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Shard {
+    pub samples: std::ops::Range<u32>,
+    pub rows: Option<std::ops::Range<u32>>,
 }
 
 /// What a render measures at each pixel.
@@ -124,6 +139,7 @@ impl Default for RenderOptions {
             only_strategy: None,
             tracer: Tracer::default(),
             quantity: Quantity::default(),
+            shard: None,
         }
     }
 }
@@ -322,6 +338,8 @@ pub struct Renderer<'a> {
     only_strategy: Option<[usize; 2]>,
     tracer: Tracer,
     quantity: Quantity,
+    /// The film rows a pass renders (a shard's; all by default).
+    rows: std::ops::Range<u32>,
     /// The white Lambertian surface of virtual receivers (`measure.rs`).
     white: crate::bsdf::Bsdf,
     /// The lights equi-angular sampling aims at in media (empty when
@@ -417,6 +435,7 @@ impl<'a> Renderer<'a> {
             only_strategy: None,
             tracer: Tracer::default(),
             quantity: Quantity::default(),
+            rows: 0..u32::MAX,
             white: measure::white(),
             targets,
             volumetric,
@@ -495,13 +514,19 @@ impl<'a> Renderer<'a> {
     ) -> PassCounts {
         let width = film.width as usize;
         let stride = film.row_stride();
+        let moment_stride = film.moment_stride();
+        let moments_kept = film.kept_moments().is_some();
         let bands = film.bands;
         let rows: Vec<(PassCounts, Vec<Splat<K>>)> = film
             .pixels
             .par_chunks_mut(width)
             .zip(film.spectral.par_chunks_mut(stride))
+            .zip(film.moments.par_chunks_mut(moment_stride))
             .enumerate()
-            .map(|(y, (row, spectral))| {
+            .map(|(y, ((row, spectral), moments))| {
+                if !self.rows.contains(&(y as u32)) {
+                    return (PassCounts::default(), Vec::new());
+                }
                 let mut sampler = Sampler::new(seed);
                 let mut counts = PassCounts::default();
                 let mut scratch = bdpt::Scratch::<K>::default();
@@ -552,6 +577,11 @@ impl<'a> Renderer<'a> {
                             Some(s) => {
                                 counts.collapsed += s.collapsed as u64;
                                 px.add(s.xyzv);
+                                if let Some(m) = moments.get_mut(x).filter(|_| moments_kept) {
+                                    for (m, v) in m.iter_mut().zip(s.xyzv) {
+                                        *m += f64::from(v) * f64::from(v);
+                                    }
+                                }
                                 if let Some(b) = bands {
                                     let sums = &mut spectral[x * b.0..(x + 1) * b.0];
                                     b.add(sums, &s.radiance, &s.wl);
@@ -666,10 +696,11 @@ fn render_k<const K: usize>(
     (progress, mut checkpoints, observer): Hooks,
 ) -> Result<Rendered, RenderError> {
     // A time limit alone renders until the time is spent.
-    let total = match (options.spp, options.time_limit) {
-        (Some(n), _) => n,
-        (None, Some(_)) => u32::MAX,
-        (None, None) => scene.samples_per_pixel,
+    let total = match (&options.shard, options.spp, options.time_limit) {
+        (Some(shard), _, _) => shard.samples.end,
+        (None, Some(n), _) => n,
+        (None, None, Some(_)) => u32::MAX,
+        (None, None, None) => scene.samples_per_pixel,
     };
     if total == 0 {
         return Err(RenderError::Spp);
@@ -695,6 +726,18 @@ fn render_k<const K: usize>(
     }
     renderer.tracer = options.tracer;
     renderer.quantity = quantity;
+    let first = match &options.shard {
+        Some(shard) => {
+            if shard.samples.is_empty() {
+                return Err(RenderError::Spp);
+            }
+            if let Some(rows) = &shard.rows {
+                renderer.rows = rows.clone();
+            }
+            shard.samples.start
+        }
+        None => 0,
+    };
     let bands = match options.bands {
         Some(n) if (1..=471).contains(&n) => Some(Bands(n)),
         Some(_) => return Err(RenderError::Bands),
@@ -724,13 +767,19 @@ fn render_k<const K: usize>(
             }
             c
         }
-        None => Checkpoint {
-            key: checkpoints.as_ref().map_or(0, |c| c.key),
-            done: 0,
-            counts: [0; 4],
-            film: Film::try_new(width, height, bands)
-                .map_err(|e| RenderError::TooLarge(Box::new(e)))?,
-        },
+        None => {
+            let mut film = Film::try_new(width, height, bands)
+                .map_err(|e| RenderError::TooLarge(Box::new(e)))?;
+            if options.shard.is_some() {
+                film.keep_moments();
+            }
+            Checkpoint {
+                key: checkpoints.as_ref().map_or(0, |c| c.key),
+                done: first,
+                counts: [0; 4],
+                film,
+            }
+        }
     };
     let resumed_at = state.done;
     let mut cancelled = false;
