@@ -63,14 +63,10 @@ def _ray():
 
 
 def _core():
-    """The core's shard API, or the stand-in while the core lacks it."""
-    from . import _scotopia
+    """The core's shard API: render_shard (Rust) and merge_shards."""
+    from . import merge_shards, render_shard
 
-    if hasattr(_scotopia, "render_shard") and hasattr(_scotopia, "merge_shards"):
-        return _scotopia.render_shard, _scotopia.merge_shards
-    from . import _shard_shim
-
-    return _shard_shim.render_shard, _shard_shim.merge_shards
+    return render_shard, merge_shards
 
 
 # ---------------------------------------------------------------- packing
@@ -472,6 +468,7 @@ def _main(argv=None):
         split=a.split, res=a.res, integrator=a.integrator, params=params,
     )
     meta["wallSeconds"] = time.perf_counter() - t
+    meta.pop("squares", None)  # an array: the .npy has the image only
     if a.output:
         np.save(a.output, image)
     print(json.dumps(meta, indent=1, default=str))
