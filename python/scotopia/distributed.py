@@ -261,6 +261,7 @@ class _Job:
         meta["sceneFile"] = self.scene  # not the worker's unpacked copy
         meta["shards"] = len(self.cuts)
         meta["shardsMerged"] = len(done)
+        meta["shardSeconds"] = [float(r["seconds"]) for r in done]
         if interrupted:
             meta["interrupted"] = 1
         return image, meta
