@@ -40,6 +40,11 @@ SKIP_DIRS = {".git", "__pycache__", ".venv", "node_modules"}
 #: Task retries when a worker dies mid-shard (the retried shard renders the
 #: same samples, so the image is unchanged).
 MAX_RETRIES = 3
+#: Whether interrupting kills the workers running shards (ray.cancel(force=True))
+#: or lets their current shard end. Ray 2.60 can abort the driver ("Tried to
+#: complete task that was not pending") when a force-cancel races a finishing
+#: task, so the default lets running shards end (their results are dropped).
+FORCE_CANCEL = False
 
 _SHARD_OPTIONS = (
     "params",
@@ -352,7 +357,7 @@ def _run(jobs, *, shards, split, address, num_cpus, cpus_per_shard, progress,
 def _cancel(ray, refs):
     for ref in refs:
         try:
-            ray.cancel(ref, force=True)
+            ray.cancel(ref, force=FORCE_CANCEL)
         except Exception:  # already finished or gone
             pass
 
