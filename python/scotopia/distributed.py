@@ -308,6 +308,7 @@ def _run(jobs, *, shards, split, address, num_cpus, cpus_per_shard, progress,
             pack = pack_scene(job.scene, max_file_bytes=max_file_bytes)
             packs[key] = (pack, ray.put(pack.data))
         pack, data_ref = packs[key]
+        job.digest = pack.digest
         for k, (samples, rows) in enumerate(job.cuts):
             ref = task.remote(
                 data_ref, pack.digest, pack.name, job.options, samples, rows,
@@ -328,7 +329,7 @@ def _run(jobs, *, shards, split, address, num_cpus, cpus_per_shard, progress,
                     _cancel(ray, pending)
                     pending = []
                     if scene_err is not None:
-                        raise type(scene_err)(str(scene_err)) from None
+                        raise type(scene_err)(_local_paths(str(scene_err), job)) from None
                     raise
                 job.left -= 1
                 bar.step(f"{Path(job.scene).name} {job.cuts[k]}")
@@ -352,6 +353,15 @@ def _run(jobs, *, shards, split, address, num_cpus, cpus_per_shard, progress,
         if pending:  # the consumer stopped early
             _cancel(ray, pending)
         bar.close()
+
+
+def _local_paths(message, job):
+    """A worker's error with its unpacked copy's paths as the driver's."""
+    import re
+
+    digest = job.digest
+    folder = str(Path(job.scene).resolve().parent)
+    return re.sub(r"[^\s'\"]*scotopia-ray/" + digest, lambda _: folder, message)
 
 
 def _cancel(ray, refs):

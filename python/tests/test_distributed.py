@@ -181,6 +181,9 @@ def test_a_shard_failing_on_bad_input_fails_the_render_once(local_ray, tmp_path)
                 PRISM, spp=4, res=16, shards=4, progress=False, max_file_bytes=64
             )
     assert "RayTaskError" not in type(err.value).__name__
+    # The message names the driver's files, not the workers' unpacked copy.
+    assert "scotopia-ray" not in str(err.value)
+    assert str(SCENES) in str(err.value)
 
 
 def test_bad_scene_fails_before_any_shard(local_ray, tmp_path):
