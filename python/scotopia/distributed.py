@@ -327,6 +327,7 @@ def _run(jobs, *, shards, split, address, num_cpus, cpus_per_shard, progress,
                 except Exception as e:
                     scene_err = _scene_error(e)
                     _cancel(ray, pending)
+                    _drain(ray, pending)
                     pending = []
                     if scene_err is not None:
                         raise type(scene_err)(_local_paths(str(scene_err), job)) from None
@@ -362,6 +363,20 @@ def _local_paths(message, job):
     digest = job.digest
     folder = str(Path(job.scene).resolve().parent)
     return re.sub(r"[^\s'\"]*scotopia-ray/" + digest, lambda _: folder, message)
+
+
+def _drain(ray, refs, timeout=2.0):
+    """Collects the shards that fail alongside the first (a bad scene fails
+    every shard at once), so that Ray does not log each of them again as
+    an unhandled error: the render reports its error once."""
+    if not refs:
+        return
+    ready, _ = ray.wait(refs, num_returns=len(refs), timeout=timeout)
+    for ref in ready:
+        try:
+            ray.get(ref)
+        except Exception:
+            pass
 
 
 def _cancel(ray, refs):

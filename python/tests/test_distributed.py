@@ -186,6 +186,26 @@ def test_a_shard_failing_on_bad_input_fails_the_render_once(local_ray, tmp_path)
     assert str(SCENES) in str(err.value)
 
 
+
+def test_the_error_is_reported_once():
+    """Every shard fails the same way; the render's error is the only
+    report: the other shards' failures are collected, not logged by Ray as
+    unhandled errors (its own Ray in a subprocess, whose stderr is read)."""
+    code = (
+        "import warnings; warnings.simplefilter('ignore')\n"
+        "from scotopia import distributed\n"
+        "try:\n"
+        f"    distributed.render({PRISM!r}, spp=4, res=16, shards=4, progress=False,\n"
+        "                       max_file_bytes=64, num_cpus=2)\n"
+        "except ValueError as e:\n"
+        "    print('raised', e)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=120)
+    assert out.stdout.count("raised") == 1 and "prism.obj" in out.stdout
+    assert "prism.obj" not in out.stderr, out.stderr
+
+
 def test_bad_scene_fails_before_any_shard(local_ray, tmp_path):
     bad = tmp_path / "bad.xml"
     bad.write_text("<scene version='3.0.0'><shape type='nonsense'/></scene>")
