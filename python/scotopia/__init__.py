@@ -49,6 +49,7 @@ from ._scotopia import (  # noqa: F401
     scene_info,
     vprime,
     white_point,
+    write_exr,
     xyz_to_lab,
     xyz_to_oklab,
     xyz_to_rgb,

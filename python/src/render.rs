@@ -17,7 +17,9 @@ use scotopia_render::integrator::{
     render_resumable, time_limit, Checkpointing, Quantity, RenderError, RenderOptions, Shard,
     Tracer,
 };
-use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_exr};
+use scotopia_render::output::{
+    render_metadata, write_spectral_exr, write_xyzv_exr, write_xyzv_pixels,
+};
 use scotopia_render::scene::IntegratorKind;
 use scotopia_render::wavelength::WavelengthStrategy;
 use scotopia_scene::load_scene_with;
@@ -277,6 +279,49 @@ fn render_shard<'py>(
     Ok(d)
 }
 
+/// Writes an H × W × 4 X, Y, Z, V′ image as the OpenEXR `render` writes
+/// (channels X, Y, Z, V), with the header attributes in `meta` that are
+/// text, floats or integers (others are left out): for images merged
+/// from shards.
+#[pyfunction]
+#[pyo3(signature = (path, image, meta = None))]
+fn write_exr(
+    path: PathBuf,
+    image: numpy::PyReadonlyArray3<f32>,
+    meta: Option<Bound<'_, PyDict>>,
+) -> PyResult<()> {
+    let (h, w, px) = crate::vision::pixels::<4>(&image)?;
+    let mut header: Vec<(String, Meta)> = Vec::new();
+    for (k, v) in meta.iter().flat_map(|d| d.iter()) {
+        let Ok(key) = k.extract::<String>() else {
+            continue;
+        };
+        let value = if let Ok(t) = v.extract::<String>() {
+            Meta::Text(t)
+        } else if v.is_instance_of::<pyo3::types::PyInt>() {
+            match v.extract::<i32>() {
+                Ok(i) => Meta::I32(i),
+                Err(_) => Meta::Text(v.str()?.to_string()),
+            }
+        } else if let Ok(f) = v.extract::<f64>() {
+            Meta::F32(f as f32)
+        } else {
+            continue;
+        };
+        header.push((key, value));
+    }
+    let header: Vec<(&str, Meta)> = header
+        .iter()
+        .map(|(k, v)| (k.as_str(), v.clone()))
+        .collect();
+    write_xyzv_pixels(&path, w, h, &px, &header).map_err(|e| match e {
+        scotopia_image::ImageError::Io { .. } => {
+            pyo3::exceptions::PyOSError::new_err(e.to_string())
+        }
+        _ => PyValueError::new_err(e.to_string()),
+    })
+}
+
 /// What `render` and `measure` check first: the SIMD level
 /// (`SCOTOPIA_SIMD`) and the wavelength strategy's name.
 pub(crate) fn wavelength_strategy(name: &str) -> PyResult<WavelengthStrategy> {
@@ -289,5 +334,6 @@ pub(crate) fn wavelength_strategy(name: &str) -> PyResult<WavelengthStrategy> {
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(render, m)?)?;
     m.add_function(wrap_pyfunction!(render_shard, m)?)?;
+    m.add_function(wrap_pyfunction!(write_exr, m)?)?;
     Ok(())
 }

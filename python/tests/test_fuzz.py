@@ -122,6 +122,13 @@ ENTRIES = {
         set(),
         set(),
     ),
+    "write_exr": (
+        scotopia.write_exr,
+        [str(Path(SCRATCH) / "written.exr"), IMAGE],
+        dict(meta={"fovHorizontalDegrees": 40.0, "samplesPerPixel": 4, "units": "cd/m2"}),
+        set(),
+        {"path"},
+    ),
     # Started and stopped at once: the page's server and a short render.
     "view": (
         lambda *a, **k: scotopia.view(*a, **k).stop(),
@@ -247,7 +254,7 @@ ENTRIES = {
 POSITIONAL_NAMES = {"render": ["path"], "view": ["path"], "scene_info": ["path"],
                     "display": ["image"],
                     "false_colour": ["image"],
-                    "measure": ["path", "points"],
+                    "measure": ["path", "points"], "write_exr": ["path", "image"],
                     "Spectrum.from_file": ["path"], "vision.read_image": ["path"]}
 
 

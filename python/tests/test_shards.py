@@ -59,3 +59,13 @@ def test_bad_shards_are_value_errors():
         scotopia.render_shard(CORNELL, samples=(0, 1), rows=(2, 99), res=8)
     with pytest.raises(ValueError, match="no shards"):
         scotopia.merge_shards([])
+
+
+def test_a_merged_image_is_written_as_render_writes_it(tmp_path):
+    image, meta = scotopia.merge_shards(
+        shards(CORNELL, [(0, 8)], [(0, 2), (2, 4)], res=8))
+    out = tmp_path / "merged.exr"
+    scotopia.write_exr(out, image, meta)
+    back, fov, _ = scotopia.vision.read_image(str(out), None, "srgb")
+    assert np.array_equal(back, image)
+    assert fov == pytest.approx(meta["fovHorizontalDegrees"])
