@@ -399,6 +399,7 @@ def render(
     cpus_per_shard=1,
     progress=True,
     max_file_bytes=MAX_FILE_BYTES,
+    output=None,
     **render_options,
 ):
     """Renders ``scene`` on Ray in ``shards`` shards and returns ``(image,
@@ -416,6 +417,9 @@ def render(
     threads). ``render_options``: params, res, integrator, wavelengths,
     cluster, tracer, quantity.
 
+    ``output`` also writes the merged image as the OpenEXR ``scotopia.render``
+    writes (``scotopia.write_exr``), after an interruption too.
+
     On KeyboardInterrupt the unfinished shards are cancelled and those that
     finished are merged (meta["interrupted"] = 1, meta["shardsMerged"]).
     A shard failing on bad input raises the core's ValueError once.
@@ -430,7 +434,12 @@ def render(
         cpus_per_shard=cpus_per_shard, progress=progress,
         max_file_bytes=max_file_bytes, on_interrupt="merge",
     ):
-        return done.merge(interrupted)
+        image, meta = done.merge(interrupted)
+        if output is not None:
+            from . import write_exr
+
+            write_exr(str(output), image, meta)
+        return image, meta
     raise RuntimeError("no shard finished")  # pragma: no cover
 
 
@@ -473,7 +482,7 @@ def render_many(
 
 def _main(argv=None):
     """``python -m scotopia.distributed SCENE --spp N --shards N [--address A]
-    [-D k=v] [--res R] [--integrator I] [--split rows] -o out.npy``: the
+    [-D k=v] [--res R] [--integrator I] [--split rows] -o out.exr``: the
     entry a CLI ``--ray`` can run (prints the meta as JSON)."""
     import argparse
     import json
@@ -490,17 +499,18 @@ def _main(argv=None):
     p.add_argument("--res")
     p.add_argument("--integrator")
     p.add_argument("-D", action="append", default=[], metavar="NAME=VALUE")
-    p.add_argument("-o", "--output", help="write the X, Y, Z, V′ array (.npy)")
+    p.add_argument("-o", "--output", help="write the X, Y, Z, V′ image (.exr, or .npy)")
     a = p.parse_args(argv)
     params = dict(d.split("=", 1) for d in a.D) or None
     t = time.perf_counter()
+    exr = a.output if a.output and a.output.lower().endswith(".exr") else None
     image, meta = render(
         a.scene, spp=a.spp, seed=a.seed, shards=a.shards, address=a.address,
-        split=a.split, res=a.res, integrator=a.integrator, params=params,
+        split=a.split, res=a.res, integrator=a.integrator, params=params, output=exr,
     )
     meta["wallSeconds"] = time.perf_counter() - t
-    meta.pop("squares", None)  # an array: the .npy has the image only
-    if a.output:
+    meta.pop("squares", None)  # an array, not for JSON
+    if a.output and not exr:
         np.save(a.output, image)
     print(json.dumps(meta, indent=1, default=str))
 

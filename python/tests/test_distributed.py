@@ -213,6 +213,20 @@ def test_bad_scene_fails_before_any_shard(local_ray, tmp_path):
         distributed.render(str(bad), spp=4, shards=2, progress=False)
 
 
+def test_output_writes_the_merged_exr(local_ray, tmp_path):
+    out = tmp_path / "merged.exr"
+    image, meta = distributed.render(
+        CORNELL, spp=4, res=16, shards=2, progress=False, output=out
+    )
+    ref = tmp_path / "ref.exr"
+    scotopia.render(CORNELL, spp=4, res=16, output=str(ref))
+    assert out.stat().st_size > 0
+    # The same image written the same way: display reads both alike.
+    a, _ = scotopia.display(str(out))
+    b, _ = scotopia.display(str(ref))
+    np.testing.assert_array_equal(a, b)
+
+
 def test_unsupported_options_are_named(local_ray):
     with pytest.raises(TypeError, match="time"):
         distributed.render(CORNELL, spp=4, shards=2, time=3.0)
