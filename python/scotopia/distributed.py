@@ -498,6 +498,10 @@ def _main(argv=None):
     p.add_argument("--address")
     p.add_argument("--res")
     p.add_argument("--integrator")
+    p.add_argument("--wavelengths", default="swc")
+    p.add_argument("--cluster", type=int, default=4)
+    p.add_argument("--tracer", default="scalar")
+    p.add_argument("--quantity", default="radiance")
     p.add_argument("-D", action="append", default=[], metavar="NAME=VALUE")
     p.add_argument("-o", "--output", help="write the X, Y, Z, V′ image (.exr, or .npy)")
     a = p.parse_args(argv)
@@ -507,6 +511,7 @@ def _main(argv=None):
     image, meta = render(
         a.scene, spp=a.spp, seed=a.seed, shards=a.shards, address=a.address,
         split=a.split, res=a.res, integrator=a.integrator, params=params, output=exr,
+        wavelengths=a.wavelengths, cluster=a.cluster, tracer=a.tracer, quantity=a.quantity,
     )
     meta["wallSeconds"] = time.perf_counter() - t
     meta.pop("squares", None)  # an array, not for JSON

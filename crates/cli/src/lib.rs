@@ -7,6 +7,7 @@ mod false_colour;
 pub mod info;
 pub mod measure;
 mod numbers;
+mod ray;
 pub mod render;
 pub mod spectrum;
 mod tev;

@@ -27,35 +27,35 @@ use crate::info::{load_options, parameters};
 #[derive(clap::Args)]
 pub struct Args {
     #[command(flatten)]
-    setup: Setup,
+    pub(crate) setup: Setup,
     /// The output: a 32-bit float OpenEXR with channels X, Y, Z (cd/m²) and
     /// V (scotopic cd/m²).
     #[arg(short, long, value_name = "OUT.exr")]
-    output: PathBuf,
+    pub(crate) output: PathBuf,
     /// Save the film's exact sums to OUT.exr.ckpt every SECONDS and at the
     /// end (complete, interrupted or out of time), so that a killed render
     /// can be resumed, or a finished one given more samples.
     #[arg(long, value_name = "SECONDS")]
-    checkpoint: Option<f64>,
+    pub(crate) checkpoint: Option<f64>,
     /// Continue from OUT.exr.ckpt if it is there (same scene file,
     /// parameters, seed and options; --spp may grow): the result is
     /// bit-identical to an uninterrupted render of as many samples.
     #[arg(long)]
-    resume: bool,
+    pub(crate) resume: bool,
     /// Also write the spectral radiance image as a spectral OpenEXR
     /// (Fichet et al. 2021: channels S0.<λ>nm, W·m⁻²·sr⁻¹·nm⁻¹).
     #[arg(long, value_name = "OUT.exr")]
-    spectral: Option<PathBuf>,
+    pub(crate) spectral: Option<PathBuf>,
     /// Bands of the spectral image, equal over 360–830 nm (47: 10 nm).
     #[arg(long, default_value_t = 47, value_name = "N")]
-    bands: usize,
+    pub(crate) bands: usize,
     /// Also write a quick auto-exposed sRGB preview.
     #[arg(long, value_name = "OUT.png")]
-    preview: Option<PathBuf>,
+    pub(crate) preview: Option<PathBuf>,
     /// Also run the vision pipeline (as `scotopia display`, with the
     /// camera's field of view) and write what the eye would see.
     #[arg(long, value_name = "OUT.png")]
-    display: Option<PathBuf>,
+    pub(crate) display: Option<PathBuf>,
     /// Show the film in the tev image viewer while it renders, over TCP
     /// (tev's default port: 127.0.0.1:14158): channels X, Y, Z, V as in
     /// the EXR and a layer `seen` (what --display would show, linear
@@ -68,9 +68,20 @@ pub struct Args {
         default_missing_value = crate::tev::DEFAULT,
         value_parser = crate::tev::address,
     )]
-    tev: Option<crate::tev::Address>,
+    pub(crate) tev: Option<crate::tev::Address>,
+    /// Render on a Ray cluster (at ADDRESS, e.g. `auto` or
+    /// `ray://head:10001`; default: a local Ray on this machine's cores),
+    /// through the scotopia Python package with its `distributed` extra
+    /// (`pip install scotopia[distributed]`; the Python is
+    /// `$SCOTOPIA_PYTHON`, else `python3`). docs/distributed.md.
+    #[arg(long, value_name = "ADDRESS", num_args = 0..=1, default_missing_value = "")]
+    pub(crate) ray: Option<String>,
+    /// With --ray: how many shards the samples are cut into (default: two
+    /// per CPU of the cluster).
+    #[arg(long, value_name = "N", requires = "ray")]
+    pub(crate) shards: Option<u32>,
     #[command(flatten)]
-    vision: VisionArgs,
+    pub(crate) vision: VisionArgs,
 }
 
 /// What a render is of and how it samples: the arguments `render` and
@@ -81,51 +92,51 @@ pub struct Setup {
     pub scene: PathBuf,
     /// Set a scene parameter, overriding its <default> (repeatable).
     #[arg(short = 'D', value_name = "NAME=VALUE")]
-    define: Vec<String>,
+    pub(crate) define: Vec<String>,
     /// Override the film size: W (keeping the film's aspect) or WxH. The
     /// field of view along the film's fov_axis stays, as in Mitsuba.
     #[arg(long, value_name = "W|WxH")]
-    res: Option<String>,
+    pub(crate) res: Option<String>,
     /// Samples per pixel (default: the scene's sampler).
     #[arg(long)]
     pub spp: Option<u32>,
     /// Render for this many seconds (with --spp: whichever ends first).
     #[arg(long, value_name = "SECONDS", value_parser = crate::numbers::seconds)]
-    time: Option<Duration>,
+    pub(crate) time: Option<Duration>,
     /// Worker threads (default: all cores; at most 4096).
     #[arg(long, value_parser = crate::numbers::threads)]
-    threads: Option<usize>,
+    pub(crate) threads: Option<usize>,
     /// Seed of the sample sequence: the same seed gives the same image.
     #[arg(long, default_value_t = 0)]
-    seed: u32,
+    pub(crate) seed: u32,
     /// How paths choose wavelengths: swc (stratified clusters from the
     /// lights' spectra), hero (rotated hero wavelengths), single.
     #[arg(long, default_value = "swc", value_name = "swc|hero|single")]
-    wavelengths: String,
+    pub(crate) wavelengths: String,
     /// Light transport: path (unidirectional, next-event estimation) or
     /// bdpt (bidirectional, every strategy weighted by MIS: for caustics,
     /// lamps in fixtures, light through small openings). Default: the
     /// scene's <integrator>.
     #[arg(long, value_name = "path|bdpt")]
-    integrator: Option<String>,
+    pub(crate) integrator: Option<String>,
     /// Bidirectional only: render strategy S,T alone without MIS (S light
     /// and T camera vertices; T=1 is light tracing), to inspect it.
     #[arg(long, value_name = "S,T")]
-    bdpt_strategy: Option<String>,
+    pub(crate) bdpt_strategy: Option<String>,
     /// The path integrator's form: scalar (one path at a time, the
     /// reference, today the faster) or wavefront (batches of paths, stage
     /// by stage). Both give the same image, bit for bit.
     #[arg(long, default_value = "scalar", value_name = "scalar|wavefront")]
-    tracer: String,
+    pub(crate) tracer: String,
     /// Wavelengths per path: 1, 2, 4, 8 or 16.
     #[arg(long, default_value_t = 4, value_name = "K")]
-    cluster: usize,
+    pub(crate) cluster: usize,
     /// What each pixel holds: radiance (X, Y, Z in cd/m², V′) or
     /// illuminance (Y in lx, V′ in scotopic lx) at the first surface the
     /// pixel sees, on its side facing the camera — by the path tracer,
     /// whatever the scene's integrator; zero where no surface is seen.
     #[arg(long, default_value = "radiance", value_name = "radiance|illuminance")]
-    quantity: String,
+    pub(crate) quantity: String,
 }
 
 /// A scene loaded and its render options checked, ready to render.
@@ -232,6 +243,9 @@ pub fn cancel_on_interrupt() -> Result<Arc<AtomicBool>> {
 }
 
 pub fn run(args: Args) -> Result<()> {
+    if let Some(address) = &args.ray {
+        return crate::ray::render(&args, address);
+    }
     let Prepared {
         scene,
         options,
