@@ -190,6 +190,7 @@ bench: python
 	$(PY) bench/bdpt.py
 	$(PY) bench/vs_mitsuba.py
 	$(PY) bench/vision.py
+	$(PY) bench/distributed.py
 
 ## Regenerates the Jakob–Hanika coefficient tables in data/rgb2spec.
 tables:
