@@ -46,21 +46,32 @@ impl Viewer {
 
     /// Stops the render (its film is written, as on Ctrl-C) and the page.
     fn stop(&self, py: Python<'_>) -> PyResult<()> {
+        match py.detach(|| self.shut()) {
+            // Stopping a render is what was asked: not an error.
+            Err(e) if !e.to_string().starts_with("interrupted") => Err(err(e)),
+            _ => Ok(()),
+        }
+    }
+}
+
+impl Viewer {
+    /// Ends the render (at its next pass), waits for its film to be
+    /// written and closes the page; what the render ended with.
+    fn shut(&self) -> anyhow::Result<()> {
         self.cancel.store(true, Ordering::Relaxed);
-        py.detach(|| {
-            let taken = self.viewing.lock().map_err(|_| closed())?.take();
-            if let Some(mut v) = taken {
+        let taken = self
+            .viewing
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .take();
+        match taken {
+            Some(mut v) => {
                 let ended = v.wait();
                 v.close();
-                // Stopping a render is what was asked: not an error.
-                if let Err(e) = ended {
-                    if !e.to_string().starts_with("interrupted") {
-                        return Err(err(e));
-                    }
-                }
+                ended
             }
-            Ok(())
-        })
+            None => Ok(()),
+        }
     }
 }
 
@@ -68,15 +79,7 @@ impl Drop for Viewer {
     /// A viewer forgotten is stopped: its render ends at the next pass and
     /// its port closes.
     fn drop(&mut self) {
-        self.cancel.store(true, Ordering::Relaxed);
-        let taken = match self.viewing.get_mut() {
-            Ok(v) => v.take(),
-            Err(e) => e.into_inner().take(),
-        };
-        if let Some(mut v) = taken {
-            let _ = v.wait();
-            v.close();
-        }
+        let _ = self.shut();
     }
 }
 

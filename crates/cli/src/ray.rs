@@ -9,10 +9,9 @@ use std::process::{Command, Stdio};
 
 use anyhow::{bail, Context, Result};
 
-use scotopia_image::{preview_srgb8, read_xyzv, write_png_rgb8, RgbInput};
+use scotopia_image::{read_xyzv, RgbInput};
 
-use crate::display::write_shown;
-use crate::render::{cancel_on_interrupt, Args};
+use crate::render::{cancel_on_interrupt, write_pictures, Args};
 
 pub fn render(args: &Args, address: &str) -> Result<()> {
     let s = &args.setup;
@@ -84,17 +83,10 @@ pub fn render(args: &Args, address: &str) -> Result<()> {
 
     // The preview and the eye's view, from the merged image.
     let image = read_xyzv(&args.output, RgbInput::default())?;
-    if let Some(png) = &args.preview {
-        let rgb = preview_srgb8(&image.pixels);
-        write_png_rgb8(png, image.width as u32, image.height as u32, &rgb)?;
-    }
-    if let Some(out) = &args.display {
-        let (params, png, _) = args.vision.params(image.width, image.fov_horizontal)?;
-        let shown =
-            scotopia_vision::display_owned(image.pixels, image.width, image.height, &params);
-        crate::display::say_left_out(&shown);
-        write_shown(out, &shown, &params, png)?;
-    }
+    let (w, h) = (image.width, image.height);
+    let (params, png, _) = args.vision.params(w, image.fov_horizontal)?;
+    let shown = args.display.as_deref().map(|out| (out, &params, png));
+    write_pictures(args.preview.as_deref(), shown, image.pixels, w, h)?;
     let shards = meta["shards"].as_u64().unwrap_or(0);
     let merged = meta["shardsMerged"].as_u64().unwrap_or(shards);
     eprintln!(

@@ -14,12 +14,15 @@ use scotopia_render::integrator::{
     render_observed, Checkpointing, Observer, Quantity, RenderError, RenderOptions, RunFacts,
     Tracer, CLUSTER_SIZES,
 };
-use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_exr};
+use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_pixels};
 use scotopia_render::scene::IntegratorKind;
 use scotopia_render::scene::Scene;
 use scotopia_render::wavelength::WavelengthStrategy;
 use scotopia_scene::mitsuba::Parameters;
 use scotopia_scene::{checkpoint_key, load_scene_with, LoadOptions};
+
+use scotopia_vision::output::PngOptions;
+use scotopia_vision::DisplayParams;
 
 use crate::display::{write_shown, VisionArgs};
 use crate::info::{load_options, parameters};
@@ -356,13 +359,12 @@ pub fn run(args: Args) -> Result<()> {
         &rendered.facts(),
         &args.setup.scene.display().to_string(),
     );
-    write_xyzv_exr(&args.output, &rendered, &meta)?;
+    // The means, once, for the EXR and the pictures.
+    let means = rendered.film.xyzv();
+    let (w, h) = (rendered.film.width as usize, rendered.film.height as usize);
+    write_xyzv_pixels(&args.output, w, h, &means, &meta)?;
     if let Some(spectral) = &args.spectral {
         write_spectral_exr(spectral, &rendered, &meta)?;
-    }
-    if let Some(png) = &args.preview {
-        let rgb = preview_srgb8(&rendered.film.xyzv());
-        write_png_rgb8(png, rendered.film.width, rendered.film.height, &rgb)?;
     }
     let secs = rendered.elapsed.as_secs_f64();
     eprintln!(
@@ -378,7 +380,7 @@ pub fn run(args: Args) -> Result<()> {
     );
     if scene.meter.is_some() {
         // The one reading a lighting designer wants, without opening the EXR.
-        let [_, y, _, v] = rendered.film.xyzv()[0];
+        let [_, y, _, v] = means[0];
         eprintln!(
             "scotopia: irradiancemeter: E = {y:.6e} lx, scotopic E′ = {v:.6e} lx (S/P {:.3})",
             if y > 0.0 { v / y } else { 0.0 }
@@ -396,12 +398,11 @@ pub fn run(args: Args) -> Result<()> {
             rendered.nonfinite_splats
         );
     }
-    if let (Some(out), Some((params, png))) = (&args.display, display) {
-        let (w, h) = (rendered.film.width as usize, rendered.film.height as usize);
-        let shown = scotopia_vision::display_owned(rendered.film.xyzv(), w, h, &params);
-        crate::display::say_left_out(&shown);
-        write_shown(out, &shown, &params, png)?;
-    }
+    let shown = match (&args.display, &display) {
+        (Some(out), Some((params, png))) => Some((out.as_path(), params, *png)),
+        _ => None,
+    };
+    write_pictures(args.preview.as_deref(), shown, means, w, h)?;
     if let Some(v) = viewer {
         // The last frame is on its way: let it arrive, briefly.
         v.finish(Duration::from_secs(2));
@@ -446,6 +447,27 @@ fn start_viewer(
         height: h,
     };
     Ok(crate::tev::Viewer::start(address.clone(), image, vision))
+}
+
+/// `--preview` (auto-exposed sRGB) and `--display` (what the eye sees,
+/// with its checked settings) of a finished render's means: after a local
+/// render, and after `--ray` from the merged EXR.
+pub(crate) fn write_pictures(
+    preview: Option<&Path>,
+    display: Option<(&Path, &DisplayParams, PngOptions)>,
+    pixels: Vec<[f32; 4]>,
+    w: usize,
+    h: usize,
+) -> Result<()> {
+    if let Some(png) = preview {
+        write_png_rgb8(png, w as u32, h as u32, &preview_srgb8(&pixels))?;
+    }
+    if let Some((out, params, png)) = display {
+        let shown = scotopia_vision::display_owned(pixels, w, h, params);
+        crate::display::say_left_out(&shown);
+        write_shown(out, &shown, params, png)?;
+    }
+    Ok(())
 }
 
 /// Where `--checkpoint` saves and `--resume` reads: beside the output.

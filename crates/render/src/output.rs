@@ -32,10 +32,7 @@ pub fn render_metadata(
         ("renderSeconds", Meta::F32(rendered.elapsed.as_secs_f32())),
         ("raysTraced", Meta::Text(rendered.rays.to_string())),
         ("sceneFile", Meta::Text(scene_file.into())),
-        ("quantity", Meta::Text(match rendered.quantity {
-            Quantity::Radiance => "radiance".into(),
-            Quantity::Illuminance => "illuminance".into(),
-        })),
+        ("quantity", Meta::Text(rendered.quantity.name().into())),
         (
             "units",
             Meta::Text(match rendered.quantity {

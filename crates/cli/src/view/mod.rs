@@ -249,7 +249,7 @@ fn snapshot(prepared: &Prepared, name: &str, film: &Film, facts: &RunFacts) -> F
             height: film.height as usize,
             pixels: film.xyzv(),
             fov_horizontal: Some(scene.camera.fov_degrees().0 as f64),
-            quantity: Some(quantity_name(facts).into()),
+            quantity: Some(facts.quantity.name().into()),
             notes: Vec::new(),
         },
         spp: facts.spp,
@@ -282,13 +282,6 @@ fn default_output(input: &Path, is_image: bool) -> PathBuf {
     } else {
         format!("{stem}.exr")
     })
-}
-
-fn quantity_name(facts: &RunFacts) -> &'static str {
-    match facts.quantity {
-        scotopia_render::integrator::Quantity::Radiance => "radiance",
-        scotopia_render::integrator::Quantity::Illuminance => "illuminance",
-    }
 }
 
 /// What an image's EXR keeps when saved again: its field of view and

@@ -4,7 +4,7 @@
 use anyhow::{bail, Context, Result};
 use serde_json::json;
 
-use scotopia_image::{encode_png, write_atomic, PngColour, PngSamples};
+use scotopia_image::{encode_png, write_atomic, PngColour, PngSamples, XyzvImage};
 use scotopia_render::output::write_xyzv_pixels;
 use scotopia_vision::display_owned;
 use scotopia_vision::output::{compare_sheet, display_png};
@@ -46,10 +46,16 @@ fn picture(live: &Live, query: &str) -> Result<(Vec<u8>, Headers)> {
     let (pairs, settings) = merge(&live.settings(), query, &[])?;
     let (view, k) = settings.view()?;
     let frame = live.frame();
-    let mut image = frame.image.clone();
-    for p in &mut image.pixels {
-        *p = p.map(|v| v * k);
-    }
+    // The film at the light level, in one pass (the frame is shared).
+    let film = &frame.image;
+    let image = XyzvImage {
+        width: film.width,
+        height: film.height,
+        pixels: film.pixels.iter().map(|p| p.map(|v| v * k)).collect(),
+        fov_horizontal: film.fov_horizontal,
+        quantity: film.quantity.clone(),
+        notes: Vec::new(),
+    };
     let (w, h) = (image.width, image.height);
     let mut headers = vec![("X-Scotopia-Spp", frame.spp.to_string())];
     let name = "image.png";

@@ -101,6 +101,14 @@ impl Quantity {
             _ => None,
         }
     }
+
+    /// Its name, as `from_name` reads it and the EXR's metadata says.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Radiance => "radiance",
+            Self::Illuminance => "illuminance",
+        }
+    }
 }
 
 /// The two forms of the path tracer: one path at a time (the reference)
