@@ -14,6 +14,7 @@ pub mod glare;
 pub mod mode;
 pub mod multiscale;
 pub mod night;
+pub mod observer;
 pub mod output;
 pub mod pipeline;
 pub mod pyramid;
@@ -21,6 +22,7 @@ pub mod screen;
 pub mod tonemap;
 pub mod wide_math;
 
+pub use observer::Observer;
 pub use pipeline::{
     display, display_observed, display_owned, DisplayParams, Displayed, Report, Stage, ToneOperator,
 };

@@ -17,6 +17,7 @@ use crate::mode::{
 };
 use crate::multiscale::{multiscale_in_place, GainAdaptation, MultiscaleParams};
 use crate::night::night_shift;
+use crate::observer::Observer;
 use crate::pyramid::{expand, gaussian, Plane};
 use crate::screen::{self, LeftOut};
 use crate::tonemap::{exposure_scale, reinhard_scale};
@@ -57,6 +58,8 @@ pub struct DisplayParams {
     pub night_shift: bool,
     pub tonemap: ToneOperator,
     pub gamut: RgbSpace,
+    /// Whose eye: age and pigmentation (glare spread, lens density).
+    pub observer: Observer,
     /// The multiscale model's constants (its display peak and adaptation
     /// are taken from this struct's).
     pub multiscale: MultiscaleParams,
@@ -72,6 +75,7 @@ impl Default for DisplayParams {
             night_shift: true,
             tonemap: ToneOperator::Multiscale,
             gamut: RgbSpace::Srgb,
+            observer: Observer::default(),
             multiscale: MultiscaleParams::default(),
         }
     }
@@ -182,7 +186,7 @@ pub fn display_observed(
 }
 
 /// Receives each stage's image (display-relative X, Y, Z).
-type Observer<'a> = dyn FnMut(Stage, &[[f32; 3]]) + 'a;
+type StageObserver<'a> = dyn FnMut(Stage, &[[f32; 3]]) + 'a;
 
 /// The pipeline; each stage's snapshot is made only when someone observes.
 /// Every stage works in one image buffer (`pixels`, copied first only when
@@ -193,7 +197,7 @@ fn run(
     width: usize,
     height: usize,
     p: &DisplayParams,
-    mut observer: Option<&mut Observer>,
+    mut observer: Option<&mut StageObserver>,
 ) -> Displayed {
     let mut observe = |stage: Stage, snapshot: &dyn Fn() -> Vec<[f32; 3]>| {
         if let Some(o) = observer.as_mut() {
