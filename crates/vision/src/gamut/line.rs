@@ -15,20 +15,20 @@ use std::sync::OnceLock;
 
 /// Ottosson 2020, M₁: XYZ (D65) → LMS (as `scotopia_color`'s Oklab;
 /// the tests check that the two agree).
-const M1: Mat3 = Mat3([
+pub(super) const M1: Mat3 = Mat3([
     [0.8189330101, 0.3618667424, -0.1288597137],
     [0.0329845436, 0.9293118715, 0.0361456387],
     [0.0482003018, 0.2643662691, 0.6338517070],
 ]);
 /// Ottosson 2020, M₂: cube-rooted LMS → Lab.
-const M2: Mat3 = Mat3([
+pub(super) const M2: Mat3 = Mat3([
     [0.2104542553, 0.7936177850, -0.0040720468],
     [1.9779984951, -2.4285922050, 0.4505937099],
     [0.0259040371, 0.7827717662, -0.8086757660],
 ]);
 
 #[inline(always)]
-fn apply(m: &[[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
+pub(super) fn apply(m: &[[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
     let row = |r: usize| m[r][0] * v[0] + m[r][1] * v[1] + m[r][2] * v[2];
     [row(0), row(1), row(2)]
 }
@@ -54,9 +54,9 @@ pub(super) fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
 /// A display space's matrices, combined with Oklab's.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Frame {
-    lms_from_rgb: [[f64; 3]; 3],
-    rgb_from_lms: [[f64; 3]; 3],
-    lms_from_lab: [[f64; 3]; 3],
+    pub(super) lms_from_rgb: [[f64; 3]; 3],
+    pub(super) rgb_from_lms: [[f64; 3]; 3],
+    pub(super) lms_from_lab: [[f64; 3]; 3],
 }
 
 impl Frame {

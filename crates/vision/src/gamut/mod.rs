@@ -32,8 +32,10 @@
 mod line;
 mod reference;
 mod search;
+mod wide;
 
 pub use reference::map_to_gamut_reference;
+pub use wide::map_pixels_to_gamut;
 
 use line::{Frame, HueLine};
 use scotopia_color::space::RgbColorSpace;

@@ -233,4 +233,4 @@ pub(super) fn restore_hue(frame: &Frame, lab: [f64; 3], hue: (f64, f64)) -> Opti
 
 /// How close to the gamut's surface two computations of a colour may
 /// disagree on which side it lies (a thousand times their rounding).
-const SURFACE: f64 = 1e-12;
+pub(super) const SURFACE: f64 = 1e-12;

@@ -136,6 +136,48 @@ fn the_fast_mapping_gives_the_references_codes() {
 }
 
 #[test]
+fn the_lanes_give_the_references_codes() {
+    // `map_pixels_to_gamut` (the reference's steps, side by side) on the
+    // test colours as f32 pixels with a fourth value, against the
+    // reference on the same f32 values; as strict as the test above.
+    let pixels: Vec<[f32; 4]> = colours()
+        .iter()
+        .map(|xyz| [xyz[0] as f32, xyz[1] as f32, xyz[2] as f32, 0.5])
+        .collect();
+    let oklab =
+        |rgb: [f32; 3], space: &RgbColorSpace| xyz_to_oklab(space.rgb_to_xyz(rgb.map(f64::from)));
+    for space in [RgbSpace::Srgb, RgbSpace::DisplayP3, RgbSpace::Rec2020] {
+        let def = space.def();
+        let lanes = map_pixels_to_gamut(&pixels, def);
+        assert_eq!(lanes.len(), pixels.len());
+        let mut moved = 0;
+        for (p, got) in pixels.iter().zip(&lanes) {
+            let xyz = [p[0], p[1], p[2]].map(f64::from);
+            let want = map_to_gamut_reference(xyz, def).map(|v| v as f32);
+            let d = (0..3)
+                .map(|k| (code(got[k].into()) - code(want[k].into())).abs())
+                .fold(0.0, f64::max);
+            let e = delta_e_ok(oklab(*got, def), oklab(want, def));
+            assert!(
+                d < 0.5 && e < 2.0 * EPSILON,
+                "{space:?} {p:?}: {got:?} vs {want:?}"
+            );
+            moved += usize::from(d > 0.01);
+        }
+        assert!(moved * 1000 < pixels.len(), "{space:?}: {moved}");
+    }
+    // Fewer pixels than a queue holds, and none.
+    let srgb = RgbSpace::Srgb.def();
+    let few = &pixels[..5];
+    let want: Vec<[f32; 3]> = few
+        .iter()
+        .map(|p| map_to_gamut([p[0], p[1], p[2]].map(f64::from), srgb).map(|v| v as f32))
+        .collect();
+    assert_eq!(map_pixels_to_gamut(few, srgb), want);
+    assert!(map_pixels_to_gamut::<4>(&[], srgb).is_empty());
+}
+
+#[test]
 fn in_gamut_white_and_black_are_as_the_reference() {
     let srgb = RgbSpace::Srgb.def();
     for rgb in [[0.2, 0.5, 0.9], [1.0, 1.0, 1.0], [0.0, 0.3, 0.0]] {
