@@ -119,9 +119,12 @@ impl PowerTable {
 
     /// [`PowerTable::code`] of every sample (`k0 + j` for sample j of
     /// `samples`, each clamped to [0, 1]) into `out`, `settled[j]` saying
-    /// whether sample j's code is the table's; without branches, so the
-    /// loop vectorises: the same arithmetic, each step taken for every
-    /// sample and its outcome chosen by a select.
+    /// whether sample j's code is settled: the table's, or exact — at and
+    /// below the knee (the line, in f32 as `srgb_encode_f32` computes it)
+    /// and at peak white, where `dithered8`'s value is known without a
+    /// power. Without branches, so the loop vectorises: the same
+    /// arithmetic, each step taken for every sample and its outcome
+    /// chosen by a select.
     #[inline(always)]
     fn codes(&self, samples: &[f32], k0: usize, out: &mut [u8], settled: &mut [bool]) {
         let n = samples.len();
@@ -130,6 +133,7 @@ impl PowerTable {
             Ok(codes) => codes,
             Err(_) => return settled.fill(false),
         };
+        let peak = f64::from(srgb_encode_f32(1.0) * 255.0);
         let last = TABLE_POINTS as i32 - 2;
         for j in 0..n {
             let linear = samples[j].clamp(0.0, 1.0);
@@ -140,19 +144,34 @@ impl PowerTable {
             let i = segment.clamp(0, last) as usize;
             let (a, b) = (codes[i], codes[i + 1]);
             let t = f64::from(bits & ((1 << SEGMENT_SHIFT) - 1)) / f64::from(1u32 << SEGMENT_SHIFT);
-            let v = a + (b - a) * t;
+            let below = linear <= SRGB_KNEE;
+            let white = linear >= 1.0;
+            let v = if below {
+                f64::from(srgb_line_f32(linear) * 255.0)
+            } else if white {
+                peak
+            } else {
+                a + (b - a) * t
+            };
             let x = v + dither(k0 + j);
-            // 9 < x < 256 where the code is taken: i32 holds it, and `as`
-            // truncates down as in `round_code`.
+            // −1 < x < 256: i32 holds it, and `as` truncates toward zero
+            // as in `round_code`.
             let whole = x as i32;
             let fraction = x - f64::from(whole);
             let up = (fraction >= 0.5) as i32;
-            out[j] = (whole + up).clamp(0, 255) as u8;
+            let rounded = (whole + up).clamp(0, 255) as u8;
+            // As `dithered8`: black and peak white exact.
+            out[j] = if v <= 0.0 {
+                0
+            } else if v >= 255.0 {
+                255
+            } else {
+                rounded
+            };
             // (`&`, not `&&`: no branches.)
-            settled[j] = (linear > SRGB_KNEE)
-                & in_table
-                & (v < 255.0 - MARGIN)
-                & ((fraction - 0.5).abs() > MARGIN);
+            settled[j] = below
+                | white
+                | (in_table & (v < 255.0 - MARGIN) & ((fraction - 0.5).abs() > MARGIN));
         }
     }
 
@@ -186,10 +205,16 @@ fn round_code(x: f64) -> u8 {
 /// street, 1920×1080), for under half the time of the f64 power.
 fn srgb_encode_f32(linear: f32) -> f32 {
     if linear <= SRGB_KNEE {
-        12.92 * linear
+        srgb_line_f32(linear)
     } else {
         1.055 * linear.powf(1.0 / 2.4) - 0.055
     }
+}
+
+/// The sRGB transfer function's linear part, at and below the knee.
+#[inline(always)]
+fn srgb_line_f32(linear: f32) -> f32 {
+    12.92 * linear
 }
 
 /// 16-bit sRGB (no dither needed at this depth).
@@ -307,6 +332,24 @@ mod tests {
         }
         // Few fall back to the power function (2 MARGIN of the samples).
         assert!(close < 400_000 / 100, "{close}");
+    }
+
+    #[test]
+    fn srgb8_codes_are_dithered8_of_the_f32_transfer_function() {
+        // The whole encoder, its wide loop included, against the
+        // definition, sample by sample: black, white, out of range, NaN,
+        // at and below the knee, and spread over the power branch.
+        let mut values = vec![0.0f32, -0.0, 1.0, -0.5, 1.5, f32::NAN, SRGB_KNEE, 1e-30];
+        values.extend((0..20_000).map(|i| i as f32 * 1.7e-7)); // below the knee
+        values.extend((0..40_000).map(|i| (i as f32 * 0.618_034).fract()));
+        values.extend((0..2_000).map(|i| 1.0 - i as f32 * 1e-7)); // near white
+        values.resize(values.len().next_multiple_of(3), 0.3);
+        let px: Vec<[f32; 3]> = values.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+        let codes = srgb8(&px);
+        for (k, (&v, &c)) in values.iter().zip(&codes).enumerate() {
+            let want = dithered8(srgb_encode_f32(v.clamp(0.0, 1.0)) * 255.0, k);
+            assert_eq!(c, want, "{v} at {k}");
+        }
     }
 
     #[test]
