@@ -114,8 +114,8 @@ impl<const F: usize, const CAP: usize> Queue<F, CAP> {
     }
 }
 
-/// The first clip's queue: X, Y, Z and R, G, B.
-type Front = Queue<6>;
+/// The first clip's queue: just where the pixels are.
+type Front = Queue<0>;
 /// The search's: lightness, chroma, the hue's cos and sin, and the first
 /// clip's Oklab.
 type Search = Queue<7, SEARCHES>;
@@ -195,9 +195,7 @@ impl<const N: usize> Run<'_, N> {
             // written out, and queued in the next free lane, which only
             // an out-of-gamut pixel takes.
             self.out[i] = rgb.map(|v| v as f32);
-            let [x, y, z] = xyz;
-            let [r, g, b] = rgb;
-            front.stage(i, [x, y, z, r, g, b]);
+            front.stage(i, []);
             front.len += usize::from(!in_gamut(rgb));
             if front.len == LANES {
                 self.front(&mut front, &mut search, &mut restore, &mut bisect);
@@ -241,13 +239,22 @@ impl<const N: usize> Run<'_, N> {
         restore: &mut Restore,
         bisect: &mut Bisect,
     ) {
-        front.pad();
-        let [x, y, z, r, g, b] = &front.v;
+        // The pixels' X, Y, Z (unused lanes repeat the first).
+        let mut xyz = [[0.0; LANES]; 3];
+        let first = front.index[0];
+        for (k, &i) in front.index.iter().enumerate() {
+            let p = self.pixels[if k < front.len { i } else { first }];
+            for (j, v) in xyz.iter_mut().enumerate() {
+                v[k] = f64::from(p[j]);
+            }
+        }
+        let m = &self.space.rgb_from_xyz.0;
         let mut lab = [[0.0; LANES]; 3];
         let mut origin = [[0.0; LANES]; 3];
         for k in 0..LANES {
-            let o = oklab(&M1.0, [x[k], y[k], z[k]]);
-            let c = oklab(&self.frame.lms_from_rgb, clip([r[k], g[k], b[k]]));
+            let xyz = get(&xyz, k);
+            let o = oklab(&M1.0, xyz);
+            let c = oklab(&self.frame.lms_from_rgb, clip(apply(m, xyz)));
             for j in 0..3 {
                 origin[j][k] = o[j];
                 lab[j][k] = c[j];
