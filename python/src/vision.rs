@@ -14,13 +14,14 @@ use scotopia_color::RgbSpace;
 use scotopia_image::{read_xyzv, ImageError, RgbInput};
 use scotopia_vision::acuity::{degrees_per_pixel, gaussian_blur, MAX_BLUR_SIGMA};
 use scotopia_vision::gamut::map_to_gamut;
-use scotopia_vision::glare::{apply_glare, GlareParams};
+use scotopia_vision::glare::{apply_glare, GlareParams, Reproduced};
 use scotopia_vision::mode::{image_statistics, Adaptation, VisualState};
 use scotopia_vision::multiscale::{multiscale as run_multiscale, GainAdaptation, MultiscaleParams};
 use scotopia_vision::night::night_shift as shift;
 use scotopia_vision::output::{
     compare_sheet, display_gamut, display_peak as peak, write_display, PngOptions,
 };
+use scotopia_vision::Observer;
 use scotopia_vision::{display as run_display, DisplayParams, ToneOperator};
 
 fn err(e: impl ToString) -> PyErr {
@@ -112,16 +113,21 @@ fn image_stats<'py>(py: Python<'py>, image: PyReadonlyArray3<f32>) -> PyResult<B
     Ok(d)
 }
 
-/// Glare (Spencer et al. 1995): the light above `threshold` (cd/m²) spread
-/// by the PSF for scotopic sensitivity `s`; returns the new image.
+/// Glare in absolute units (CIE 146:2002's glare spread function for an
+/// observer of `age` and `pigmentation`, Spencer et al. 1995's halo for
+/// scotopic sensitivity `s`): the light above `threshold` (cd/m²), or all
+/// of it when `threshold` is None (the retinal image), spread by the PSF;
+/// returns the new image.
 #[pyfunction]
-#[pyo3(signature = (image, degrees_per_pixel, threshold, s = 1.0))]
+#[pyo3(signature = (image, degrees_per_pixel, threshold = None, s = 1.0, age = 25.0, pigmentation = 0.5))]
 fn glare<'py>(
     py: Python<'py>,
     image: PyReadonlyArray3<f32>,
     degrees_per_pixel: f64,
-    threshold: f64,
+    threshold: Option<f64>,
     s: f64,
+    age: f64,
+    pigmentation: f64,
 ) -> PyResult<Bound<'py, PyArray3<f32>>> {
     let (w, h, mut px) = pixels::<4>(&image)?;
     if !(degrees_per_pixel.is_finite() && degrees_per_pixel > 0.0) {
@@ -130,36 +136,40 @@ fn glare<'py>(
         )));
     }
     finite_in("s", s, 0.0, 1.0)?;
-    if threshold.is_nan() {
+    if threshold.is_some_and(f64::is_nan) {
         return Err(err("threshold must be a number, got NaN"));
     }
+    let observer = Observer::new(age, pigmentation).map_err(|e| err(e.to_string()))?;
     let p = GlareParams {
         degrees_per_pixel,
         s,
-        threshold,
+        observer,
+        reproduced: threshold.map_or(Reproduced::Nothing, Reproduced::Below),
     };
     py.detach(|| apply_glare(&mut px, w, h, &p));
     array(py, w, h, px)
 }
 
 /// The multiscale model (Pattanaik et al. 1998): display X, Y, Z in cd/m²
-/// (H × W × 3). `adaptation` None: local, per scale; a number: one
-/// photopic adaptation luminance for the whole image. `mean_ceiling`: the
+/// (H × W × 3). `adaptation` None: local, pooled over the field around
+/// each pixel (`degrees_per_pixel` gives its size in pixels); a number:
+/// one photopic adaptation luminance for the whole image. `mean_ceiling`: the
 /// fraction of the peak the adaptation luminance is shown below
 /// (docs/vision.md, step 6; `math.inf` for the plain brightness match).
 #[pyfunction]
-#[pyo3(signature = (image, display_peak = 100.0, display_adaptation = None, adaptation = None, levels = 7, mean_ceiling = 0.25))]
+#[pyo3(signature = (image, display_peak = 100.0, display_adaptation = None, adaptation = None, degrees_per_pixel = 40.0 / 1024.0, mean_ceiling = 0.25))]
 fn multiscale<'py>(
     py: Python<'py>,
     image: PyReadonlyArray3<f32>,
     display_peak: f64,
     display_adaptation: Option<f64>,
     adaptation: Option<f64>,
-    levels: usize,
+    degrees_per_pixel: f64,
     mean_ceiling: f64,
 ) -> PyResult<Bound<'py, PyArray3<f32>>> {
     let (w, h, px) = pixels::<4>(&image)?;
     finite_in("display_peak", display_peak, f64::MIN_POSITIVE, f64::MAX)?;
+    finite_in("degrees_per_pixel", degrees_per_pixel, 1e-6, 180.0)?;
     for (name, v) in [
         ("display_adaptation", display_adaptation),
         ("adaptation", adaptation),
@@ -174,7 +184,7 @@ fn multiscale<'py>(
         )));
     }
     let p = MultiscaleParams {
-        levels,
+        degrees_per_pixel,
         display_peak,
         display_adaptation,
         adaptation: adaptation.map_or(GainAdaptation::Local, GainAdaptation::Global),

@@ -218,7 +218,7 @@ ENTRIES = {
     "vision.multiscale": (
         vision.multiscale,
         [IMAGE],
-        dict(display_peak=100.0, display_adaptation=None, adaptation=None, levels=7,
+        dict(display_peak=100.0, display_adaptation=None, adaptation=None, degrees_per_pixel=0.04,
              mean_ceiling=0.25),
         set(),
         set(),

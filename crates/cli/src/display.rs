@@ -311,9 +311,12 @@ fn info_text(shown: &Displayed, p: &DisplayParams) -> String {
     t += &format!(
         "glare         {}\n",
         if r.glare_applied {
-            "applied"
+            format!(
+                "veil {:.4e} cd/m² at the centre, {:.4e} cd/m² on average (CIE 146)",
+                r.veil_centre, r.veil_mean
+            )
         } else {
-            "none (nothing exceeds the display)"
+            "none (the display reproduces every light)".into()
         }
     );
     t += &format!("acuity blur   σ = {:.2} px\n", r.blur_pixels);
