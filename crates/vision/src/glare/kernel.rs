@@ -123,13 +123,18 @@ impl Sampled {
             psf.eval(theta).map(|v| v * omega)
         };
         let (qw, qh) = (pw / 2 + 1, ph / 2 + 1);
+        let averaged = averaged_radius(degrees_per_pixel, psf);
         let mut quadrant = vec![[0.0f64; 4]; qw * qh];
         quadrant
             .par_chunks_mut(qw)
             .enumerate()
             .for_each(|(dy, row)| {
                 for (dx, v) in row.iter_mut().enumerate() {
-                    *v = value(dx as f64, dy as f64);
+                    *v = if dx * dx + dy * dy <= averaged * averaged {
+                        area_average(&value, dx as f64, dy as f64)
+                    } else {
+                        value(dx as f64, dy as f64)
+                    };
                 }
             });
         let r = SUPERSAMPLED_RADIUS;
@@ -180,6 +185,37 @@ impl Sampled {
     }
 }
 
+/// Pixels (beyond the core) nearer the centre than this are averaged
+/// over their area, not sampled at their centre: where the halo's ring
+/// lies (it is 0.3° wide, narrower than a pixel of a wide image, so point
+/// samples alias it: the ring's light then depended on pixels per degree),
+/// and where 1/θ² bends fastest.
+fn averaged_radius(degrees_per_pixel: f64, psf: &Psf) -> usize {
+    let reach = if psf.halo > 0.0 { 8.0 } else { 1.0 };
+    (reach / degrees_per_pixel).ceil() as usize
+}
+
+/// Sub-samples per axis for [`area_average`].
+const AREA_SUBSAMPLES: usize = 4;
+
+/// The PSF averaged over pixel (dx, dy) on an AREA_SUBSAMPLES² grid.
+fn area_average(value: &impl Fn(f64, f64) -> [f64; 4], dx: f64, dy: f64) -> [f64; 4] {
+    let n = AREA_SUBSAMPLES as f64;
+    let mut sum = [0.0; 4];
+    for sy in 0..AREA_SUBSAMPLES {
+        for sx in 0..AREA_SUBSAMPLES {
+            let f = value(
+                dx + (sx as f64 + 0.5) / n - 0.5,
+                dy + (sy as f64 + 0.5) / n - 0.5,
+            );
+            for c in 0..4 {
+                sum[c] += f[c] / (n * n);
+            }
+        }
+    }
+    sum
+}
+
 /// The PSF averaged over pixel (dx, dy) on a SUBSAMPLES² grid: the core,
 /// where it changes too fast for one value per pixel.
 fn supersampled(psf: &impl Fn(f64, f64) -> [f64; 4], dx: i64, dy: i64) -> [f64; 4] {
@@ -220,10 +256,13 @@ mod tests {
                     .map(|v| v * omega)
             };
             let (k, _) = sample(pw, ph, 0.2, &psf);
+            let averaged = averaged_radius(0.2, &psf) as i64;
             for (i, v) in k.iter().enumerate().skip(1) {
                 let (dx, dy) = (signed(i % pw, pw), signed(i / pw, ph));
                 let want = if dx.abs() <= SUPERSAMPLED_RADIUS && dy.abs() <= SUPERSAMPLED_RADIUS {
                     supersampled(&value, dx, dy)
+                } else if dx * dx + dy * dy <= averaged * averaged {
+                    area_average(&value, dx.abs() as f64, dy.abs() as f64)
                 } else {
                     value(dx as f64, dy as f64)
                 };

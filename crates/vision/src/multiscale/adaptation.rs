@@ -44,6 +44,12 @@ pub struct Pooling {
     /// weight of equal luminance: a highlight covering less than about
     /// this share of its pooling field adapts to its darker surround.
     pub floor: f64,
+    /// How local the adaptation is: each pixel adapts to its pooled
+    /// surround to this power and to the whole image's adaptation to the
+    /// rest (in log luminance; Reinhard & Devlin 2005's "light
+    /// adaptation" mix of local and global). 1: fully local, every large
+    /// region shown near mid-grey whatever its luminance; 0: global.
+    pub local: f64,
 }
 
 impl Default for Pooling {
@@ -55,6 +61,7 @@ impl Default for Pooling {
                 darker: f[1],
                 brighter: f[2],
                 floor: f[3],
+                local: f[4],
             };
         }
         Self {
@@ -62,6 +69,7 @@ impl Default for Pooling {
             darker: 0.5,
             brighter: 0.15,
             floor: 0.1,
+            local: 0.5,
         }
     }
 }
@@ -233,12 +241,14 @@ impl Grid {
 
 /// The adaptation map of a `width` × `height` image whose pixel `i` has
 /// cone luminance `signals(i).0` (cd/m²) and rod signal `signals(i).1`
-/// (scotopic cd/m²), at `degrees_per_pixel`.
+/// (scotopic cd/m²), at `degrees_per_pixel`; `global` is the whole
+/// image's adaptation (cones, rods) that `pooling.local` mixes in.
 pub fn adaptation_map(
     width: usize,
     height: usize,
     degrees_per_pixel: f64,
     pooling: &Pooling,
+    global: (f32, f32),
     signals: impl Fn(usize) -> (f32, f32) + Sync,
 ) -> AdaptationMap {
     let n = width * height;
@@ -313,7 +323,9 @@ pub fn adaptation_map(
     grid.blur(1, nx);
     grid.blur(nx, ny);
     grid.pool_range(&kernel, pooling.floor as f32);
-    // Read back each pixel's means.
+    // Read back each pixel's means, mixed with the global level.
+    let l = pooling.local.clamp(0.0, 1.0) as f32;
+    let (gc, gr) = ((1.0 - l) * log(global.0), (1.0 - l) * log(global.1));
     let mut cones = vec![0.0f32; n];
     let mut rods = vec![0.0f32; n];
     cones
@@ -326,8 +338,8 @@ pub fn adaptation_map(
                 let (gx, gy, gz) = at(x, y, log(c));
                 let [sc, sr, w] = grid.read(gx, gy, gz);
                 // A pixel's own splat keeps w > 0.
-                cr[x] = wide_math::exp2((sc / w) as f64) as f32;
-                rr[x] = wide_math::exp2((sr / w) as f64) as f32;
+                cr[x] = wide_math::exp2((l * sc / w + gc) as f64) as f32;
+                rr[x] = wide_math::exp2((l * sr / w + gr) as f64) as f32;
             }
         });
     AdaptationMap { cones, rods }
@@ -338,7 +350,11 @@ mod tests {
     use super::*;
 
     fn map(w: usize, h: usize, dpp: f64, y: impl Fn(usize, usize) -> f32 + Sync) -> Vec<f32> {
-        adaptation_map(w, h, dpp, &Pooling::default(), |i| {
+        let pooling = Pooling {
+            local: 1.0,
+            ..Pooling::default()
+        };
+        adaptation_map(w, h, dpp, &pooling, (1.0, 1.0), |i| {
             let v = y(i % w, i / w);
             (v, 2.0 * v)
         })

@@ -305,10 +305,18 @@ impl<'a> Model<'a> {
             ),
             GainAdaptation::Local => {
                 let clean = |v: f32| if v.is_finite() { v.max(0.0) } else { 0.0 };
-                let map = adaptation_map(width, height, p.degrees_per_pixel, &p.pooling, |i| {
-                    let q = &pixels[i];
-                    (clean(q[1]), clean(q[3]))
-                });
+                let global = (dot(m.luminance, [wide[0], wide[1], wide[2]]), wide[3]);
+                let map = adaptation_map(
+                    width,
+                    height,
+                    p.degrees_per_pixel,
+                    &p.pooling,
+                    global,
+                    |i| {
+                        let q = &pixels[i];
+                        (clean(q[1]), clean(q[3]))
+                    },
+                );
                 (None, Some(map))
             }
         };

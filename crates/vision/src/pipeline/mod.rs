@@ -15,7 +15,9 @@ use crate::glare::{apply_glare, GlareParams, GlareReport, Reproduced};
 use crate::mode::{
     image_statistics, scotopic_sensitivity, Adaptation, ImageStatistics, VisualState,
 };
-use crate::multiscale::{adaptation_map, multiscale_in_place, GainAdaptation, MultiscaleParams};
+use crate::multiscale::{
+    adaptation_map, multiscale_in_place, GainAdaptation, MultiscaleParams, Pooling,
+};
 use crate::night::night_shift;
 use crate::observer::Observer;
 use crate::screen::{self, LeftOut};
@@ -450,11 +452,17 @@ fn local_sensitivity(
     p: &DisplayParams,
 ) -> Vec<f32> {
     let clean = |v: f32| if v.is_finite() { v.max(0.0) } else { 0.0 };
+    // Fully local: the night shift follows each region's own light.
+    let pooling = Pooling {
+        local: 1.0,
+        ..p.multiscale.pooling
+    };
     let map = adaptation_map(
         width,
         height,
         p.degrees_per_pixel,
-        &p.multiscale.pooling,
+        &pooling,
+        (1.0, 1.0),
         |i| (clean(pixels[i][1]), clean(pixels[i][3])),
     );
     map.cones
