@@ -242,15 +242,19 @@ fn the_seen_image_does_not_depend_on_pixels_per_degree() {
     // straddling an edge, or the halo's 0.16°-wide rim, averages its
     // parts before the pipeline's nonlinearities in one image and after
     // them in the other: the fine block's four values then differ by
-    // more than 5 %, or the coarse pixel's neighbours do). Within 2 % of
-    // the peak (5 8-bit codes in linear
-    // light) everywhere else.
+    // more than 5 %, or the coarse pixel's neighbours by 20 %). Within 2 %
+    // of the peak (5 8-bit codes in linear light) everywhere else.
+    // The lamp's edges on pixel edges of both images (86 coarse pixels
+    // of 60/256°), so both draw the same lamp: a lamp cut between pixels
+    // moves its centre by up to half a pixel, and its veil, steep as
+    // 1/θ³, by several per cent within 5°.
+    const LAMP_U: f64 = 86.0 * 60.0 / 256.0;
     for (name, field, lum) in LEVELS {
         let scene = |u: f64, v: f64| {
             if u > 45.0 {
                 white(field * 30.0)
             } else {
-                lamp_scene(field, lum, 20.0, 15.0)(u, v)
+                lamp_scene(field, lum, LAMP_U, 15.0)(u, v)
             }
         };
         let (a, da) = image(256, 128, scene);
@@ -263,8 +267,8 @@ fn the_seen_image_does_not_depend_on_pixels_per_degree() {
             for x in 0..256 {
                 let (u, v) = ((x as f64 + 0.5) * da, (y as f64 + 0.5) * da);
                 let near_edge = (u - 45.0).abs() < 2.0 * da
-                    || (((u - 20.0).abs() - 0.9375).abs() < 2.0 * da && (v - 15.0).abs() < 1.0)
-                    || (((v - 15.0).abs() - 0.9375).abs() < 2.0 * da && (u - 20.0).abs() < 1.0);
+                    || (((u - LAMP_U).abs() - 0.9375).abs() < 2.0 * da && (v - 15.0).abs() < 1.0)
+                    || (((v - 15.0).abs() - 0.9375).abs() < 2.0 * da && (u - LAMP_U).abs() < 1.0);
                 if near_edge {
                     continue;
                 }
@@ -283,7 +287,7 @@ fn the_seen_image_does_not_depend_on_pixels_per_degree() {
                     .map(|(i, j)| ya[j * 256 + i]);
                 let (clo, chi) =
                     around.fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
-                if hi > 1.05 * lo || chi > 1.05 * clo {
+                if hi > 1.05 * lo || chi > 1.2 * clo {
                     continue;
                 }
                 let fine = block.iter().sum::<f64>() / 4.0;
