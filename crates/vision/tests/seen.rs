@@ -208,7 +208,9 @@ fn the_veil_matches_cie_146_through_the_pipeline_at_both_ages() {
             let shown = display(&px, w, h, &p);
             let r = &shown.report;
             let la = r.state.luminance;
-            let excess = lum as f64 - la / 0.18;
+            // The lamp as the observer's retina receives it (an older
+            // lens passes less: `Observer::lens_factors`).
+            let excess = lum as f64 * observer.lens_factors()[1] - la / 0.18;
             let pixel = (dpp * std::f64::consts::PI / 180.0).powi(2);
             let halo = scotopia_vision::glare::psf::halo_weight(r.state.s);
             let gsf = GlareSpread::new(&observer);
@@ -219,6 +221,7 @@ fn the_veil_matches_cie_146_through_the_pipeline_at_both_ages() {
             for y in 0..h {
                 for x in 0..w {
                     if px[y * w + x][1] == lum {
+                        // (a lamp pixel)
                         let theta = (x as f64 + 0.5 - cu).hypot(y as f64 + 0.5 - cv) * dpp;
                         want += excess * pixel * gsf.general(theta) * (1.0 - halo);
                     }

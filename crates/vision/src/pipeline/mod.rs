@@ -216,6 +216,10 @@ fn run(
         clock = Instant::now();
     };
 
+    // 0. The observer's lens: an older eye lets less light, and least of
+    // the blue, reach the retina (identity for the default observer).
+    let pixels = through_lens(pixels, &p.observer);
+
     // 1. Visual mode, from the pixels that are finite and not absurd.
     let statistics = image_statistics(&pixels);
     // Where the left-out pixels are (usually nowhere), for stage 5.
@@ -326,6 +330,23 @@ fn run(
             timings,
         },
     }
+}
+
+/// `pixels` as the observer's retina receives them: each channel scaled
+/// by the lens's transmittance relative to the default observer's
+/// (`Observer::lens_factors`); borrowed unchanged when that is 1.
+fn through_lens<'a>(pixels: Cow<'a, [[f32; 4]]>, observer: &Observer) -> Cow<'a, [[f32; 4]]> {
+    let f = observer.lens_factors().map(|v| v as f32);
+    if f == [1.0; 4] {
+        return pixels;
+    }
+    let mut owned = pixels.into_owned();
+    owned.par_iter_mut().for_each(|q| {
+        for c in 0..4 {
+            q[c] *= f[c];
+        }
+    });
+    Cow::Owned(owned)
 }
 
 /// What a left-out pixel is replaced by in the spatial stages: the used
