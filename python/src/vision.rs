@@ -21,8 +21,7 @@ use scotopia_vision::night::night_shift as shift;
 use scotopia_vision::output::{
     compare_sheet, display_gamut, display_peak as peak, write_display, PngOptions,
 };
-use scotopia_vision::Observer;
-use scotopia_vision::{display as run_display, DisplayParams, ToneOperator};
+use scotopia_vision::{display as run_display, DisplayParams, Observer, ToneOperator};
 
 fn err(e: impl ToString) -> PyErr {
     PyValueError::new_err(e.to_string())
@@ -270,9 +269,10 @@ fn read_image<'py>(
 /// The whole pipeline (`scotopia display`) on an X, Y, Z, V′ array with
 /// horizontal field of view `fov` degrees. Returns (linear RGB H × W × 3 in
 /// [0, 1] of `gamut`, report dict). `output` writes .png/.exr; `compare` a
-/// sheet of the stages.
+/// sheet of the stages. `age` (years) and `pigmentation` (CIE 146's
+/// factor, 0 dark to 1 light blue eyes) describe the observer.
 #[pyfunction]
-#[pyo3(signature = (image, fov, display_peak = None, adaptation = "global", glare = true, night_shift = true, tonemap = "multiscale", gamut = None, hdr = false, bits = 8, output = None, compare = None))]
+#[pyo3(signature = (image, fov, display_peak = None, adaptation = "global", glare = true, night_shift = true, tonemap = "multiscale", gamut = None, hdr = false, bits = 8, output = None, compare = None, age = 25.0, pigmentation = 0.5))]
 #[allow(clippy::too_many_arguments)]
 fn display<'py>(
     py: Python<'py>,
@@ -288,6 +288,8 @@ fn display<'py>(
     bits: u8,
     output: Option<PathBuf>,
     compare: Option<PathBuf>,
+    age: f64,
+    pigmentation: f64,
 ) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
     let (w, h, px) = pixels::<4>(&image)?;
     let degrees_per_pixel = degrees_per_pixel(fov, w).map_err(|e| err(format!("fov {e}")))?;
@@ -305,6 +307,8 @@ fn display<'py>(
     })?;
     let gamut = display_gamut(gamut, hdr).map_err(err)?;
     let png = PngOptions::new(bits, hdr).map_err(err)?;
+    // "age -3: use years from 1 to 100": the message names the argument.
+    let observer = Observer::new(age, pigmentation).map_err(err)?;
     let p = DisplayParams {
         degrees_per_pixel,
         display_peak: peak(display_peak, hdr).map_err(err)?,
@@ -313,6 +317,7 @@ fn display<'py>(
         night_shift,
         tonemap,
         gamut,
+        observer,
         ..DisplayParams::default()
     };
     let shown = py.detach(|| match &compare {

@@ -1,5 +1,6 @@
 """The vision pipeline from Python: each stage's contract, the whole
 pipeline on the bundled night street at three light levels, and its files."""
+import inspect
 from pathlib import Path
 
 import numpy as np
@@ -168,3 +169,32 @@ def test_any_array_layout_reads_the_same():
     a, _ = scotopia.display(view, fov=30.0)
     b, _ = scotopia.display(np.ascontiguousarray(view), fov=30.0)
     assert np.array_equal(a, b)
+
+
+def test_the_observer_is_an_age_and_a_pigmentation():
+    img = grey(0.01)
+    img[16, 24] = [9.5e4, 1e5, 1.09e5, 2.4e5]
+    # The defaults: CIE 146's young observer (25 years) with brown eyes.
+    params = inspect.signature(scotopia.display).parameters
+    assert (params["age"].default, params["pigmentation"].default) == (25.0, 0.5)
+    plain, _ = scotopia.display(img, fov=30.0)
+    given, _ = scotopia.display(img, fov=30.0, age=25, pigmentation=0.5)
+    assert np.array_equal(plain, given)
+    # Accepted: any adult, any pigmentation from 0 to 1.
+    for age, pigmentation in [(70.0, 1.0), (20, 0), (1.0, 0.5), (100.0, 0.25)]:
+        rgb, _ = scotopia.display(img, fov=30.0, age=age, pigmentation=pigmentation)
+        assert rgb.shape == (32, 48, 3) and np.isfinite(rgb).all()
+    # Refused, with a ValueError naming the argument.
+    for kwargs, says in [
+        (dict(age=-3), "age -3"),
+        (dict(age=0.0), "age 0"),
+        (dict(age=float("nan")), "age NaN"),
+        (dict(age=1e300), "age"),
+        (dict(pigmentation=1.5), "pigmentation 1.5"),
+        (dict(pigmentation=-0.1), "pigmentation -0.1"),
+        (dict(pigmentation=float("inf")), "pigmentation"),
+    ]:
+        with pytest.raises(ValueError, match=says):
+            scotopia.display(img, fov=30.0, **kwargs)
+    with pytest.raises(TypeError, match="age"):
+        scotopia.display(img, fov=30.0, age="old")
