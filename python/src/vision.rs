@@ -341,6 +341,8 @@ fn display<'py>(
     d.set_item("m", r.state.m)?;
     d.set_item("mode", r.state.mode.name())?;
     d.set_item("glare_applied", r.glare_applied)?;
+    d.set_item("veil_adaptation", r.veil_adaptation)?;
+    d.set_item("veil_centre", r.veil_centre)?;
     d.set_item("blur_pixels", r.blur_pixels)?;
     // Pixels left out of the statistics (non-finite or absurd): a sentence,
     // or None; the Python wrapper issues it as a warning.

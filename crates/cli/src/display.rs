@@ -344,8 +344,12 @@ fn info_text(shown: &Displayed, p: &DisplayParams) -> String {
         "glare         {}\n",
         if r.glare_applied {
             format!(
-                "veil {:.4e} cd/m² at the centre, {:.4e} cd/m² on average (CIE 146)",
-                r.veil_centre, r.veil_mean
+                "veil {:.4e} cd/m² at the adaptation point (the log-average {:.4e} → {:.4e}), \
+                 {:.4e} cd/m² at the centre (CIE 146)",
+                r.veil_adaptation,
+                s.log_average,
+                s.log_average + r.veil_adaptation,
+                r.veil_centre
             )
         } else {
             "none (the display reproduces every light)".into()

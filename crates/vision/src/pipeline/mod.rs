@@ -13,7 +13,7 @@ use crate::acuity::{gaussian_blur, scotopic_blur_degrees};
 use crate::gamut::map_to_gamut;
 use crate::glare::{apply_glare, GlareParams, GlareReport, Reproduced};
 use crate::mode::{
-    image_statistics, scotopic_sensitivity, Adaptation, ImageStatistics, VisualState,
+    image_statistics, log_average, scotopic_sensitivity, Adaptation, ImageStatistics, VisualState,
 };
 use crate::multiscale::{
     adaptation_map, multiscale_in_place, GainAdaptation, MultiscaleParams, Pooling,
@@ -125,9 +125,11 @@ pub struct Report {
     pub state: VisualState,
     pub glare_applied: bool,
     /// The veiling luminance glare adds (cd/m², scene units) at the
-    /// image's centre (the line of sight) and on average.
+    /// adaptation point (how much it raises the image's log-average, the
+    /// global adaptation luminance) and at the image's centre (the line
+    /// of sight, where road lighting evaluates it).
+    pub veil_adaptation: f64,
     pub veil_centre: f64,
-    pub veil_mean: f64,
     /// The scotopic acuity blur's σ in pixels (0: none).
     pub blur_pixels: f64,
     /// Seconds per stage, in order.
@@ -273,6 +275,11 @@ fn run(
     } else {
         GlareReport::default()
     };
+    let veil_adaptation = if glare.applied {
+        (log_average(&scene) - statistics.log_average).max(0.0)
+    } else {
+        0.0
+    };
     observe(Stage::Glare, &|| xyz_at(&scene, exposure));
     lap("glare", &mut timings);
 
@@ -324,8 +331,8 @@ fn run(
             statistics,
             state,
             glare_applied: glare.applied,
+            veil_adaptation,
             veil_centre: glare.veil_centre,
-            veil_mean: glare.veil_mean,
             blur_pixels,
             timings,
         },
