@@ -24,6 +24,7 @@ use crate::multiscale::GainFunction;
 use crate::observer::Observer;
 use crate::pyramid::Bilinear;
 use crate::tonemap::reinhard_scale;
+use crate::wide_math;
 
 /// What the display reproduces of a scene luminance, in scene cd/m² at
 /// the image's adaptation point: the display's luminance for it over the
@@ -47,6 +48,52 @@ pub enum Reproduced {
 }
 
 impl Reproduced {
+    /// Each pixel's share that glares, (y − reproduced)/y (0 for no light
+    /// or a non-finite one), into `out`: the excess keeps the pixel's
+    /// colour, all four channels scaled alike. The multiscale model's
+    /// case runs wide (`wide_math::dispatch`): it is evaluated for every
+    /// pixel twice.
+    pub fn excess_factors(&self, row: &[[f32; 4]], out: &mut [f32]) {
+        let out = &mut out[..row.len()];
+        if let Reproduced::Gain {
+            cones,
+            la,
+            threshold,
+        } = *self
+        {
+            let (la, threshold) = (la as f32, threshold as f32);
+            let g_la = cones.gain(la);
+            wide_math::dispatch(
+                #[inline(always)]
+                || {
+                    for (o, px) in out.iter_mut().zip(row) {
+                        let y = px[1];
+                        let v = if y < threshold { y } else { threshold };
+                        let kept = v * (cones.gain_wide(v) / g_la);
+                        let f = (y - kept) / y;
+                        // Selects: at or below La, not finite, or no
+                        // light, nothing glares.
+                        *o = if y > la && y < f32::INFINITY && f > 0.0 {
+                            f
+                        } else {
+                            0.0
+                        };
+                    }
+                },
+            );
+            return;
+        }
+        for (o, px) in out.iter_mut().zip(row) {
+            let y = px[1] as f64;
+            *o = if y > 0.0 && y.is_finite() {
+                let kept = self.of(y);
+                ((y - kept) / y) as f32
+            } else {
+                0.0
+            };
+        }
+    }
+
     /// What is reproduced of luminance `y` (at most `y`).
     pub fn of(&self, y: f64) -> f64 {
         let r = match *self {
@@ -57,8 +104,14 @@ impl Reproduced {
                 la,
                 threshold,
             } => {
+                // At or below La the display shows a pixel at least as it
+                // is (the gain falls with luminance): nothing glares, and
+                // no power need be taken.
+                if y <= la {
+                    return y;
+                }
                 let v = y.min(threshold);
-                v * cones.gain(v as f32) as f64 / cones.gain(la as f32) as f64
+                v * (cones.gain_wide(v as f32) / cones.gain_wide(la as f32)) as f64
             }
             Reproduced::Reinhard { la, maximum } => {
                 y * reinhard_scale(y, la, maximum) / reinhard_scale(la, la, maximum)
@@ -110,20 +163,12 @@ pub fn apply_glare(
     // colour. The excess is recomputed from the pixel where needed rather
     // than stored: a full-size excess image is mostly zeros, and a fresh
     // process pays for each of its pages.
-    let excess = |px: &[f32; 4]| -> [f32; 4] {
-        let y = px[1] as f64;
-        if !(y > 0.0 && y.is_finite()) {
-            return [0.0; 4];
-        }
-        let kept = p.reproduced.of(y);
-        if kept < y {
-            let f = ((y - kept) / y) as f32;
-            px.map(|v| v * f)
-        } else {
-            [0.0; 4]
-        }
-    };
-    if pixels.par_iter().all(|px| excess(px)[1] == 0.0) {
+    let r = p.reproduced;
+    if !pixels.par_chunks(width.max(1)).any(|row| {
+        let mut f = vec![0.0f32; row.len()];
+        r.excess_factors(row, &mut f);
+        f.iter().any(|&v| v > 0.0)
+    }) {
         return GlareReport::default();
     }
     // The PSF beyond its central pixel is smooth, so on large images it is
@@ -139,11 +184,13 @@ pub fn apply_glare(
         .enumerate()
         .for_each(|(cy, cells)| {
             for y in cy * f..((cy + 1) * f).min(height) {
-                for (x, px) in pixels[y * width..(y + 1) * width].iter().enumerate() {
-                    let e = excess(px);
+                let row = &pixels[y * width..(y + 1) * width];
+                let mut factors = vec![0.0f32; width];
+                r.excess_factors(row, &mut factors);
+                for (x, (px, k)) in row.iter().zip(&factors).enumerate() {
                     let cell = &mut cells[x / f];
                     for c in 0..4 {
-                        cell[c] += e[c];
+                        cell[c] += px[c] * k;
                     }
                 }
             }
@@ -165,10 +212,17 @@ pub fn apply_glare(
         .par_chunks_mut(width)
         .enumerate()
         .map_init(
-            || (vec![0.0f32; width], vec![[0.0f32; 4]; width]),
-            |(row_glare, ex), (y, row)| {
-                for (px, e) in row.iter_mut().zip(ex.iter_mut()) {
-                    *e = excess(px);
+            || {
+                (
+                    vec![0.0f32; width],
+                    vec![[0.0f32; 4]; width],
+                    vec![0.0f32; width],
+                )
+            },
+            |(row_glare, ex, factors), (y, row)| {
+                r.excess_factors(row, factors);
+                for ((px, e), k) in row.iter_mut().zip(ex.iter_mut()).zip(factors.iter()) {
+                    *e = px.map(|v| v * k);
                     for c in 0..4 {
                         px[c] -= e[c];
                     }

@@ -20,7 +20,7 @@
 //!   that enters the eye lands somewhere. The core is a fraction of a
 //!   pixel wide at the usual fields of view, so its shape matters only for
 //!   the sampling; its share of the light (1 less the general equation's
-//!   integral: 0.72 at 25 years, 0.59 at 70) is the standard's.
+//!   integral: 0.72 at 25 years, 0.61 at 70) is the standard's.
 //! - The lenticular halo of Spencer, Shirley, Zimmerman & Greenberg 1995
 //!   ("Physically-Based Glare Effects for Digital Images", SIGGRAPH):
 //!   f3 = 436.9·(568/λ)·exp(−19.75·(θ − 3λ/568)²), a ring of radius

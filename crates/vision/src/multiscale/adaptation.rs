@@ -54,16 +54,6 @@ pub struct Pooling {
 
 impl Default for Pooling {
     fn default() -> Self {
-        if let Ok(v) = std::env::var("SCOTOPIA_POOL") {
-            let f: Vec<f64> = v.split(',').map(|x| x.parse().unwrap()).collect();
-            return Self {
-                degrees: f[0],
-                darker: f[1],
-                brighter: f[2],
-                floor: f[3],
-                local: f[4],
-            };
-        }
         Self {
             degrees: 0.5,
             darker: 0.5,
@@ -75,7 +65,7 @@ impl Default for Pooling {
 }
 
 /// The grid's range cell, decades: finer than the narrower kernel.
-const RANGE_CELL: f64 = 0.1;
+const RANGE_CELL: f64 = 0.125;
 
 /// Luminance below this (cd/m²) pools as this: the log of black is
 /// finite, and 10⁻⁶ cd/m² is below absolute threshold.
@@ -92,7 +82,6 @@ pub struct AdaptationMap {
 /// rod signal, and the weight.
 struct Grid {
     nx: usize,
-    ny: usize,
     nz: usize,
     cells: Vec<[f32; 3]>,
 }
@@ -104,15 +93,16 @@ impl Grid {
     fn new(nx: usize, ny: usize, nz: usize) -> Self {
         Self {
             nx,
-            ny,
             nz,
             cells: vec![[0.0; 3]; nx * ny * nz],
         }
     }
 
+    /// Cells are stored column by column: a column is every luminance
+    /// cell of one (x, y), so the range pooling reads contiguous memory.
     #[inline(always)]
     fn index(&self, x: usize, y: usize, z: usize) -> usize {
-        (z * self.ny + y) * self.nx + x
+        (y * self.nx + x) * self.nz + z
     }
 
     /// Adds `v` at continuous grid position (x, y, z), trilinearly.
@@ -120,18 +110,15 @@ impl Grid {
     fn splat(&mut self, x: f32, y: f32, z: f32, v: [f32; 3]) {
         let (ix, iy, iz) = (x as usize, y as usize, z as usize);
         let (fx, fy, fz) = (x - ix as f32, y - iy as f32, z - iz as f32);
-        for (dz, wz) in [(0, 1.0 - fz), (1, fz)] {
-            for (dy, wy) in [(0, 1.0 - fy), (1, fy)] {
-                let row = self.index(ix, iy + dy, iz + dz);
-                let w = wz * wy;
-                let (a, b) = (w * (1.0 - fx), w * fx);
-                let cell = &mut self.cells[row];
+        for (dy, wy) in [(0, 1.0 - fy), (1, fy)] {
+            for (dx, wx) in [(0, 1.0 - fx), (1, fx)] {
+                let at = self.index(ix + dx, iy + dy, iz);
+                let w = wy * wx;
+                let (a, b) = (w * (1.0 - fz), w * fz);
+                let pair = &mut self.cells[at..at + 2];
                 for c in 0..3 {
-                    cell[c] += a * v[c];
-                }
-                let cell = &mut self.cells[row + 1];
-                for c in 0..3 {
-                    cell[c] += b * v[c];
+                    pair[0][c] += a * v[c];
+                    pair[1][c] += b * v[c];
                 }
             }
         }
@@ -143,13 +130,13 @@ impl Grid {
         let (ix, iy, iz) = (x as usize, y as usize, z as usize);
         let (fx, fy, fz) = (x - ix as f32, y - iy as f32, z - iz as f32);
         let mut out = [0.0f32; 3];
-        for (dz, wz) in [(0, 1.0 - fz), (1, fz)] {
-            for (dy, wy) in [(0, 1.0 - fy), (1, fy)] {
-                let row = self.index(ix, iy + dy, iz + dz);
-                let w = wz * wy;
-                let (a, b) = (&self.cells[row], &self.cells[row + 1]);
+        for (dy, wy) in [(0, 1.0 - fy), (1, fy)] {
+            for (dx, wx) in [(0, 1.0 - fx), (1, fx)] {
+                let at = self.index(ix + dx, iy + dy, iz);
+                let w = wy * wx;
+                let pair = &self.cells[at..at + 2];
                 for c in 0..3 {
-                    out[c] += w * ((1.0 - fx) * a[c] + fx * b[c]);
+                    out[c] += w * ((1.0 - fz) * pair[0][c] + fz * pair[1][c]);
                 }
             }
         }
@@ -192,46 +179,35 @@ impl Grid {
 
     /// Pools along luminance: cell z gathers cell z + d with weight
     /// `kernel(d)` (d > 0: brighter), plus `floor` × every darker cell of
-    /// its column.
+    /// its column. Only cells that hold weight are computed: a pixel's
+    /// read touches only the cells its own splat (blurred in space)
+    /// reached, and a column of a typical image is mostly empty.
     fn pool_range(&mut self, kernel: &[f32], floor: f32) {
-        let plane = self.nx * self.ny;
+        let nz = self.nz;
         let reach = (kernel.len() / 2) as isize;
-        let nz = self.nz as isize;
         let src = std::mem::take(&mut self.cells);
-        // Each layer's sum of the layers darker than it, for the floor.
-        let mut below = vec![[0.0f32; 3]; src.len()];
-        for z in 1..self.nz {
-            let (done, rest) = below.split_at_mut(z * plane);
-            let prev = &done[(z - 1) * plane..];
-            let layer = &src[(z - 1) * plane..z * plane];
-            for ((b, p), v) in rest[..plane].iter_mut().zip(prev).zip(layer) {
-                for c in 0..3 {
-                    b[c] = p[c] + v[c];
-                }
-            }
-        }
         let mut out = vec![[0.0f32; 3]; src.len()];
-        out.par_chunks_mut(plane)
-            .enumerate()
-            .for_each(|(z, layer)| {
-                let z = z as isize;
-                for d in -reach..=reach {
-                    let t = z + d;
-                    if t < 0 || t >= nz {
-                        continue;
-                    }
-                    let w = kernel[(d + reach) as usize];
-                    let from = &src[t as usize * plane..(t as usize + 1) * plane];
-                    for (o, v) in layer.iter_mut().zip(from) {
-                        for c in 0..3 {
-                            o[c] += w * v[c];
+        out.par_chunks_mut(nz)
+            .zip(src.par_chunks(nz))
+            .for_each(|(o, column)| {
+                let mut darker = [0.0f32; 3];
+                for z in 0..nz {
+                    if column[z][2] > 0.0 {
+                        let mut sum = darker.map(|v| floor * v);
+                        for d in -reach..=reach {
+                            let t = z as isize + d;
+                            if t < 0 || t >= nz as isize {
+                                continue;
+                            }
+                            let w = kernel[(d + reach) as usize];
+                            for c in 0..3 {
+                                sum[c] += w * column[t as usize][c];
+                            }
                         }
+                        o[z] = sum;
                     }
-                }
-                let darker = &below[z as usize * plane..(z as usize + 1) * plane];
-                for (o, v) in layer.iter_mut().zip(darker) {
                     for c in 0..3 {
-                        o[c] += floor * v[c];
+                        darker[c] += column[z][c];
                     }
                 }
             });
@@ -253,24 +229,41 @@ pub fn adaptation_map(
 ) -> AdaptationMap {
     let n = width * height;
     let log = |v: f32| wide_math::log2(v.max(FLOOR_LUMINANCE)) as f32;
-    // The luminance range, for the grid's depth.
+    // The luminance range, for the grid's depth (comparisons only; the
+    // log of the two ends).
     let (lo, hi) = (0..n)
         .into_par_iter()
-        .map(|i| log(signals(i).0))
-        .fold(
-            || (f32::INFINITY, f32::NEG_INFINITY),
-            |(a, b), v| (a.min(v), b.max(v)),
-        )
+        .map(|i| signals(i).0.max(FLOOR_LUMINANCE))
+        .fold(|| (f32::INFINITY, 0.0f32), |(a, b), v| (a.min(v), b.max(v)))
         .reduce(
-            || (f32::INFINITY, f32::NEG_INFINITY),
+            || (f32::INFINITY, 0.0f32),
             |(a, b), (c, d)| (a.min(c), b.max(d)),
         );
-    if n == 0 || lo > hi {
+    if n == 0 || lo > hi || lo.is_nan() || !hi.is_finite() {
         return AdaptationMap {
             cones: Vec::new(),
             rods: Vec::new(),
         };
     }
+    let (lo, hi) = (log(lo), log(hi));
+    // Row `y`'s log₂ signals into `lc`, `lr`, computed wide.
+    let logs = |y: usize, lc: &mut [f32], lr: &mut [f32]| {
+        for (x, (c, r)) in lc.iter_mut().zip(lr.iter_mut()).enumerate() {
+            let (a, b) = signals(y * width + x);
+            *c = a;
+            *r = b;
+        }
+        wide_math::dispatch(
+            #[inline(always)]
+            || {
+                let lr = &mut lr[..lc.len()];
+                for x in 0..lc.len() {
+                    lc[x] = log(lc[x]);
+                    lr[x] = log(lr[x]);
+                }
+            },
+        );
+    };
     // Grid coordinates: pixels per cell (at least one), log₂ per cell.
     let cell = (pooling.degrees / degrees_per_pixel).max(1.0) as f32;
     let depth = (RANGE_CELL * std::f64::consts::LOG2_10) as f32;
@@ -300,28 +293,34 @@ pub fn adaptation_map(
         )
     };
     // Splat, a grid per task, then summed.
-    let rows_per_task = height.div_ceil(2 * rayon::current_num_threads()).max(1);
+    let rows_per_task = height.div_ceil(rayon::current_num_threads()).max(1);
     let mut grid = (0..height)
         .into_par_iter()
         .step_by(rows_per_task)
         .fold(
-            || Grid::new(nx, ny, nz),
-            |mut g, y0| {
+            || {
+                (
+                    Grid::new(nx, ny, nz),
+                    vec![0.0f32; width],
+                    vec![0.0f32; width],
+                )
+            },
+            |(mut g, mut lc, mut lr), y0| {
                 for y in y0..(y0 + rows_per_task).min(height) {
+                    logs(y, &mut lc, &mut lr);
                     for x in 0..width {
-                        let (c, r) = signals(y * width + x);
-                        let (lc, lr) = (log(c), log(r));
-                        let (gx, gy, gz) = at(x, y, lc);
-                        g.splat(gx, gy, gz, [lc, lr, 1.0]);
+                        let (gx, gy, gz) = at(x, y, lc[x]);
+                        g.splat(gx, gy, gz, [lc[x], lr[x], 1.0]);
                     }
                 }
-                g
+                (g, lc, lr)
             },
         )
+        .map(|(g, _, _)| g)
         .reduce(|| Grid::new(nx, ny, nz), Grid::add);
     // Blur in space, then pool in luminance.
-    grid.blur(1, nx);
-    grid.blur(nx, ny);
+    grid.blur(nz, nx);
+    grid.blur(nx * nz, ny);
     grid.pool_range(&kernel, pooling.floor as f32);
     // Read back each pixel's means, mixed with the global level.
     let l = pooling.local.clamp(0.0, 1.0) as f32;
@@ -332,16 +331,31 @@ pub fn adaptation_map(
         .par_chunks_mut(width)
         .zip(rods.par_chunks_mut(width))
         .enumerate()
-        .for_each(|(y, (cr, rr))| {
-            for x in 0..width {
-                let (c, _) = signals(y * width + x);
-                let (gx, gy, gz) = at(x, y, log(c));
-                let [sc, sr, w] = grid.read(gx, gy, gz);
-                // A pixel's own splat keeps w > 0.
-                cr[x] = wide_math::exp2((l * sc / w + gc) as f64) as f32;
-                rr[x] = wide_math::exp2((l * sr / w + gr) as f64) as f32;
-            }
-        });
+        .for_each_init(
+            || vec![0.0f32; width],
+            |lr, (y, (cr, rr))| {
+                // The row's logs (cones in `cr`), the grid's means at them,
+                // then back from log₂, wide.
+                logs(y, cr, lr);
+                for x in 0..width {
+                    let (gx, gy, gz) = at(x, y, cr[x]);
+                    let [sc, sr, w] = grid.read(gx, gy, gz);
+                    // A pixel's own splat keeps w > 0.
+                    cr[x] = l * sc / w + gc;
+                    rr[x] = l * sr / w + gr;
+                }
+                wide_math::dispatch(
+                    #[inline(always)]
+                    || {
+                        let rr = &mut rr[..cr.len()];
+                        for x in 0..cr.len() {
+                            cr[x] = wide_math::exp2(cr[x] as f64) as f32;
+                            rr[x] = wide_math::exp2(rr[x] as f64) as f32;
+                        }
+                    },
+                );
+            },
+        );
     AdaptationMap { cones, rods }
 }
 

@@ -67,6 +67,9 @@ pub struct MultiscaleParams {
     pub degrees_per_pixel: f64,
     /// How the eye pools light for its local adaptation.
     pub pooling: Pooling,
+    /// The image's log-average luminance when the caller has it already
+    /// (`None`: computed).
+    pub log_average: Option<f64>,
     pub cones: GainFunction,
     pub rods: GainFunction,
     /// The display's peak luminance, cd/m².
@@ -85,6 +88,7 @@ impl Default for MultiscaleParams {
         Self {
             degrees_per_pixel: 40.0 / 1024.0,
             pooling: Pooling::default(),
+            log_average: None,
             cones: GainFunction::CONES,
             rods: GainFunction::RODS,
             display_peak: 100.0,
@@ -288,7 +292,7 @@ impl<'a> Model<'a> {
         // The whole image's adaptation: stated, or its log-average.
         let la = match p.adaptation {
             GainAdaptation::Global(la) => la,
-            GainAdaptation::Local => log_average(pixels),
+            GainAdaptation::Local => p.log_average.unwrap_or_else(|| log_average(pixels)),
         };
         let wide = global_adaptation(pixels, &m, la);
         let wide_y = p.cones.gain(dot(m.luminance, [wide[0], wide[1], wide[2]]));

@@ -275,16 +275,27 @@ fn run(
     } else {
         GlareReport::default()
     };
-    let veil_adaptation = if glare.applied {
-        (log_average(&scene) - statistics.log_average).max(0.0)
+    // The retinal image's log-average: the multiscale model's global
+    // adaptation, and the veil at the adaptation point.
+    let retinal_log_average = if glare.applied {
+        log_average(&scene)
     } else {
-        0.0
+        statistics.log_average
     };
+    let veil_adaptation = (retinal_log_average - statistics.log_average).max(0.0);
     observe(Stage::Glare, &|| xyz_at(&scene, exposure));
     lap("glare", &mut timings);
 
     // 3. Adaptation: display-relative X, Y, Z and V′ on the same scale.
-    tone_map(&mut scene, width, height, p, la, &statistics);
+    tone_map(
+        &mut scene,
+        width,
+        height,
+        p,
+        la,
+        &statistics,
+        retinal_log_average,
+    );
     let mut shown = scene;
     observe(Stage::Adaptation, &|| xyz_of(&shown));
     lap("adaptation", &mut timings);
@@ -441,6 +452,7 @@ fn tone_map(
     p: &DisplayParams,
     la: f64,
     stats: &ImageStatistics,
+    retinal_log_average: f64,
 ) {
     let scale = |scene: &mut [[f32; 4]], k: &(dyn Fn(f64) -> f64 + Sync)| {
         scene.par_iter_mut().for_each(|q| {
@@ -464,7 +476,11 @@ fn tone_map(
             // rings where V′/Y changes (the halo's rings differ by
             // channel).
             let v_per_y = (1.0 / crate::night::V_TO_Y) as f32;
-            multiscale_in_place(scene, width, height, &multiscale_params(p), |_, d| {
+            let params = MultiscaleParams {
+                log_average: Some(retinal_log_average),
+                ..multiscale_params(p)
+            };
+            multiscale_in_place(scene, width, height, &params, |_, d| {
                 [d[0] / peak, d[1] / peak, d[2] / peak, d[1] * v_per_y / peak]
             });
         }
