@@ -51,7 +51,10 @@ fn info_names_the_mode_and_outputs_are_written() {
     ]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("mode          scotopic"), "{out}");
-    assert!(out.contains("glare         applied"), "{out}");
+    assert!(
+        out.contains("glare         veil") && out.contains("at the adaptation point"),
+        "{out}"
+    );
     let img = scotopia_image::read_rgb(&png).unwrap();
     assert_eq!((img.width, img.height), (64, 48));
     assert!(scotopia_image::read_rgb(&sheet).unwrap().width > 5 * 64);
