@@ -1,38 +1,18 @@
-//! Gamut mapping to a display's primaries by CSS Color 4's algorithm
-//! (W3C CSS Color Module Level 4, §13.2 "binary search gamut mapping with
-//! local MINDE"; ../shared/vision-equations.md §7): reduce chroma in OkLCh
-//! at constant lightness and hue until clipping the colour moves it less
-//! than a just-noticeable difference, then clip. Unlike clipping each
-//! channel, hue and lightness survive; colours already in gamut are
-//! returned unchanged.
-//!
-//! One step is scotopia's own: that final clip may turn the hue by several
-//! degrees (6° for Rec.2020 blue into sRGB, where Oklab's blue bends), so
-//! the clipped colour's lightness and chroma are put back on the original
-//! hue, its chroma lowered to the gamut boundary if that leaves it
-//! outside. The result stays within about one JND of CSS's (at most 0.023
-//! ΔEOK on the test colours) and keeps the hue exactly (docs/vision.md).
+//! The reference: CSS Color 4's binary search with local MINDE and
+//! scotopia's hue restoration exactly as specified (../../shared/
+//! vision-equations.md §7), through `scotopia_color`'s Oklab and libm's
+//! correctly rounded cube root. [`super::map_to_gamut`] gives its results
+//! faster; the tests hold the two together.
 
+use super::{clip, in_gamut, EPSILON, JND};
 use scotopia_color::space::{
     delta_e_ok, oklab_to_oklch, oklab_to_xyz, xyz_to_oklab, RgbColorSpace,
 };
 
-/// ΔEOK of a just-noticeable difference (CSS Color 4).
-pub const JND: f64 = 0.02;
-/// Chroma resolution of the search (CSS Color 4's ε).
-pub const EPSILON: f64 = 0.0001;
-
-fn in_gamut(rgb: [f64; 3]) -> bool {
-    rgb.iter().all(|&c| (0.0..=1.0).contains(&c))
-}
-
-fn clip(rgb: [f64; 3]) -> [f64; 3] {
-    rgb.map(|c| if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) })
-}
-
-/// Maps XYZ (relative: the display's white has Y = 1, D65) into `space`'s
-/// gamut, returning linear RGB in [0, 1].
-pub fn map_to_gamut(xyz: [f64; 3], space: &RgbColorSpace) -> [f64; 3] {
+/// [`super::map_to_gamut`] by the letter of the algorithm: XYZ (relative,
+/// the display's white at Y = 1, D65) into `space`'s gamut, as linear RGB
+/// in [0, 1].
+pub fn map_to_gamut_reference(xyz: [f64; 3], space: &RgbColorSpace) -> [f64; 3] {
     let rgb = space.xyz_to_rgb(xyz);
     if in_gamut(rgb) {
         return rgb;
@@ -64,7 +44,7 @@ fn oklab_at(l: f64, chroma: f64, (sin, cos): (f64, f64)) -> [f64; 3] {
 /// colour (`rgb` in `space`, `origin` in Oklab and `lch` in OkLCh,
 /// 0 < L < 1; `hue` the sine and cosine of its hue). Returns the result
 /// with its Oklab, which the search computed (restoring the hue needs it).
-fn css_color_4(
+pub(super) fn css_color_4(
     rgb: [f64; 3],
     origin: [f64; 3],
     lch: [f64; 3],
@@ -144,7 +124,7 @@ mod tests {
             [0.0, 0.3, 0.0],
             [0.7, 0.1, 0.4],
         ] {
-            let out = map_to_gamut(srgb.rgb_to_xyz(rgb), srgb);
+            let out = map_to_gamut_reference(srgb.rgb_to_xyz(rgb), srgb);
             for k in 0..3 {
                 assert!((out[k] - rgb[k]).abs() < 1e-12, "{rgb:?} → {out:?}");
             }
@@ -169,7 +149,7 @@ mod tests {
                 [0.3, 0.02, 0.05],
             ] {
                 let xyz = rec2020.rgb_to_xyz(rgb);
-                let out = map_to_gamut(xyz, space);
+                let out = map_to_gamut_reference(xyz, space);
                 assert!(out.iter().all(|c| (0.0..=1.0).contains(c)), "{out:?}");
                 let dh = (hue(space.rgb_to_xyz(out)) - hue(xyz) + 540.0).rem_euclid(360.0) - 180.0;
                 worst_hue = worst_hue.max(dh.abs());
@@ -197,7 +177,7 @@ mod tests {
     #[test]
     fn beyond_white_is_white_and_black_is_black() {
         let srgb = RgbSpace::Srgb.def();
-        assert_eq!(map_to_gamut([2.0, 2.1, 2.0], srgb), [1.0; 3]);
-        assert_eq!(map_to_gamut([0.0, 0.0, 0.0], srgb), [0.0; 3]);
+        assert_eq!(map_to_gamut_reference([2.0, 2.1, 2.0], srgb), [1.0; 3]);
+        assert_eq!(map_to_gamut_reference([0.0, 0.0, 0.0], srgb), [0.0; 3]);
     }
 }
