@@ -24,7 +24,8 @@ pub struct VisionArgs {
     #[arg(long, value_name = "CD")]
     display_peak: Option<f64>,
     /// What the eye adapts to: global (the log-average luminance), local
-    /// (per pixel, from a 1°-wide pyramid level), or a luminance in cd/m².
+    /// (per pixel, from the light pooled within about half a degree), or a
+    /// luminance in cd/m².
     #[arg(long, default_value = "global", value_name = "global|local|CD")]
     adaptation: String,
     /// Glare from light the display cannot show (Spencer et al. 1995).

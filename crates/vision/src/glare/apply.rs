@@ -22,7 +22,7 @@ use super::kernel::KernelSpectra;
 use super::psf::Psf;
 use crate::multiscale::GainFunction;
 use crate::observer::Observer;
-use crate::pyramid::Bilinear;
+use crate::resample::Bilinear;
 use crate::tonemap::reinhard_scale;
 use crate::wide_math;
 

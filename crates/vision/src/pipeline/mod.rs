@@ -148,7 +148,7 @@ pub struct Displayed {
 /// What the pipeline holds per pixel at its peak, bytes, an upper
 /// estimate: the input and its glare copy, the excess, the padded glare
 /// FFT grids (complex, up to 4× the pixels), the tone-mapped, shown and
-/// RGB images and the local-adaptation pyramid.
+/// RGB images and the local-adaptation grid.
 const PIPELINE_BYTES_PER_PIXEL: u64 = 256;
 
 /// Whether a `width` × `height` image fits the memory budget for the
