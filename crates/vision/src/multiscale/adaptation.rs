@@ -50,6 +50,10 @@ pub struct Pooling {
     /// adaptation" mix of local and global). 1: fully local, every large
     /// region shown near mid-grey whatever its luminance; 0: global.
     pub local: f64,
+    /// The same for the rods' adaptation (tried 0 to 1 on the night
+    /// street: every value leaves dusk brighter on average than day, see
+    /// docs/vision.md; ½ like the cones').
+    pub rods_local: f64,
 }
 
 impl Default for Pooling {
@@ -60,6 +64,7 @@ impl Default for Pooling {
             brighter: 0.15,
             floor: 0.1,
             local: 0.5,
+            rods_local: 0.5,
         }
     }
 }
@@ -324,7 +329,8 @@ pub fn adaptation_map(
     grid.pool_range(&kernel, pooling.floor as f32);
     // Read back each pixel's means, mixed with the global level.
     let l = pooling.local.clamp(0.0, 1.0) as f32;
-    let (gc, gr) = ((1.0 - l) * log(global.0), (1.0 - l) * log(global.1));
+    let l_rods = pooling.rods_local.clamp(0.0, 1.0) as f32;
+    let (gc, gr) = ((1.0 - l) * log(global.0), (1.0 - l_rods) * log(global.1));
     let mut cones = vec![0.0f32; n];
     let mut rods = vec![0.0f32; n];
     cones
@@ -342,7 +348,7 @@ pub fn adaptation_map(
                     let [sc, sr, w] = grid.read(gx, gy, gz);
                     // A pixel's own splat keeps w > 0.
                     cr[x] = l * sc / w + gc;
-                    rr[x] = l * sr / w + gr;
+                    rr[x] = l_rods * sr / w + gr;
                 }
                 wide_math::dispatch(
                     #[inline(always)]
