@@ -123,6 +123,8 @@ def display(
     compare=None,
     units=None,
     input_space="srgb",
+    age=25.0,
+    pigmentation=0.5,
 ):
     """What a person would see: the ``scotopia display`` pipeline.
 
@@ -135,6 +137,12 @@ def display(
     Non-finite pixels and pixels above 1e10 cd/m² are left out of the
     image statistics (shown black and at peak white) with a warning.
     ``output`` writes a .png or .exr, ``compare`` a sheet of the stages.
+    ``age`` (years, 1 to 100; default 25) and ``pigmentation`` (CIE
+    146:2002's factor: 0 very dark eyes, 0.5 brown, the default, 1 light
+    blue) describe the observer: the glare veil (CIE 146's glare spread
+    function) and the lens's density (Pokorny et al. 1987) follow them
+    (``--age`` and ``--pigmentation``). A value out of range raises
+    ValueError naming the argument.
     """
     import numpy as np
 
@@ -159,6 +167,8 @@ def display(
         bits,
         None if output is None else str(output),
         None if compare is None else str(compare),
+        age,
+        pigmentation,
     )
     if report.get("left_out"):
         warnings.warn(report["left_out"], stacklevel=2)
@@ -201,7 +211,8 @@ def view(path, *, port=None, open_browser=True, output=None, define=None, **opti
     vision pipeline's controls. ``options`` are the CLI's flags with ``_``
     for ``-``: render options (``spp=256``, ``time=60``, ``res="640"``,
     ``integrator="bdpt"``, …) and the page's starting display settings
-    (``scale=0.02``, ``adaptation="local"``, ``glare=False``, …);
+    (``scale=0.02``, ``adaptation="local"``, ``glare=False``, ``age=70``,
+    ``pigmentation=1``, …);
     ``define`` a dict of scene parameters (``-D``). Returns a ``Viewer``:
     ``.url``, ``.status()`` (the page's ``/status`` as a dict), ``.wait()``
     (until the render ends; the page stays up) and ``.stop()`` (ends the

@@ -31,20 +31,24 @@ def image_stats(image):
     return _s.image_stats(_f32(image))
 
 
-def glare(image, degrees_per_pixel, threshold, s=1.0):
-    """Spencer et al. 1995 glare of the light above ``threshold`` cd/m²."""
-    return _s.glare(_f32(image), degrees_per_pixel, threshold, s)
+def glare(image, degrees_per_pixel, threshold=None, s=1.0, age=25.0, pigmentation=0.5):
+    """Glare in absolute units: CIE 146:2002's glare spread function for an
+    observer of ``age`` years and eye ``pigmentation`` (0 dark, 0.5 brown, 1
+    light blue), with Spencer et al. 1995's halo at scotopic sensitivity
+    ``s``, of the light above ``threshold`` cd/m² (``None``: all of it, the
+    retinal image)."""
+    return _s.glare(_f32(image), degrees_per_pixel, threshold, s, age, pigmentation)
 
 
-def multiscale(image, display_peak=100.0, display_adaptation=None, adaptation=None, levels=7,
-               mean_ceiling=0.25):
+def multiscale(image, display_peak=100.0, display_adaptation=None, adaptation=None,
+               degrees_per_pixel=40.0 / 1024.0, mean_ceiling=0.25):
     """Pattanaik et al. 1998's model: display X, Y, Z in cd/m² (H × W × 3).
 
     ``mean_ceiling``: the image's adaptation luminance is shown below this
     fraction of ``display_peak`` (``math.inf``: the plain brightness match).
     """
-    return _s.multiscale(_f32(image), display_peak, display_adaptation, adaptation, levels,
-                         mean_ceiling)
+    return _s.multiscale(_f32(image), display_peak, display_adaptation, adaptation,
+                         degrees_per_pixel, mean_ceiling)
 
 
 def night_shift(image, s):

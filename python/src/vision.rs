@@ -14,14 +14,14 @@ use scotopia_color::RgbSpace;
 use scotopia_image::{read_xyzv, ImageError, RgbInput};
 use scotopia_vision::acuity::{degrees_per_pixel, gaussian_blur, MAX_BLUR_SIGMA};
 use scotopia_vision::gamut::map_to_gamut;
-use scotopia_vision::glare::{apply_glare, GlareParams};
+use scotopia_vision::glare::{apply_glare, GlareParams, Reproduced};
 use scotopia_vision::mode::{image_statistics, Adaptation, VisualState};
 use scotopia_vision::multiscale::{multiscale as run_multiscale, GainAdaptation, MultiscaleParams};
 use scotopia_vision::night::night_shift as shift;
 use scotopia_vision::output::{
     compare_sheet, display_gamut, display_peak as peak, write_display, PngOptions,
 };
-use scotopia_vision::{display as run_display, DisplayParams, ToneOperator};
+use scotopia_vision::{display as run_display, DisplayParams, Observer, ToneOperator};
 
 fn err(e: impl ToString) -> PyErr {
     PyValueError::new_err(e.to_string())
@@ -112,16 +112,21 @@ fn image_stats<'py>(py: Python<'py>, image: PyReadonlyArray3<f32>) -> PyResult<B
     Ok(d)
 }
 
-/// Glare (Spencer et al. 1995): the light above `threshold` (cd/m²) spread
-/// by the PSF for scotopic sensitivity `s`; returns the new image.
+/// Glare in absolute units (CIE 146:2002's glare spread function for an
+/// observer of `age` and `pigmentation`, Spencer et al. 1995's halo for
+/// scotopic sensitivity `s`): the light above `threshold` (cd/m²), or all
+/// of it when `threshold` is None (the retinal image), spread by the PSF;
+/// returns the new image.
 #[pyfunction]
-#[pyo3(signature = (image, degrees_per_pixel, threshold, s = 1.0))]
+#[pyo3(signature = (image, degrees_per_pixel, threshold = None, s = 1.0, age = 25.0, pigmentation = 0.5))]
 fn glare<'py>(
     py: Python<'py>,
     image: PyReadonlyArray3<f32>,
     degrees_per_pixel: f64,
-    threshold: f64,
+    threshold: Option<f64>,
     s: f64,
+    age: f64,
+    pigmentation: f64,
 ) -> PyResult<Bound<'py, PyArray3<f32>>> {
     let (w, h, mut px) = pixels::<4>(&image)?;
     if !(degrees_per_pixel.is_finite() && degrees_per_pixel > 0.0) {
@@ -130,36 +135,40 @@ fn glare<'py>(
         )));
     }
     finite_in("s", s, 0.0, 1.0)?;
-    if threshold.is_nan() {
+    if threshold.is_some_and(f64::is_nan) {
         return Err(err("threshold must be a number, got NaN"));
     }
+    let observer = Observer::new(age, pigmentation).map_err(|e| err(e.to_string()))?;
     let p = GlareParams {
         degrees_per_pixel,
         s,
-        threshold,
+        observer,
+        reproduced: threshold.map_or(Reproduced::Nothing, Reproduced::Below),
     };
     py.detach(|| apply_glare(&mut px, w, h, &p));
     array(py, w, h, px)
 }
 
 /// The multiscale model (Pattanaik et al. 1998): display X, Y, Z in cd/m²
-/// (H × W × 3). `adaptation` None: local, per scale; a number: one
-/// photopic adaptation luminance for the whole image. `mean_ceiling`: the
+/// (H × W × 3). `adaptation` None: local, pooled over the field around
+/// each pixel (`degrees_per_pixel` gives its size in pixels); a number:
+/// one photopic adaptation luminance for the whole image. `mean_ceiling`: the
 /// fraction of the peak the adaptation luminance is shown below
 /// (docs/vision.md, step 6; `math.inf` for the plain brightness match).
 #[pyfunction]
-#[pyo3(signature = (image, display_peak = 100.0, display_adaptation = None, adaptation = None, levels = 7, mean_ceiling = 0.25))]
+#[pyo3(signature = (image, display_peak = 100.0, display_adaptation = None, adaptation = None, degrees_per_pixel = 40.0 / 1024.0, mean_ceiling = 0.25))]
 fn multiscale<'py>(
     py: Python<'py>,
     image: PyReadonlyArray3<f32>,
     display_peak: f64,
     display_adaptation: Option<f64>,
     adaptation: Option<f64>,
-    levels: usize,
+    degrees_per_pixel: f64,
     mean_ceiling: f64,
 ) -> PyResult<Bound<'py, PyArray3<f32>>> {
     let (w, h, px) = pixels::<4>(&image)?;
     finite_in("display_peak", display_peak, f64::MIN_POSITIVE, f64::MAX)?;
+    finite_in("degrees_per_pixel", degrees_per_pixel, 1e-6, 180.0)?;
     for (name, v) in [
         ("display_adaptation", display_adaptation),
         ("adaptation", adaptation),
@@ -174,7 +183,7 @@ fn multiscale<'py>(
         )));
     }
     let p = MultiscaleParams {
-        levels,
+        degrees_per_pixel,
         display_peak,
         display_adaptation,
         adaptation: adaptation.map_or(GainAdaptation::Local, GainAdaptation::Global),
@@ -260,9 +269,10 @@ fn read_image<'py>(
 /// The whole pipeline (`scotopia display`) on an X, Y, Z, V′ array with
 /// horizontal field of view `fov` degrees. Returns (linear RGB H × W × 3 in
 /// [0, 1] of `gamut`, report dict). `output` writes .png/.exr; `compare` a
-/// sheet of the stages.
+/// sheet of the stages. `age` (years) and `pigmentation` (CIE 146's
+/// factor, 0 dark to 1 light blue eyes) describe the observer.
 #[pyfunction]
-#[pyo3(signature = (image, fov, display_peak = None, adaptation = "global", glare = true, night_shift = true, tonemap = "multiscale", gamut = None, hdr = false, bits = 8, output = None, compare = None))]
+#[pyo3(signature = (image, fov, display_peak = None, adaptation = "global", glare = true, night_shift = true, tonemap = "multiscale", gamut = None, hdr = false, bits = 8, output = None, compare = None, age = 25.0, pigmentation = 0.5))]
 #[allow(clippy::too_many_arguments)]
 fn display<'py>(
     py: Python<'py>,
@@ -278,6 +288,8 @@ fn display<'py>(
     bits: u8,
     output: Option<PathBuf>,
     compare: Option<PathBuf>,
+    age: f64,
+    pigmentation: f64,
 ) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
     let (w, h, px) = pixels::<4>(&image)?;
     let degrees_per_pixel = degrees_per_pixel(fov, w).map_err(|e| err(format!("fov {e}")))?;
@@ -295,6 +307,8 @@ fn display<'py>(
     })?;
     let gamut = display_gamut(gamut, hdr).map_err(err)?;
     let png = PngOptions::new(bits, hdr).map_err(err)?;
+    // "age -3: use years from 1 to 100": the message names the argument.
+    let observer = Observer::new(age, pigmentation).map_err(err)?;
     let p = DisplayParams {
         degrees_per_pixel,
         display_peak: peak(display_peak, hdr).map_err(err)?,
@@ -303,6 +317,7 @@ fn display<'py>(
         night_shift,
         tonemap,
         gamut,
+        observer,
         ..DisplayParams::default()
     };
     let shown = py.detach(|| match &compare {
@@ -326,6 +341,8 @@ fn display<'py>(
     d.set_item("m", r.state.m)?;
     d.set_item("mode", r.state.mode.name())?;
     d.set_item("glare_applied", r.glare_applied)?;
+    d.set_item("veil_adaptation", r.veil_adaptation)?;
+    d.set_item("veil_centre", r.veil_centre)?;
     d.set_item("blur_pixels", r.blur_pixels)?;
     // Pixels left out of the statistics (non-finite or absurd): a sentence,
     // or None; the Python wrapper issues it as a warning.

@@ -20,7 +20,8 @@ def get(url):
 def test_a_render_is_seen_then_stopped_and_its_film_kept(tmp_path):
     out = tmp_path / "box.exr"
     v = scotopia.view(CORNELL, port=0, open_browser=False, output=out, define={"res": 16},
-                      spp=32, scale=0.5, adaptation="local", glare=False)
+                      spp=32, scale=0.5, adaptation="local", glare=False, age=70,
+                      pigmentation=1)
     assert v.url.startswith("http://127.0.0.1:")
     v.wait()
     s = v.status()
@@ -29,6 +30,7 @@ def test_a_render_is_seen_then_stopped_and_its_film_kept(tmp_path):
     assert s["settings"]["scale"] == "0.5"
     assert s["settings"]["adaptation"] == "local"
     assert s["settings"]["glare"] == "off"
+    assert (s["settings"]["age"], s["settings"]["pigmentation"]) == ("70", "1")
     status, headers, body = get(v.url + "image.png?scale=2")
     assert status == 200 and headers["Content-Type"] == "image/png"
     assert body[:8] == b"\x89PNG\r\n\x1a\n"
@@ -58,6 +60,10 @@ def test_bad_arguments_are_value_errors(tmp_path, monkeypatch):
         scotopia.view(CORNELL, port=0, open_browser=False, scale=0)
     with pytest.raises(ValueError, match="--adaptation sideways"):
         scotopia.view(CORNELL, port=0, open_browser=False, adaptation="sideways")
+    with pytest.raises(ValueError, match="--age.*age -3: use years"):
+        scotopia.view(CORNELL, port=0, open_browser=False, age=-3)
+    with pytest.raises(ValueError, match="--pigmentation.*pigmentation 2"):
+        scotopia.view(CORNELL, port=0, open_browser=False, pigmentation=2)
     with pytest.raises(ValueError, match="unexpected argument '--colour'"):
         scotopia.view(CORNELL, port=0, open_browser=False, colour="blue")
     with pytest.raises(ValueError, match="nope.xml"):

@@ -1,5 +1,6 @@
 """The vision pipeline from Python: each stage's contract, the whole
 pipeline on the bundled night street at three light levels, and its files."""
+import inspect
 from pathlib import Path
 
 import numpy as np
@@ -100,13 +101,20 @@ def test_night_street_fades_as_light_falls(street):
     Every light in the scene (sky, moon, lamps) scaled by one factor scales
     the rendered radiance by that factor exactly (light transport is
     linear), so the render is scaled instead of rendered three times.
-    Thresholds, from measurements with margin: mean display luminance and
-    mean OkLCh chroma fall at each step; at moonlight the image is still
-    readable — mean display luminance above 2 % of peak and more than 45 %
-    of the pixels above 1 % of peak (measured 0.494 at this fixture's 4
-    spp, 0.503 at 8 and 0.510 at 32 since next-event estimation chooses
-    lights by distance as well as power: the same image in expectation,
-    differently spread noise in the moonlit parts)."""
+    What must hold: colour fades from daylight to dusk and to moonlight
+    (mean OkLCh chroma falls), moonlight is darker than both, and at
+    moonlight the image is still readable — mean display luminance above
+    2 % of peak and more than 45 % of the pixels above 1 % of peak.
+
+    Not asserted: that dusk is darker on average than daylight. The model
+    shows daylight's adaptation luminance at most at a quarter of the peak
+    (the display's limit, docs/vision.md §3 step 6) while at dusk the rods'
+    response adds to the cones' in the achromatic channel, so the dusk
+    picture's mean display luminance is above daylight's: 0.43 against
+    0.34 here since issue 37's local adaptation, and already 0.199 against
+    0.187 before it on a 48-spp 640 × 360 render of this scene (this 4-spp
+    fixture happened to order them). docs/vision.md records it as an open
+    question of the model."""
     img, fov = street
     log_avg = vision.image_stats(img)["log_average"]
     rows = []
@@ -117,9 +125,9 @@ def test_night_street_fades_as_light_falls(street):
         rows.append((report["mode"], xyz[..., 1].mean(), lch[..., 1].mean(), (xyz[..., 1] > 0.01).mean()))
     modes = [r[0] for r in rows]
     assert modes == ["photopic", "mesopic", "scotopic"], rows
-    for (_, y0, c0, _), (_, y1, c1, _) in zip(rows, rows[1:]):
-        assert y1 < y0 and c1 < c0, rows
-    _, y_moon, _, lit = rows[-1]
+    (_, y_day, c_day, _), (_, y_dusk, c_dusk, _), (_, y_moon, c_moon, lit) = rows
+    assert c_dusk < c_day and c_moon < c_day, rows
+    assert y_moon < y_dusk and y_moon < y_day, rows
     assert y_moon > 0.02 and lit > 0.45, rows
 
 
@@ -168,3 +176,32 @@ def test_any_array_layout_reads_the_same():
     a, _ = scotopia.display(view, fov=30.0)
     b, _ = scotopia.display(np.ascontiguousarray(view), fov=30.0)
     assert np.array_equal(a, b)
+
+
+def test_the_observer_is_an_age_and_a_pigmentation():
+    img = grey(0.01)
+    img[16, 24] = [9.5e4, 1e5, 1.09e5, 2.4e5]
+    # The defaults: CIE 146's young observer (25 years) with brown eyes.
+    params = inspect.signature(scotopia.display).parameters
+    assert (params["age"].default, params["pigmentation"].default) == (25.0, 0.5)
+    plain, _ = scotopia.display(img, fov=30.0)
+    given, _ = scotopia.display(img, fov=30.0, age=25, pigmentation=0.5)
+    assert np.array_equal(plain, given)
+    # Accepted: any adult, any pigmentation from 0 to 1.
+    for age, pigmentation in [(70.0, 1.0), (20, 0), (1.0, 0.5), (100.0, 0.25)]:
+        rgb, _ = scotopia.display(img, fov=30.0, age=age, pigmentation=pigmentation)
+        assert rgb.shape == (32, 48, 3) and np.isfinite(rgb).all()
+    # Refused, with a ValueError naming the argument.
+    for kwargs, says in [
+        (dict(age=-3), "age -3"),
+        (dict(age=0.0), "age 0"),
+        (dict(age=float("nan")), "age NaN"),
+        (dict(age=1e300), "age"),
+        (dict(pigmentation=1.5), "pigmentation 1.5"),
+        (dict(pigmentation=-0.1), "pigmentation -0.1"),
+        (dict(pigmentation=float("inf")), "pigmentation"),
+    ]:
+        with pytest.raises(ValueError, match=says):
+            scotopia.display(img, fov=30.0, **kwargs)
+    with pytest.raises(TypeError, match="age"):
+        scotopia.display(img, fov=30.0, age="old")

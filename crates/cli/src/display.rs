@@ -12,7 +12,7 @@ use scotopia_vision::mode::Adaptation;
 use scotopia_vision::output::{
     compare_sheet, display_gamut, display_peak, write_display, PngOptions,
 };
-use scotopia_vision::{display_owned, DisplayParams, Displayed, ToneOperator};
+use scotopia_vision::{display_owned, DisplayParams, Displayed, Observer, ToneOperator};
 
 /// The pipeline's switches, shared by `display` and `render --display`.
 #[derive(clap::Args, Clone, Debug)]
@@ -24,7 +24,8 @@ pub struct VisionArgs {
     #[arg(long, value_name = "CD")]
     display_peak: Option<f64>,
     /// What the eye adapts to: global (the log-average luminance), local
-    /// (per pixel, from a 1°-wide pyramid level), or a luminance in cd/m².
+    /// (per pixel, from the light pooled within about half a degree), or a
+    /// luminance in cd/m².
     #[arg(long, default_value = "global", value_name = "global|local|CD")]
     adaptation: String,
     /// Glare from light the display cannot show (Spencer et al. 1995).
@@ -50,6 +51,28 @@ pub struct VisionArgs {
     /// Bits per PNG sample: 8 (dithered) or 16.
     #[arg(long, default_value_t = 8, value_name = "8|16")]
     bits: u8,
+    /// The observer's age in years (1 to 100): it sets the glare veil
+    /// (CIE 146:2002's glare spread function) and the density of the
+    /// eye's lens, which yellows with age (Pokorny et al. 1987).
+    #[arg(
+        long,
+        default_value_t = Observer::DEFAULT_AGE,
+        value_name = "YEARS",
+        value_parser = crate::numbers::age,
+        allow_negative_numbers = true
+    )]
+    age: f64,
+    /// The observer's eye pigmentation, CIE 146:2002's factor from 0
+    /// (very dark eyes) through 0.5 (brown) to 1 (light blue): paler eyes
+    /// let more light through the eye wall, so the glare veil grows.
+    #[arg(
+        long,
+        default_value_t = Observer::DEFAULT_PIGMENTATION,
+        value_name = "P",
+        value_parser = crate::numbers::pigmentation,
+        allow_negative_numbers = true
+    )]
+    pigmentation: f64,
 }
 
 pub(crate) fn on_off(name: &str, value: &str) -> Result<bool> {
@@ -72,6 +95,8 @@ impl VisionArgs {
             ("tonemap", self.tonemap.clone()),
             ("hdr", if self.hdr { "on" } else { "off" }.into()),
             ("bits", self.bits.to_string()),
+            ("age", self.age.to_string()),
+            ("pigmentation", self.pigmentation.to_string()),
         ];
         if let Some(f) = self.fov {
             p.push(("fov", f.to_string()));
@@ -121,6 +146,9 @@ impl VisionArgs {
         })?;
         let gamut = display_gamut(self.gamut.as_deref(), self.hdr).map_err(flag)?;
         let png = PngOptions::new(self.bits, self.hdr).map_err(flag)?;
+        // Checked by the flags' parsers already; `--age 0: use years …`.
+        let observer =
+            Observer::new(self.age, self.pigmentation).map_err(|e| flag(e.to_string()))?;
         let params = DisplayParams {
             degrees_per_pixel,
             display_peak: peak,
@@ -129,6 +157,7 @@ impl VisionArgs {
             night_shift: on_off("night-shift", &self.night_shift)?,
             tonemap,
             gamut,
+            observer,
             ..DisplayParams::default()
         };
         Ok((params, png, notes))
@@ -309,11 +338,22 @@ fn info_text(shown: &Displayed, p: &DisplayParams) -> String {
     );
     t += &format!("mode          {}\n", r.state.mode.name());
     t += &format!(
+        "observer      {} years, pigmentation {} (CIE 146)\n",
+        p.observer.age, p.observer.pigmentation
+    );
+    t += &format!(
         "glare         {}\n",
         if r.glare_applied {
-            "applied"
+            format!(
+                "veil {:.4e} cd/m² at the adaptation point (the log-average {:.4e} → {:.4e}), \
+                 {:.4e} cd/m² at the centre (CIE 146)",
+                r.veil_adaptation,
+                s.log_average,
+                s.log_average + r.veil_adaptation,
+                r.veil_centre
+            )
         } else {
-            "none (nothing exceeds the display)"
+            "none (the display reproduces every light)".into()
         }
     );
     t += &format!("acuity blur   σ = {:.2} px\n", r.blur_pixels);

@@ -3,6 +3,8 @@
 
 use std::time::Duration;
 
+use scotopia_vision::Observer;
+
 /// The most worker threads `--threads` accepts.
 pub const MAX_THREADS: usize = 4096;
 
@@ -38,6 +40,28 @@ pub fn fov(text: &str) -> Result<f64, String> {
     }
 }
 
+/// `--age`: years, as `scotopia_vision::Observer::new` accepts them.
+pub fn age(text: &str) -> Result<f64, String> {
+    let v: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{text}' is not a number of years"))?;
+    Observer::new(v, Observer::DEFAULT_PIGMENTATION)
+        .map(|o| o.age)
+        .map_err(|e| e.to_string())
+}
+
+/// `--pigmentation`: CIE 146's factor, as `Observer::new` accepts it.
+pub fn pigmentation(text: &str) -> Result<f64, String> {
+    let v: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{text}' is not a number from 0 to 1"))?;
+    Observer::new(Observer::DEFAULT_AGE, v)
+        .map(|o| o.pigmentation)
+        .map_err(|e| e.to_string())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -55,6 +79,14 @@ mod tests {
         assert_eq!(fov("40"), Ok(40.0));
         for bad in ["0", "360", "1e300", "NaN", "-5"] {
             assert!(fov(bad).is_err(), "{bad}");
+        }
+        assert_eq!(age("70"), Ok(70.0));
+        assert_eq!(pigmentation("1"), Ok(1.0));
+        for bad in ["0", "-3", "1e300", "NaN", "inf", "old"] {
+            assert!(age(bad).is_err(), "{bad}");
+        }
+        for bad in ["-0.1", "1.5", "NaN", "blue"] {
+            assert!(pigmentation(bad).is_err(), "{bad}");
         }
     }
 }

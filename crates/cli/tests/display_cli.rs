@@ -51,7 +51,10 @@ fn info_names_the_mode_and_outputs_are_written() {
     ]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("mode          scotopic"), "{out}");
-    assert!(out.contains("glare         applied"), "{out}");
+    assert!(
+        out.contains("glare         veil") && out.contains("at the adaptation point"),
+        "{out}"
+    );
     let img = scotopia_image::read_rgb(&png).unwrap();
     assert_eq!((img.width, img.height), (64, 48));
     assert!(scotopia_image::read_rgb(&sheet).unwrap().width > 5 * 64);
@@ -137,6 +140,80 @@ fn render_display_runs_the_pipeline_after_rendering() {
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("displayed"), "{err}");
     assert_eq!(scotopia_image::read_rgb(&png).unwrap().width, 16);
+}
+
+#[test]
+fn the_observer_is_given_by_age_and_pigmentation_and_shown_by_info() {
+    let dir = out_dir("observer");
+    let exr = night_exr(&dir, 0.002);
+    let e = exr.to_str().unwrap();
+    // The defaults: CIE 146's young observer with brown eyes.
+    let (code, out, err) = scotopia(&["display", e, "--info"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("observer      25 years, pigmentation 0.5 (CIE 146)"),
+        "{out}"
+    );
+    let (code, out, err) =
+        scotopia(&["display", e, "--info", "--age", "70", "--pigmentation", "1"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("observer      70 years, pigmentation 1 (CIE 146)"),
+        "{out}"
+    );
+    // Out of range or not a number: usage errors (exit code 2) naming the
+    // flag, with the observer's own reason.
+    for (args, flag, reason) in [
+        (vec!["--age", "-3"], "--age", "use years from 1 to 100"),
+        (vec!["--age=0"], "--age", "use years from 1 to 100"),
+        (vec!["--age", "NaN"], "--age", "use years"),
+        (vec!["--age", "old"], "--age", "not a number of years"),
+        (
+            vec!["--pigmentation", "1.5"],
+            "--pigmentation",
+            "from 0 (dark eyes) to 1",
+        ),
+        (
+            vec!["--pigmentation=-0.5"],
+            "--pigmentation",
+            "from 0 (dark eyes) to 1",
+        ),
+    ] {
+        let mut argv = vec!["display", e, "--info"];
+        argv.extend(&args);
+        let (code, _, err) = scotopia(&argv);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(
+            err.contains(flag) && err.contains(reason),
+            "{args:?}: {err}"
+        );
+    }
+    // `render --display` takes them too, checked before rendering.
+    let scene = common::scenes().join("cornell-box.xml");
+    let (code, _, err) = scotopia(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        dir.join("c.exr").to_str().unwrap(),
+        "--display",
+        dir.join("c.png").to_str().unwrap(),
+        "--age",
+        "200",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--age") && err.contains("age 200"), "{err}");
+    // And the help says what they change and their defaults.
+    let (_, help, _) = scotopia(&["display", "--help"]);
+    for says in [
+        "--age <YEARS>",
+        "CIE 146:2002",
+        "Pokorny",
+        "[default: 25]",
+        "--pigmentation <P>",
+        "[default: 0.5]",
+    ] {
+        assert!(help.contains(says), "{says}: {help}");
+    }
 }
 
 #[test]

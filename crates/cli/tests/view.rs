@@ -199,8 +199,17 @@ fn the_picture_follows_the_settings_and_bad_settings_are_errors() {
     assert_eq!(code, 200);
     assert!(head.contains("x-scotopia-legend"), "{head}");
 
+    // The observer: an older eye is accepted, and kept as the setting.
+    let (code, _, _) = v.request("GET", "/image.png?age=70&pigmentation=1");
+    assert_eq!(code, 200);
+    assert_eq!(v.status()["settings"]["age"], "70");
+    assert_eq!(v.status()["settings"]["pigmentation"], "1");
+
     for (query, says) in [
         ("adaptation=sideways", "--adaptation sideways"),
+        ("age=-3", "--age"),
+        ("age=old", "--age"),
+        ("pigmentation=1.5", "--pigmentation"),
         ("colour=blue", "unknown setting 'colour'"),
         ("scale=-2", "--scale -2"),
         ("scale=abc", "--scale"),

@@ -21,8 +21,14 @@ fn write(dir: &Path, name: &str, w: usize, h: usize, fov: f32, px: &[[f32; 4]]) 
         .map(|(c, n)| (n.to_string(), px.iter().map(|p| p[c]).collect()))
         .collect();
     let path = dir.join(format!("{name}.exr"));
-    write_exr(&path, w, h, channels, &[("fovHorizontalDegrees", Meta::F32(fov))])
-        .expect("the EXR is written");
+    write_exr(
+        &path,
+        w,
+        h,
+        channels,
+        &[("fovHorizontalDegrees", Meta::F32(fov))],
+    )
+    .expect("the EXR is written");
     println!("{}", path.display());
 }
 

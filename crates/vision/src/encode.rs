@@ -12,7 +12,7 @@ pub fn srgb8(rgb: &[[f32; 3]]) -> Vec<u8> {
     // Written in place, a block of pixels per task (a flat_map collect
     // gathers per-task vectors and copies them again).
     const BLOCK: usize = 4096;
-    let mut out = crate::pyramid::zeroed(3 * rgb.len());
+    let mut out = crate::resample::zeroed(3 * rgb.len());
     out.par_chunks_mut(3 * BLOCK)
         .zip(rgb.par_chunks(BLOCK))
         .enumerate()

@@ -1,7 +1,7 @@
 //! The vision pipeline: from an absolute X, Y, Z, V′ image to what a person
 //! would see of it on a display. Stages, each its own module: the visual
-//! mode (`mode`), glare, multiscale adaptation (`multiscale`, on the
-//! pyramids of `pyramid`), the night-vision shift (`night`) and scotopic
+//! mode (`mode`), the observer (`observer`), glare, multiscale adaptation
+//! (`multiscale`), the night-vision shift (`night`) and scotopic
 //! acuity (`acuity`), tone operators (`tonemap`), gamut mapping (`gamut`),
 //! code values (`encode`); `pipeline` runs them in order, on pixels
 //! screened for non-finite and absurd values (`screen`).
@@ -17,7 +17,7 @@ pub mod night;
 pub mod observer;
 pub mod output;
 pub mod pipeline;
-pub mod pyramid;
+pub mod resample;
 pub mod screen;
 pub mod tonemap;
 pub mod wide_math;

@@ -130,7 +130,7 @@ pub enum Adaptation {
     /// One luminance for the whole image: its log-average (see
     /// `image_statistics`).
     Global,
-    /// Per pixel, from a low-pass level of the adaptation pyramid.
+    /// Per pixel, from the light pooled around it (`multiscale::adaptation`).
     Local,
     /// A stated luminance, cd/m².
     Fixed(f64),

@@ -40,6 +40,19 @@ impl Observer {
     /// scotopia accepts 1 to 100 and extrapolates outside the data.
     pub const AGES: (f64, f64) = (1.0, 100.0);
 
+    /// What this observer's lens passes of each channel (X, Y, Z, V′)
+    /// relative to the default observer's, for a flat spectrum (Pokorny,
+    /// Smith & Lutze 1987's optical density as CIE 170-1:2006 adopts it;
+    /// `scotopia_color::cie::lens`). The CIE 1931 and 1951 observers are
+    /// taken as the default observer's eye, so 25 years changes nothing;
+    /// an older lens absorbs more, most of all at short wavelengths (70
+    /// years: Y 0.79, Z 0.44, V′ 0.61 of the default's).
+    pub fn lens_factors(&self) -> [f64; 4] {
+        let own = scotopia_color::cie::lens_channel_factors(self.age);
+        let reference = scotopia_color::cie::lens_channel_factors(Self::DEFAULT_AGE);
+        std::array::from_fn(|c| own[c] / reference[c])
+    }
+
     /// An observer, checked.
     pub fn new(age: f64, pigmentation: f64) -> Result<Self, ObserverError> {
         if !(Self::AGES.0..=Self::AGES.1).contains(&age) {
@@ -64,5 +77,14 @@ mod tests {
         assert!(Observer::new(70.0, 1.5).is_err());
         assert!(Observer::new(70.0, f64::NAN).is_err());
         assert_eq!(Observer::default(), Observer::new(25.0, 0.5).unwrap());
+    }
+
+    #[test]
+    fn an_older_lens_passes_less_and_least_of_blue() {
+        assert_eq!(Observer::default().lens_factors(), [1.0; 4]);
+        let f = Observer::new(70.0, 0.5).unwrap().lens_factors();
+        assert!(f[1] < 0.85 && f[1] > 0.7, "{f:?}");
+        assert!(f[2] < 0.6 * f[1], "{f:?}");
+        assert!(f[3] < f[1] && f[3] > f[2], "{f:?}");
     }
 }

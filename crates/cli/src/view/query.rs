@@ -174,6 +174,26 @@ mod tests {
     }
 
     #[test]
+    fn the_observer_is_read_with_displays_flags() {
+        let base = defaults();
+        assert_eq!(
+            (base["age"].as_str(), base["pigmentation"].as_str()),
+            ("25", "0.5")
+        );
+        let (pairs, s) = merge(&base, "age=70&pigmentation=1", &[]).unwrap();
+        assert_eq!(
+            (pairs["age"].as_str(), pairs["pigmentation"].as_str()),
+            ("70", "1")
+        );
+        let (params, _, _) = s.vision.params(100, Some(40.0)).unwrap();
+        assert_eq!(
+            (params.observer.age, params.observer.pigmentation),
+            (70.0, 1.0)
+        );
+        assert_eq!(parse(&pairs).unwrap().pairs(), pairs);
+    }
+
+    #[test]
     fn bad_settings_are_errors_naming_the_flag() {
         let e = merge(&defaults(), "colour=blue", &[])
             .unwrap_err()
@@ -198,6 +218,10 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("--view sideways"));
+        for (query, says) in [("age=-3", "--age"), ("pigmentation=1.5", "--pigmentation")] {
+            let e = merge(&defaults(), query, &[]).unwrap_err().to_string();
+            assert!(e.contains(says), "{query}: {e}");
+        }
         // Keys that are not settings are passed over when asked.
         assert!(merge(&defaults(), "x=3&y=4", &["x", "y"]).is_ok());
     }

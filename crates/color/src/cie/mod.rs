@@ -1,13 +1,19 @@
-//! The CIE observers and illuminants, from the tables in `data/cie` (each
+//! The CIE observers and illuminants, and the age-dependent density of the
+//! eye's lens, from the tables in `data/cie` (each
 //! file names its source), parsed once on first use.
 
 mod daylight;
 mod illuminant;
+mod lens;
 
 use std::sync::OnceLock;
 
 pub use daylight::{daylight, daylight_chromaticity, daylight_named};
 pub use illuminant::{illuminant, illuminant_a, ILLUMINANT_NAMES};
+pub use lens::{
+    lens_channel_factors, lens_density, lens_transmittance_relative, LENS_MIN_AGE,
+    LENS_REFERENCE_AGE,
+};
 
 use crate::io::parse_table;
 use crate::{LAMBDA_MAX, LAMBDA_MIN};

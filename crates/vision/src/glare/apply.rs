@@ -1,60 +1,181 @@
-//! Applying the glare PSF: only the light a display cannot show glares
-//! (Spencer et al. 1995, §5): a pixel brighter than the display's maximum
-//! keeps that maximum and its excess is spread by the PSF, convolved by
-//! FFT with zero padding, one PSF per channel (the halo differs).
+//! Applying the glare PSF to the scene, in absolute units: the light of
+//! each pixel that the display will not reproduce is spread by the eye's
+//! PSF (`psf`) and added where it lands, convolved by FFT with zero
+//! padding, one PSF per channel (the halo differs).
+//!
+//! The viewer's own eye scatters the light the display shows; simulating
+//! that light's glare too would count it twice (Spencer et al. 1995, §5).
+//! So each pixel is split into what the display reproduces of it, in
+//! scene units at the adaptation point ([`Reproduced`]), and the rest,
+//! which glares. For a linear exposure that is Spencer et al.'s rule:
+//! everything above the display's peak glares. For a compressive operator
+//! the display shows a lamp at a small fraction of its luminance, so
+//! nearly all of a lamp's light glares, as it does in a real eye, and a
+//! surface at the adaptation luminance, shown as it is, glares not at
+//! all.
 
 use rayon::prelude::*;
 use rustfft::num_complex::Complex32;
 
 use super::fft2::{smooth_size, Fft2};
 use super::kernel::KernelSpectra;
-use crate::pyramid::Bilinear;
+use super::psf::Psf;
+use crate::multiscale::GainFunction;
+use crate::observer::Observer;
+use crate::resample::Bilinear;
+use crate::tonemap::reinhard_scale;
+use crate::wide_math;
+
+/// What the display reproduces of a scene luminance, in scene cd/m² at
+/// the image's adaptation point: the display's luminance for it over the
+/// display's luminance per scene cd/m² at the adaptation luminance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Reproduced {
+    /// Nothing: every pixel's light glares (the retinal image).
+    Nothing,
+    /// Everything up to a luminance (a linear exposure whose peak is it).
+    Below(f64),
+    /// A photoreceptor response y·G(y) relative to the adaptation
+    /// luminance `la`'s, y·G(y)/G(la), up to `threshold` (where the display
+    /// reaches its peak): the multiscale model's.
+    Gain {
+        cones: GainFunction,
+        la: f64,
+        threshold: f64,
+    },
+    /// Reinhard et al. 2002's operator (log-average `la`, white `maximum`).
+    Reinhard { la: f64, maximum: f64 },
+}
+
+impl Reproduced {
+    /// Each pixel's share that glares, (y − reproduced)/y (0 for no light
+    /// or a non-finite one), into `out`: the excess keeps the pixel's
+    /// colour, all four channels scaled alike. The multiscale model's
+    /// case runs wide (`wide_math::dispatch`): it is evaluated for every
+    /// pixel twice.
+    pub fn excess_factors(&self, row: &[[f32; 4]], out: &mut [f32]) {
+        let out = &mut out[..row.len()];
+        if let Reproduced::Gain {
+            cones,
+            la,
+            threshold,
+        } = *self
+        {
+            let (la, threshold) = (la as f32, threshold as f32);
+            let g_la = cones.gain(la);
+            wide_math::dispatch(
+                #[inline(always)]
+                || {
+                    for (o, px) in out.iter_mut().zip(row) {
+                        let y = px[1];
+                        let v = if y < threshold { y } else { threshold };
+                        let kept = v * (cones.gain_wide(v) / g_la);
+                        let f = (y - kept) / y;
+                        // Selects: at or below La, not finite, or no
+                        // light, nothing glares.
+                        *o = if y > la && y < f32::INFINITY && f > 0.0 {
+                            f
+                        } else {
+                            0.0
+                        };
+                    }
+                },
+            );
+            return;
+        }
+        for (o, px) in out.iter_mut().zip(row) {
+            let y = px[1] as f64;
+            *o = if y > 0.0 && y.is_finite() {
+                let kept = self.of(y);
+                ((y - kept) / y) as f32
+            } else {
+                0.0
+            };
+        }
+    }
+
+    /// What is reproduced of luminance `y` (at most `y`).
+    pub fn of(&self, y: f64) -> f64 {
+        let r = match *self {
+            Reproduced::Nothing => 0.0,
+            Reproduced::Below(t) => t,
+            Reproduced::Gain {
+                cones,
+                la,
+                threshold,
+            } => {
+                // At or below La the display shows a pixel at least as it
+                // is (the gain falls with luminance): nothing glares, and
+                // no power need be taken.
+                if y <= la {
+                    return y;
+                }
+                let v = y.min(threshold);
+                v * (cones.gain_wide(v as f32) / cones.gain_wide(la as f32)) as f64
+            }
+            Reproduced::Reinhard { la, maximum } => {
+                y * reinhard_scale(y, la, maximum) / reinhard_scale(la, la, maximum)
+            }
+        };
+        if r.is_finite() {
+            r.clamp(0.0, y)
+        } else {
+            y
+        }
+    }
+}
 
 /// How the glare is applied.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GlareParams {
     /// Visual angle of one pixel, degrees.
     pub degrees_per_pixel: f64,
-    /// Scotopic sensitivity s (1 photopic, 0 scotopic): the PSF's mixture.
+    /// Scotopic sensitivity s (1 photopic, 0 scotopic): the halo's weight.
     pub s: f64,
-    /// The largest luminance (Y, cd/m²) the display reproduces at this
-    /// image's exposure; light above it glares.
-    pub threshold: f64,
+    /// Whose eye: its age and pigmentation shape the PSF.
+    pub observer: Observer,
+    /// What the display reproduces; the rest glares.
+    pub reproduced: Reproduced,
 }
 
-/// Adds glare to `pixels` ([X, Y, Z, V′], row-major, `width` × `height`)
-/// in place. Returns whether any pixel exceeded the threshold.
-pub fn apply_glare(pixels: &mut [[f32; 4]], width: usize, height: usize, p: &GlareParams) -> bool {
-    // Split each pixel into what the display shows and the excess, by the
-    // same factor on all channels so the excess keeps the pixel's colour.
-    // The excess is recomputed from the pixel where needed rather than
-    // stored: a full-size excess image is mostly zeros, and a fresh
+/// What glare did.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct GlareReport {
+    /// Whether any light glared.
+    pub applied: bool,
+    /// The veiling luminance (Y, cd/m²) the scattered light adds at the
+    /// image's centre (the line of sight, where a road lighting standard
+    /// evaluates it) and on average over the image.
+    pub veil_centre: f64,
+    pub veil_mean: f64,
+}
+
+/// Adds glare to `pixels` ([X, Y, Z, V′] absolute, row-major, `width` ×
+/// `height`) in place.
+pub fn apply_glare(
+    pixels: &mut [[f32; 4]],
+    width: usize,
+    height: usize,
+    p: &GlareParams,
+) -> GlareReport {
+    // Split each pixel into what the display reproduces and the excess,
+    // by the same factor on all channels so the excess keeps the pixel's
+    // colour. The excess is recomputed from the pixel where needed rather
+    // than stored: a full-size excess image is mostly zeros, and a fresh
     // process pays for each of its pages.
-    let excess = |px: &[f32; 4]| -> [f32; 4] {
-        let y = px[1] as f64;
-        if y > p.threshold && y.is_finite() {
-            let f = ((y - p.threshold) / y) as f32;
-            px.map(|v| v * f)
-        } else {
-            [0.0; 4]
-        }
-    };
-    if pixels.par_iter().all(|px| excess(px)[1] == 0.0) {
-        // Nothing glares; what an excess of no luminance would take from
-        // the other channels is still taken, as when it is spread.
-        pixels.par_iter_mut().for_each(|px| {
-            let e = excess(px);
-            for c in 0..4 {
-                px[c] -= e[c];
-            }
-        });
-        return false;
+    let r = p.reproduced;
+    if !pixels.par_chunks(width.max(1)).any(|row| {
+        let mut f = vec![0.0f32; row.len()];
+        r.excess_factors(row, &mut f);
+        f.iter().any(|&v| v > 0.0)
+    }) {
+        return GlareReport::default();
     }
     // The PSF beyond its central pixel is smooth, so on large images it is
     // convolved on a grid coarser by `f` (block sums of the excess, so
     // nothing is lost) and brought back bilinearly; the share of the PSF
-    // inside the central coarse cell stays where it fell, at full
-    // resolution, so lamps keep their sharp core.
+    // inside the central cell stays where it fell, at full resolution, so
+    // lamps keep their sharp core.
     let f = coarse_factor(width, height);
     let (cw, ch) = (width.div_ceil(f), height.div_ceil(f));
     let mut coarse = vec![[0.0f32; 4]; cw * ch];
@@ -63,11 +184,13 @@ pub fn apply_glare(pixels: &mut [[f32; 4]], width: usize, height: usize, p: &Gla
         .enumerate()
         .for_each(|(cy, cells)| {
             for y in cy * f..((cy + 1) * f).min(height) {
-                for (x, px) in pixels[y * width..(y + 1) * width].iter().enumerate() {
-                    let e = excess(px);
+                let row = &pixels[y * width..(y + 1) * width];
+                let mut factors = vec![0.0f32; width];
+                r.excess_factors(row, &mut factors);
+                for (x, (px, k)) in row.iter().zip(&factors).enumerate() {
                     let cell = &mut cells[x / f];
                     for c in 0..4 {
-                        cell[c] += e[c];
+                        cell[c] += px[c] * k;
                     }
                 }
             }
@@ -75,32 +198,64 @@ pub fn apply_glare(pixels: &mut [[f32; 4]], width: usize, height: usize, p: &Gla
     // Padding to at least twice the image keeps the circular convolution
     // from wrapping light from one edge onto the other.
     let fft = Fft2::new(smooth_size(2 * cw), smooth_size(2 * ch));
-    let kernels = KernelSpectra::new(&fft, p.degrees_per_pixel * f as f64, p.s, f > 1);
-    let kept = if f > 1 { kernels.centre } else { [0.0; 4] };
+    let psf = Psf::new(&p.observer, p.s);
+    let kernels = KernelSpectra::new(&fft, p.degrees_per_pixel * f as f64, &psf, true);
+    let kept = kernels.centre;
     let glare = convolve(&coarse, cw, ch, &fft, &kernels);
-    // Per pixel: what the display shows, the coarse glare (per coarse
+    // Per pixel: what the display shows, the scattered light (per coarse
     // cell, so shared by its f² pixels) brought back up, plus the kept
     // central share.
     let up = Bilinear::new((cw, ch), (width, height));
     let scale = 1.0 / (f * f) as f32;
-    pixels.par_chunks_mut(width).enumerate().for_each_init(
-        || (vec![0.0f32; width], vec![[0.0f32; 4]; width]),
-        |(row_glare, ex), (y, row)| {
-            for (px, e) in row.iter_mut().zip(ex.iter_mut()) {
-                *e = excess(px);
+    let centre = (height / 2) * width + width / 2;
+    let veils: Vec<(f64, f64)> = pixels
+        .par_chunks_mut(width)
+        .enumerate()
+        .map_init(
+            || {
+                (
+                    vec![0.0f32; width],
+                    vec![[0.0f32; 4]; width],
+                    vec![0.0f32; width],
+                )
+            },
+            |(row_glare, ex, factors), (y, row)| {
+                r.excess_factors(row, factors);
+                for ((px, e), k) in row.iter_mut().zip(ex.iter_mut()).zip(factors.iter()) {
+                    *e = px.map(|v| v * k);
+                    for c in 0..4 {
+                        px[c] -= e[c];
+                    }
+                }
+                let (mut sum, mut at_centre) = (0.0f64, 0.0f64);
                 for c in 0..4 {
-                    px[c] -= e[c];
+                    up.row(&glare[c], y, row_glare);
+                    for (x, ((px, e), g)) in row
+                        .iter_mut()
+                        .zip(ex.iter())
+                        .zip(row_glare.iter())
+                        .enumerate()
+                    {
+                        let veil = g * scale;
+                        px[c] += veil + kept[c] * e[c];
+                        if c == 1 {
+                            sum += veil as f64;
+                            if y * width + x == centre {
+                                at_centre = veil as f64;
+                            }
+                        }
+                    }
                 }
-            }
-            for c in 0..4 {
-                up.row(&glare[c], y, row_glare);
-                for ((px, e), g) in row.iter_mut().zip(ex.iter()).zip(row_glare.iter()) {
-                    px[c] += g * scale + kept[c] * e[c];
-                }
-            }
-        },
-    );
-    true
+                (sum, at_centre)
+            },
+        )
+        .collect();
+    let n = (width * height).max(1) as f64;
+    GlareReport {
+        applied: true,
+        veil_centre: veils.iter().map(|v| v.1).sum(),
+        veil_mean: veils.iter().map(|v| v.0).sum::<f64>() / n,
+    }
 }
 
 /// Each channel of the `cw` × `ch` image `img` convolved with its PSF on
@@ -166,13 +321,15 @@ fn coarse_factor(width: usize, height: usize) -> usize {
 
 #[cfg(test)]
 mod tests {
+    use super::super::psf::GlareSpread;
     use super::*;
 
-    fn params() -> GlareParams {
+    fn params(reproduced: Reproduced, dpp: f64, s: f64) -> GlareParams {
         GlareParams {
-            degrees_per_pixel: 0.05,
-            s: 1.0,
-            threshold: 100.0,
+            degrees_per_pixel: dpp,
+            s,
+            observer: Observer::default(),
+            reproduced,
         }
     }
 
@@ -189,11 +346,11 @@ mod tests {
             .collect();
         let fft = Fft2::new(smooth_size(2 * cw), smooth_size(2 * ch));
         let (pw, ph) = (fft.width, fft.height);
-        let kernels = KernelSpectra::new(&fft, 0.7, 0.0, false);
+        let psf = Psf::new(&Observer::default(), 0.0);
+        let kernels = KernelSpectra::new(&fft, 0.7, &psf, false);
         let got = convolve(&img, cw, ch, &fft, &kernels);
-        let (k, _) = super::super::kernel::sample(pw, ph, 0.7, 0.0);
+        let (k, _) = super::super::kernel::sample(pw, ph, 0.7, &psf);
         for c in 0..4 {
-            let total: f64 = k.iter().map(|v| v[c]).sum();
             for y in 0..ch {
                 for x in 0..cw {
                     let mut sum = 0.0f64;
@@ -201,7 +358,7 @@ mod tests {
                         let (sx, sy) = (i % cw, i / cw);
                         let kx = (x + pw - sx) % pw;
                         let ky = (y + ph - sy) % ph;
-                        sum += px[c] as f64 * k[ky * pw + kx][c] / total;
+                        sum += px[c] as f64 * k[ky * pw + kx][c];
                     }
                     let g = got[c][y * cw + x] as f64;
                     assert!(
@@ -214,57 +371,99 @@ mod tests {
     }
 
     #[test]
-    fn an_image_the_display_can_show_is_unchanged() {
+    fn an_image_the_display_reproduces_is_unchanged() {
         let mut px = vec![[50.0, 60.0, 70.0, 80.0]; 32 * 24];
         let before = px.clone();
-        assert!(!apply_glare(&mut px, 32, 24, &params()));
+        let r = apply_glare(
+            &mut px,
+            32,
+            24,
+            &params(Reproduced::Below(100.0), 0.05, 1.0),
+        );
+        assert!(!r.applied);
+        assert_eq!(px, before);
+        // And a field at the adaptation luminance, under the model's
+        // response, reproduces itself.
+        let gain = Reproduced::Gain {
+            cones: GainFunction::CONES,
+            la: 60.0,
+            threshold: 1e4,
+        };
+        assert!(!apply_glare(&mut px, 32, 24, &params(gain, 0.05, 1.0)).applied);
         assert_eq!(px, before);
     }
 
-    #[test]
-    fn a_bright_point_spreads_and_luminance_is_conserved() {
-        // A lamp in the centre of a dark image wide enough (256 × 256
-        // pixels of 0.5°: ±64°) to hold nearly all of the PSF, whose bloom
-        // falls only as 1/θ².
-        let (w, h) = (256, 256);
-        let c = 128;
+    /// A `w` × `h` black image with a 2 × 2 lamp of luminance `y` at its
+    /// centre.
+    fn lamp(w: usize, h: usize, y: f32) -> Vec<[f32; 4]> {
         let mut px = vec![[0.0f32; 4]; w * h];
-        px[c * w + c] = [9.0e5, 1.0e6, 8.0e5, 2.0e6];
-        let total_before: f64 = px.iter().map(|p| p[1] as f64).sum();
-        let p = GlareParams {
-            degrees_per_pixel: 0.5,
-            ..params()
-        };
-        assert!(apply_glare(&mut px, w, h, &p));
-        let total_after: f64 = px.iter().map(|p| p[1] as f64).sum();
-        assert!(
-            (total_after / total_before - 1.0).abs() < 0.01,
-            "{total_after} vs {total_before}"
-        );
-        // Light reaches pixels far from the lamp, falling with distance.
-        let at = |d: usize| px[c * w + c + d][1];
-        assert!(at(2) > at(8) && at(8) > at(30) && at(30) > 0.0);
+        for dy in 0..2 {
+            for dx in 0..2 {
+                px[(h / 2 - 1 + dy) * w + w / 2 - 1 + dx] = [0.95 * y, y, 1.09 * y, 2.4 * y];
+            }
+        }
+        px
     }
 
     #[test]
-    fn the_coarse_grid_conserves_light_and_keeps_the_core_sharp() {
-        // 1024² pixels of 0.125° (±64°): glare is convolved on a 3× coarser
-        // grid; the total is still conserved and the lamp stays a point.
-        let (w, h) = (1024, 1024);
-        assert_eq!(coarse_factor(w, h), 3);
-        let c = 512;
-        let mut px = vec![[0.0f32; 4]; w * h];
-        px[c * w + c] = [9.0e5, 1.0e6, 8.0e5, 2.0e6];
-        let p = GlareParams {
-            degrees_per_pixel: 0.125,
-            ..params()
-        };
-        assert!(apply_glare(&mut px, w, h, &p));
-        let total: f64 = px.iter().map(|p| p[1] as f64).sum();
-        assert!((total / 1.0e6 - 1.0).abs() < 0.01, "{total}");
-        let at = |d: usize| px[c * w + c + d][1];
-        assert!(at(0) > 10.0 * at(1), "{} {}", at(0), at(1));
-        assert!(at(3) > at(12) && at(12) > at(60) && at(60) > 0.0);
+    fn a_lamps_light_is_conserved_on_a_wide_field() {
+        // 256 × 256 pixels of 0.75° (±96°) hold the whole PSF (0–90°):
+        // the light after equals the light before, to the sampling's
+        // accuracy (0.5 %), on the direct and on the coarse grid.
+        for (n, dpp) in [(256usize, 0.75), (1024, 0.1875)] {
+            let mut px = lamp(n, n, 1.0e6);
+            let before: f64 = px.iter().map(|p| p[1] as f64).sum();
+            let r = apply_glare(&mut px, n, n, &params(Reproduced::Nothing, dpp, 1.0));
+            assert!(r.applied);
+            let after: f64 = px.iter().map(|p| p[1] as f64).sum();
+            assert!(
+                (after / before - 1.0).abs() < 0.005,
+                "{n}: {after} vs {before}"
+            );
+            // The lamp stays a point, far above its neighbours.
+            let c = (n / 2) * n + n / 2;
+            assert!(
+                px[c][1] > 10.0 * px[c + 2][1],
+                "{} {}",
+                px[c][1],
+                px[c + 2][1]
+            );
+        }
+    }
+
+    #[test]
+    fn the_veil_follows_cie_146_at_2_5_10_and_20_degrees() {
+        // A 2 × 2 lamp at the centre of 512 × 512 pixels of 0.1° (glare
+        // on a 2× coarser grid, h = 0.2°). Illuminance at the eye E =
+        // L·ω (4 pixels); the veil at θ must be E·L_veil/E_glare(θ) of
+        // CIE 146's general equation. Discretisation error: sampling the
+        // PSF at coarse cell centres and interpolating it bilinearly are
+        // each second order in h/θ for a 1/θ² function, ≤ (h/θ)²; the
+        // tolerance is 3(h/θ)² + 0.2 %.
+        let (n, dpp) = (512, 0.1);
+        let h = 2.0 * dpp;
+        let lum = 1.0e7f32;
+        let omega = (dpp * std::f64::consts::PI / 180.0).powi(2);
+        let e = lum as f64 * 4.0 * omega;
+        for age in [25.0, 70.0] {
+            let mut px = lamp(n, n, lum);
+            let mut p = params(Reproduced::Nothing, dpp, 1.0);
+            p.observer = Observer::new(age, 0.5).unwrap();
+            apply_glare(&mut px, n, n, &p);
+            let g = GlareSpread::new(&p.observer);
+            for deg in [2.0, 5.0, 10.0, 20.0] {
+                // Pixel centres at (d + ½)·dpp from the lamp's centre.
+                let d = (deg / dpp) as usize;
+                let theta = (d as f64 + 0.5) * dpp;
+                let got = px[(n / 2) * n + n / 2 + d][1] as f64;
+                let want = e * g.general(theta);
+                let tol = 3.0 * (h / theta).powi(2) + 0.002;
+                assert!(
+                    (got / want - 1.0).abs() < tol,
+                    "{age} years, {deg}°: {got} vs {want} (tolerance {tol})"
+                );
+            }
+        }
     }
 
     #[test]
@@ -274,16 +473,10 @@ mod tests {
         // vision has no halo term, so there the ratio stays 1.
         let (w, h) = (128, 128);
         let c = 64;
-        let lamp = [1.0e6, 1.0e6, 1.0e6, 1.0e6];
         let ratio = |s: f64, r: usize| {
             let mut px = vec![[0.0f32; 4]; w * h];
-            px[c * w + c] = lamp;
-            let p = GlareParams {
-                degrees_per_pixel: 0.1,
-                s,
-                threshold: 1.0,
-            };
-            apply_glare(&mut px, w, h, &p);
+            px[c * w + c] = [1.0e6; 4];
+            apply_glare(&mut px, w, h, &params(Reproduced::Nothing, 0.1, s));
             let q = px[c * w + c + r];
             q[0] / q[2]
         };

@@ -7,12 +7,12 @@ use rayon::prelude::*;
 use rustfft::num_complex::Complex32;
 
 use super::fft2::Fft2;
-use super::psf::{scatter, weights, Halo};
+use super::psf::Psf;
 
 /// Pixels within this distance of the PSF's centre (in pixels) are
 /// integrated over their area (the core is 0.02° wide, often sub-pixel).
 const SUPERSAMPLED_RADIUS: i64 = 4;
-const SUBSAMPLES: usize = 8;
+const SUBSAMPLES: usize = 16;
 
 /// The PSF's transform on `fft`'s grid, per channel X, Y, Z, V′.
 pub struct KernelSpectra {
@@ -29,28 +29,16 @@ impl KernelSpectra {
         &self.spectra[c.min(self.spectra.len() - 1)]
     }
 
-    /// The PSF for scotopic sensitivity `s` at `degrees_per_pixel`,
-    /// normalised to sum 1 per channel; with `without_centre`, its centre
-    /// sample is left out of the spectra (reported in `centre`) for the
-    /// caller to apply at a finer resolution.
-    pub fn new(fft: &Fft2, degrees_per_pixel: f64, s: f64, without_centre: bool) -> Self {
-        let grid = Sampled::new(fft.width, fft.height, degrees_per_pixel, s);
+    /// The PSF `psf` at `degrees_per_pixel`, each sample the share of a
+    /// point's light that lands in that pixel (the light beyond the grid
+    /// is lost, as it lands outside the image); with `without_centre`,
+    /// its centre sample is left out of the spectra (reported in
+    /// `centre`) for the caller to apply at a finer resolution.
+    pub fn new(fft: &Fft2, degrees_per_pixel: f64, psf: &Psf, without_centre: bool) -> Self {
+        let grid = Sampled::new(fft.width, fft.height, degrees_per_pixel, psf);
         let n = fft.width * fft.height;
-        let total = (0..n)
-            .into_par_iter()
-            .fold(
-                || [0.0f64; 4],
-                |mut a, i| {
-                    let v = grid.at(i);
-                    for c in 0..4 {
-                        a[c] += v[c];
-                    }
-                    a
-                },
-            )
-            .reduce(|| [0.0; 4], |a, b| std::array::from_fn(|c| a[c] + b[c]));
         let k0 = grid.at(0);
-        let centre: [f32; 4] = std::array::from_fn(|c| (k0[c] / total[c]) as f32);
+        let centre: [f32; 4] = k0.map(|v| v as f32);
         // Channel pairs packed as real + i·imaginary; a real, even kernel's
         // spectrum is real, so the two come back as the real and the
         // imaginary parts.
@@ -69,8 +57,8 @@ impl KernelSpectra {
                     } else {
                         grid.at(i)
                     };
-                    let im = if a == b { 0.0 } else { v[b] / total[b] };
-                    Complex32::new((v[a] / total[a]) as f32, im as f32)
+                    let im = if a == b { 0.0 } else { v[b] };
+                    Complex32::new(v[a] as f32, im as f32)
                 })
                 .collect();
             let spectrum = fft.forward(&mut packed, fft.height);
@@ -91,9 +79,9 @@ pub(super) fn sample(
     pw: usize,
     ph: usize,
     degrees_per_pixel: f64,
-    s: f64,
+    psf: &Psf,
 ) -> (Vec<[f64; 4]>, bool) {
-    let grid = Sampled::new(pw, ph, degrees_per_pixel, s);
+    let grid = Sampled::new(pw, ph, degrees_per_pixel, psf);
     ((0..pw * ph).map(|i| grid.at(i)).collect(), grid.has_halo)
 }
 
@@ -127,39 +115,61 @@ fn signed(i: usize, n: usize) -> i64 {
 }
 
 impl Sampled {
-    fn new(pw: usize, ph: usize, degrees_per_pixel: f64, s: f64) -> Self {
-        let w = weights(s);
-        let halo = (w[3] > 0.0).then(Halo::shared);
-        let psf = |dx: f64, dy: f64| -> [f64; 4] {
+    fn new(pw: usize, ph: usize, degrees_per_pixel: f64, psf: &Psf) -> Self {
+        // A pixel's solid angle, sr (small-angle form, as the PSF's θ).
+        let omega = (degrees_per_pixel * std::f64::consts::PI / 180.0).powi(2);
+        let value = |dx: f64, dy: f64| -> [f64; 4] {
             let theta = (dx * dx + dy * dy).sqrt() * degrees_per_pixel;
-            let shared = scatter(theta, &w);
-            match &halo {
-                Some(h) => h.eval_all(theta).map(|f| shared + w[3] * f),
-                None => [shared; 4],
-            }
+            psf.eval(theta).map(|v| v * omega)
         };
         let (qw, qh) = (pw / 2 + 1, ph / 2 + 1);
+        let averaged = averaged_radius(degrees_per_pixel, psf);
         let mut quadrant = vec![[0.0f64; 4]; qw * qh];
         quadrant
             .par_chunks_mut(qw)
             .enumerate()
             .for_each(|(dy, row)| {
                 for (dx, v) in row.iter_mut().enumerate() {
-                    *v = psf(dx as f64, dy as f64);
+                    *v = if dx * dx + dy * dy <= averaged * averaged {
+                        area_average(&value, dx as f64, dy as f64)
+                    } else {
+                        value(dx as f64, dy as f64)
+                    };
                 }
             });
         let r = SUPERSAMPLED_RADIUS;
-        let core = (-r..=r)
+        let mut core: Vec<[f64; 4]> = (-r..=r)
             .flat_map(|dy| (-r..=r).map(move |dx| (dx, dy)))
-            .map(|(dx, dy)| supersampled(&psf, dx, dy))
+            .map(|(dx, dy)| supersampled(&value, dx, dy))
             .collect();
+        // The central pixel holds the optics' core, far narrower than a
+        // pixel: its disc (radius half a pixel) is integrated in closed
+        // form, the four corners outside it by sub-samples.
+        let half = 0.5 * degrees_per_pixel;
+        let disc = (1.0 - psf.halo) * psf.spread.share_within(half);
+        let corners = supersampled(
+            &|dx: f64, dy: f64| {
+                if dx * dx + dy * dy > 0.25 {
+                    value(dx, dy)
+                } else {
+                    // Inside the disc: its halo part only (the halo is a
+                    // ring far from the centre; its value here is ~0).
+                    let theta = (dx * dx + dy * dy).sqrt() * degrees_per_pixel;
+                    let shared = (1.0 - psf.halo) * psf.spread.eval(theta) * omega;
+                    value(dx, dy).map(|v| v - shared)
+                }
+            },
+            0,
+            0,
+        );
+        core[(r * (2 * r + 1) + r) as usize] = corners.map(|v| v + disc);
         Self {
             pw,
             ph,
             qw,
             quadrant,
             core,
-            has_halo: halo.is_some(),
+            has_halo: psf.halo > 0.0,
         }
     }
 
@@ -173,6 +183,37 @@ impl Sampled {
             self.quadrant[dy.unsigned_abs() as usize * self.qw + dx.unsigned_abs() as usize]
         }
     }
+}
+
+/// Pixels (beyond the core) nearer the centre than this are averaged
+/// over their area, not sampled at their centre: where the halo's ring
+/// lies (it is 0.3° wide, narrower than a pixel of a wide image, so point
+/// samples alias it: the ring's light then depended on pixels per degree),
+/// and where 1/θ² bends fastest.
+fn averaged_radius(degrees_per_pixel: f64, psf: &Psf) -> usize {
+    let reach = if psf.halo > 0.0 { 8.0 } else { 1.0 };
+    (reach / degrees_per_pixel).ceil() as usize
+}
+
+/// Sub-samples per axis for [`area_average`].
+const AREA_SUBSAMPLES: usize = 4;
+
+/// The PSF averaged over pixel (dx, dy) on an AREA_SUBSAMPLES² grid.
+fn area_average(value: &impl Fn(f64, f64) -> [f64; 4], dx: f64, dy: f64) -> [f64; 4] {
+    let n = AREA_SUBSAMPLES as f64;
+    let mut sum = [0.0; 4];
+    for sy in 0..AREA_SUBSAMPLES {
+        for sx in 0..AREA_SUBSAMPLES {
+            let f = value(
+                dx + (sx as f64 + 0.5) / n - 0.5,
+                dy + (sy as f64 + 0.5) / n - 0.5,
+            );
+            for c in 0..4 {
+                sum[c] += f[c] / (n * n);
+            }
+        }
+    }
+    sum
 }
 
 /// The PSF averaged over pixel (dx, dy) on a SUBSAMPLES² grid: the core,
@@ -197,27 +238,33 @@ fn supersampled(psf: &impl Fn(f64, f64) -> [f64; 4], dx: i64, dy: i64) -> [f64; 
 mod tests {
     use super::*;
 
+    use crate::observer::Observer;
+
+    fn psf(s: f64) -> Psf {
+        Psf::new(&Observer::default(), s)
+    }
+
     #[test]
     fn the_quadrant_and_core_hold_every_value_of_the_whole_grid() {
-        // The grid as it was sampled whole, pixel by pixel: the same bits.
+        // Beyond the centre, the grid as it was sampled pixel by pixel:
+        // the same bits.
         for (pw, ph, s) in [(40, 30, 0.0), (33, 17, 0.5), (64, 48, 1.0)] {
-            let w = weights(s);
-            let halo = (w[3] > 0.0).then(Halo::shared);
-            let psf = |dx: f64, dy: f64| -> [f64; 4] {
-                let theta = (dx * dx + dy * dy).sqrt() * 0.2;
-                let shared = scatter(theta, &w);
-                match &halo {
-                    Some(h) => h.eval_all(theta).map(|f| shared + w[3] * f),
-                    None => [shared; 4],
-                }
+            let psf = psf(s);
+            let omega = (0.2 * std::f64::consts::PI / 180.0).powi(2);
+            let value = |dx: f64, dy: f64| -> [f64; 4] {
+                psf.eval((dx * dx + dy * dy).sqrt() * 0.2)
+                    .map(|v| v * omega)
             };
-            let (k, _) = sample(pw, ph, 0.2, s);
-            for (i, v) in k.iter().enumerate() {
+            let (k, _) = sample(pw, ph, 0.2, &psf);
+            let averaged = averaged_radius(0.2, &psf) as i64;
+            for (i, v) in k.iter().enumerate().skip(1) {
                 let (dx, dy) = (signed(i % pw, pw), signed(i / pw, ph));
                 let want = if dx.abs() <= SUPERSAMPLED_RADIUS && dy.abs() <= SUPERSAMPLED_RADIUS {
-                    supersampled(&psf, dx, dy)
+                    supersampled(&value, dx, dy)
+                } else if dx * dx + dy * dy <= averaged * averaged {
+                    area_average(&value, dx.abs() as f64, dy.abs() as f64)
                 } else {
-                    psf(dx as f64, dy as f64)
+                    value(dx as f64, dy as f64)
                 };
                 assert_eq!(
                     v.map(f64::to_bits),
@@ -229,17 +276,35 @@ mod tests {
     }
 
     #[test]
+    fn the_samples_hold_the_light_that_lands_on_the_grid() {
+        // A grid ±64° wide at 0.5° per pixel, and a fine one (0.01°,
+        // ±1.28°): the samples sum to the share within the grid's reach
+        // (the disc of its half-width, plus its corners), to 0.5 %.
+        for (n, dpp) in [(256usize, 0.5), (256, 0.01)] {
+            let psf = psf(1.0);
+            let (k, _) = sample(n, n, dpp, &psf);
+            let total: f64 = k.iter().map(|v| v[1]).sum();
+            let half = n as f64 / 2.0 * dpp;
+            let (inner, outer) = (
+                psf.spread.share_within(half),
+                psf.spread.share_within(half * std::f64::consts::SQRT_2),
+            );
+            assert!(
+                total > inner * 0.995 && total < outer * 1.005,
+                "{dpp}: {total} not in {inner}..{outer}"
+            );
+        }
+    }
+
+    #[test]
     fn packed_spectra_equal_each_kernel_transformed_alone() {
         let fft = Fft2::new(40, 30);
-        let (k, has_halo) = sample(40, 30, 0.2, 0.0);
+        let (k, has_halo) = sample(40, 30, 0.2, &psf(0.0));
         assert!(has_halo);
-        let packed = KernelSpectra::new(&fft, 0.2, 0.0, false);
+        let packed = KernelSpectra::new(&fft, 0.2, &psf(0.0), false);
         for c in 0..4 {
-            let total: f64 = k.iter().map(|v| v[c]).sum();
-            let mut alone: Vec<Complex32> = k
-                .iter()
-                .map(|v| Complex32::new((v[c] / total) as f32, 0.0))
-                .collect();
+            let mut alone: Vec<Complex32> =
+                k.iter().map(|v| Complex32::new(v[c] as f32, 0.0)).collect();
             let alone = fft.forward(&mut alone, 30);
             for (a, b) in alone.iter().zip(packed.channel(c)) {
                 assert!((a.re - b).abs() < 1e-5 && a.im.abs() < 1e-5, "{c}: {a} {b}");
@@ -250,14 +315,15 @@ mod tests {
             "the halo differs by channel"
         );
         // Without the centre, the zero frequency (the sum) drops by it.
-        let cut = KernelSpectra::new(&fft, 0.2, 0.0, true);
+        let cut = KernelSpectra::new(&fft, 0.2, &psf(0.0), true);
         for c in 0..4 {
             let dc = cut.channel(c)[0];
-            assert!((dc - (1.0 - cut.centre[c])).abs() < 1e-5, "{c}: {dc}");
+            let full = packed.channel(c)[0];
+            assert!((dc - (full - cut.centre[c])).abs() < 1e-5, "{c}: {dc}");
             assert!(cut.centre[c] > 0.1);
         }
         // Photopic: no halo, one spectrum for all.
-        let photopic = KernelSpectra::new(&fft, 0.2, 1.0, false);
+        let photopic = KernelSpectra::new(&fft, 0.2, &psf(1.0), false);
         assert_eq!(photopic.channel(0), photopic.channel(3));
     }
 }

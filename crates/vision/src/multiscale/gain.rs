@@ -1,6 +1,6 @@
 //! The multiscale model's gain control (Pattanaik, Ferwerda, Fairchild &
-//! Greenberg 1998, §3): the photoreceptors' gain as a function of local
-//! adaptation.
+//! Greenberg 1998; docs/vision.md §3): the photoreceptors' gain as a
+//! function of local adaptation.
 
 /// A gain-control function of the adapting luminance I (cd/m² for cones,
 /// scotopic cd/m² for rods):
@@ -10,8 +10,18 @@
 /// Pattanaik et al. 1998 fit these to threshold-versus-intensity data so
 /// that a band signal times G is in units of threshold: cones k = 0.555,
 /// σ = 1, n = 0.85; rods k = 0.908, σ = 0.001, n = 0.85, with the
-/// saturation factor c = 10 that switches rods off in daylight. (Recalled
-/// from the paper; its text could not be consulted here — docs/vision.md.)
+/// saturation factor c = 10 that switches rods off in daylight.
+///
+/// Not yet checked against the paper (issue 37, part 4): no copy of its
+/// text beyond the abstract, and no implementation of this 1998 model, was
+/// found (pfstmo's `pattanaik00` is the different 2000 time-dependent
+/// model), so every value below is as scotopia's authors recall it. The
+/// units of I are the question to settle first: the paper's rod signal is
+/// its fit R = −0.702X + 1.039Y + 0.433Z, which is V′ divided by 2.92 for
+/// D65 ([`scotopia_color::photometry::ROD_FIT_SCALE`]) and by 3.3 for
+/// illuminant A, while scotopia passes V′ itself; if the rod constants were
+/// fitted to R, rods here saturate about three times too early
+/// (docs/vision.md §3).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GainFunction {
     pub k: f32,
@@ -22,16 +32,25 @@ pub struct GainFunction {
 }
 
 impl GainFunction {
+    /// G_cone(I) = 1 / (0.555 · (I + 1)^0.85).
     pub const CONES: Self = Self {
+        // Pattanaik et al. 1998, cone gain control, scale k (recalled, unchecked).
         k: 0.555,
+        // Pattanaik et al. 1998, cone gain control, offset σ (recalled, unchecked).
         sigma: 1.0,
+        // Pattanaik et al. 1998, cone gain control, exponent n (recalled, unchecked).
         n: 0.85,
         saturation: None,
     };
+    /// G_rod(I) = 10 / (I² + 10) · 1 / (0.908 · (I + 0.001)^0.85).
     pub const RODS: Self = Self {
+        // Pattanaik et al. 1998, rod gain control, scale k (recalled, unchecked).
         k: 0.908,
+        // Pattanaik et al. 1998, rod gain control, offset σ (recalled, unchecked).
         sigma: 0.001,
+        // Pattanaik et al. 1998, rod gain control, exponent n (recalled, unchecked).
         n: 0.85,
+        // Pattanaik et al. 1998, rod saturation c in c / (I² + c) (recalled, unchecked).
         saturation: Some(10.0),
     };
 

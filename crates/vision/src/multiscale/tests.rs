@@ -155,7 +155,7 @@ fn rods_join_the_achromatic_channel_only() {
     ] {
         let opp = opponent.apply([x[0], x[1], x[2]].map(f64::from));
         let want = back.apply([opp[0] + x[3] as f64, opp[1], opp[2]]);
-        let got = to_display_cones(&m, x);
+        let got = to_display_cones(m.rod_cones, x);
         for c in 0..3 {
             assert!(
                 (got[c] as f64 - want[c]).abs() < 1e-5,

@@ -11,14 +11,15 @@ use scotopia_color::RgbSpace;
 
 use crate::acuity::{gaussian_blur, scotopic_blur_degrees};
 use crate::gamut::map_to_gamut;
-use crate::glare::{apply_glare, GlareParams};
+use crate::glare::{apply_glare, GlareParams, GlareReport, Reproduced};
 use crate::mode::{
-    image_statistics, scotopic_sensitivity, Adaptation, ImageStatistics, VisualState,
+    image_statistics, log_average, scotopic_sensitivity, Adaptation, ImageStatistics, VisualState,
 };
-use crate::multiscale::{multiscale_in_place, GainAdaptation, MultiscaleParams};
+use crate::multiscale::{
+    adaptation_map, multiscale_in_place, GainAdaptation, MultiscaleParams, Pooling,
+};
 use crate::night::night_shift;
 use crate::observer::Observer;
-use crate::pyramid::{expand, gaussian, Plane};
 use crate::screen::{self, LeftOut};
 use crate::tonemap::{exposure_scale, reinhard_scale};
 
@@ -123,6 +124,12 @@ pub struct Report {
     /// The visual state at the image's (global or stated) adaptation.
     pub state: VisualState,
     pub glare_applied: bool,
+    /// The veiling luminance glare adds (cd/m², scene units) at the
+    /// adaptation point (how much it raises the image's log-average, the
+    /// global adaptation luminance) and at the image's centre (the line
+    /// of sight, where road lighting evaluates it).
+    pub veil_adaptation: f64,
+    pub veil_centre: f64,
     /// The scotopic acuity blur's σ in pixels (0: none).
     pub blur_pixels: f64,
     /// Seconds per stage, in order.
@@ -141,7 +148,7 @@ pub struct Displayed {
 /// What the pipeline holds per pixel at its peak, bytes, an upper
 /// estimate: the input and its glare copy, the excess, the padded glare
 /// FFT grids (complex, up to 4× the pixels), the tone-mapped, shown and
-/// RGB images and the local-adaptation pyramid.
+/// RGB images and the local-adaptation grid.
 const PIPELINE_BYTES_PER_PIXEL: u64 = 256;
 
 /// Whether a `width` × `height` image fits the memory budget for the
@@ -211,6 +218,10 @@ fn run(
         clock = Instant::now();
     };
 
+    // 0. The observer's lens: an older eye lets less light, and least of
+    // the blue, reach the retina (identity for the default observer).
+    let pixels = through_lens(pixels, &p.observer);
+
     // 1. Visual mode, from the pixels that are finite and not absurd.
     let statistics = image_statistics(&pixels);
     // Where the left-out pixels are (usually nowhere), for stage 5.
@@ -247,23 +258,44 @@ fn run(
     observe(Stage::Input, &|| xyz_at(&scene, exposure));
     lap("visual mode", &mut timings);
 
-    // 2. Glare.
-    let glare_applied = p.glare
-        && apply_glare(
+    // 2. Glare, from the scene in absolute units: the retinal image, less
+    // what the viewer's own eye will scatter from the display.
+    let glare = if p.glare {
+        apply_glare(
             &mut scene,
             width,
             height,
             &GlareParams {
                 degrees_per_pixel: p.degrees_per_pixel,
                 s: state.s,
-                threshold: glare_threshold(p, la),
+                observer: p.observer,
+                reproduced: reproduced(p, la, &statistics),
             },
-        );
+        )
+    } else {
+        GlareReport::default()
+    };
+    // The retinal image's log-average: the multiscale model's global
+    // adaptation, and the veil at the adaptation point.
+    let retinal_log_average = if glare.applied {
+        log_average(&scene)
+    } else {
+        statistics.log_average
+    };
+    let veil_adaptation = (retinal_log_average - statistics.log_average).max(0.0);
     observe(Stage::Glare, &|| xyz_at(&scene, exposure));
     lap("glare", &mut timings);
 
     // 3. Adaptation: display-relative X, Y, Z and V′ on the same scale.
-    tone_map(&mut scene, width, height, p, la, &statistics);
+    tone_map(
+        &mut scene,
+        width,
+        height,
+        p,
+        la,
+        &statistics,
+        retinal_log_average,
+    );
     let mut shown = scene;
     observe(Stage::Adaptation, &|| xyz_of(&shown));
     lap("adaptation", &mut timings);
@@ -309,11 +341,30 @@ fn run(
         report: Report {
             statistics,
             state,
-            glare_applied,
+            glare_applied: glare.applied,
+            veil_adaptation,
+            veil_centre: glare.veil_centre,
             blur_pixels,
             timings,
         },
     }
+}
+
+/// `pixels` as the observer's retina receives them: each channel scaled
+/// by the lens's transmittance relative to the default observer's
+/// (`Observer::lens_factors`); borrowed unchanged when that is 1.
+fn through_lens<'a>(pixels: Cow<'a, [[f32; 4]]>, observer: &Observer) -> Cow<'a, [[f32; 4]]> {
+    let f = observer.lens_factors().map(|v| v as f32);
+    if f == [1.0; 4] {
+        return pixels;
+    }
+    let mut owned = pixels.into_owned();
+    owned.par_iter_mut().for_each(|q| {
+        for c in 0..4 {
+            q[c] *= f[c];
+        }
+    });
+    Cow::Owned(owned)
 }
 
 /// What a left-out pixel is replaced by in the spatial stages: the used
@@ -340,6 +391,7 @@ fn display_adaptation(p: &DisplayParams) -> f64 {
 /// stated (`--adaptation CD`).
 fn multiscale_params(p: &DisplayParams) -> MultiscaleParams {
     MultiscaleParams {
+        degrees_per_pixel: p.degrees_per_pixel,
         display_peak: p.display_peak,
         adaptation: match p.adaptation {
             Adaptation::Fixed(l) => GainAdaptation::Global(l),
@@ -349,16 +401,21 @@ fn multiscale_params(p: &DisplayParams) -> MultiscaleParams {
     }
 }
 
-/// The scene luminance above which the display cannot follow, so the
-/// excess glares (Spencer et al. 1995 §5). For the exposure and Reinhard
-/// operators: what exposure maps to peak white, La / 0.18. For the
-/// multiscale model: the luminance whose photopic response, through the
-/// display's gain and the display's limit k, is the peak —
-/// k·Y·G(Y) = peak·G(La_display), solved by bisection in log luminance
-/// (Y·G(Y) rises monotonically).
-fn glare_threshold(p: &DisplayParams, la: f64) -> f64 {
+/// What the display reproduces of each scene luminance, in scene units
+/// at the adaptation luminance `la`, for the chosen tone operator: the
+/// rest of each pixel's light glares (glare/apply.rs). Exposure shows
+/// everything up to La/0.18 as it is; Reinhard's operator and the
+/// multiscale model compress, so a pixel brighter than La is reproduced
+/// as its display luminance over the display's luminance per cd/m² at La
+/// (for the model: its global response y·G(y)/G(La), up to the luminance
+/// the display shows at its peak, k·y·G(y) = peak·G(La_display)).
+fn reproduced(p: &DisplayParams, la: f64, stats: &ImageStatistics) -> Reproduced {
     match p.tonemap {
-        ToneOperator::Exposure | ToneOperator::Reinhard => la / 0.18,
+        ToneOperator::Exposure => Reproduced::Below(la / 0.18),
+        ToneOperator::Reinhard => Reproduced::Reinhard {
+            la,
+            maximum: stats.maximum,
+        },
         ToneOperator::Multiscale => {
             let params = multiscale_params(p);
             let cones = params.cones;
@@ -374,14 +431,20 @@ fn glare_threshold(p: &DisplayParams, la: f64) -> f64 {
                     hi = mid;
                 }
             }
-            10f64.powf(hi)
+            Reproduced::Gain {
+                cones,
+                la,
+                threshold: 10f64.powf(hi),
+            }
         }
     }
 }
 
 /// Stage 3: the chosen operator, turning `scene` in place into X, Y, Z, V′
-/// relative to the display's peak. V′ is scaled by each pixel's own
-/// luminance factor so the night shift sees it on the display's scale.
+/// relative to the display's peak. For the exposure and Reinhard
+/// operators V′ is scaled by each pixel's own luminance factor so the
+/// night shift sees it on the display's scale; for the multiscale model,
+/// whose luminance already holds the rods, V′ gives that luminance back.
 fn tone_map(
     scene: &mut [[f32; 4]],
     width: usize,
@@ -389,6 +452,7 @@ fn tone_map(
     p: &DisplayParams,
     la: f64,
     stats: &ImageStatistics,
+    retinal_log_average: f64,
 ) {
     let scale = |scene: &mut [[f32; 4]], k: &(dyn Fn(f64) -> f64 + Sync)| {
         scene.par_iter_mut().for_each(|q| {
@@ -404,35 +468,48 @@ fn tone_map(
         ToneOperator::Reinhard => scale(scene, &|y| reinhard_scale(y, la, stats.maximum)),
         ToneOperator::Multiscale => {
             let peak = p.display_peak as f32;
-            multiscale_in_place(scene, width, height, &multiscale_params(p), |q, d| {
-                // V′ follows Y's factor (black in Y stays black).
-                let f = if q[1] > 0.0 { d[1] / q[1] } else { 0.0 };
-                [d[0] / peak, d[1] / peak, d[2] / peak, q[3] * f / peak]
+            // The model's display luminance already holds the rods'
+            // response (they join its achromatic channel), so the night
+            // shift's V′ is set to give that luminance back (0.4468·V′ =
+            // Y): the shift then moves only chromaticity. Scaling V′ by
+            // Y's factor instead counted the rods twice, and drew dark
+            // rings where V′/Y changes (the halo's rings differ by
+            // channel).
+            let v_per_y = (1.0 / crate::night::V_TO_Y) as f32;
+            let params = MultiscaleParams {
+                log_average: Some(retinal_log_average),
+                ..multiscale_params(p)
+            };
+            multiscale_in_place(scene, width, height, &params, |_, d| {
+                [d[0] / peak, d[1] / peak, d[2] / peak, d[1] * v_per_y / peak]
             });
         }
     }
 }
 
-/// Per-pixel scotopic sensitivity for `--adaptation local`: s of the
-/// luminance at the pyramid level whose pixels are nearest 1° wide (the
-/// field the fovea adapts over), brought back to full size.
+/// Per-pixel scotopic sensitivity for `--adaptation local`: s of each
+/// pixel's local adaptation luminance (the multiscale model's pooling).
 fn local_sensitivity(
     pixels: &[[f32; 4]],
     width: usize,
     height: usize,
     p: &DisplayParams,
 ) -> Vec<f32> {
-    let y = Plane::new(
+    let clean = |v: f32| if v.is_finite() { v.max(0.0) } else { 0.0 };
+    // Fully local: the night shift follows each region's own light.
+    let pooling = Pooling {
+        local: 1.0,
+        ..p.multiscale.pooling
+    };
+    let map = adaptation_map(
         width,
         height,
-        pixels.par_iter().map(|q| q[1].max(0.0)).collect(),
+        p.degrees_per_pixel,
+        &pooling,
+        (1.0, 1.0),
+        |i| (clean(pixels[i][1]), clean(pixels[i][3])),
     );
-    let level = (1.0 / p.degrees_per_pixel).log2().round().clamp(1.0, 10.0) as usize;
-    let levels = gaussian(y, level + 1);
-    let coarse = levels.last().expect("a pyramid has its image");
-    let adapt = expand(coarse, width, height);
-    adapt
-        .data
+    map.cones
         .par_iter()
         .map(|&l| scotopic_sensitivity(l as f64) as f32)
         .collect()
