@@ -40,7 +40,7 @@ pub fn map_pixels_to_gamut<const N: usize>(
     pixels: &[[f32; N]],
     space: &RgbColorSpace,
 ) -> Vec<[f32; 3]> {
-    let mut out: Vec<[f32; 3]> = crate::pyramid::zeroed(pixels.len());
+    let mut out: Vec<[f32; 3]> = crate::resample::zeroed(pixels.len());
     Frame::with(space, |frame| {
         out.par_chunks_mut(CHUNK)
             .zip(pixels.par_chunks(CHUNK))
