@@ -147,7 +147,7 @@ fn the_replay_sees_the_distance_turn_back_past_a_kink() {
         ),
         ([0.808_411_1, 0.925_661_9, 0.035_906_125], RgbSpace::Srgb),
         ([0.811_821_5, 0.933_253_5, 0.026_069_3], RgbSpace::Srgb),
-        ([0.798_418_05, 0.903_890_0, 0.033_287_847], RgbSpace::Srgb),
+        ([0.798_418_05, 0.903_89, 0.033_287_847], RgbSpace::Srgb),
     ];
     for (xyz, space) in cases {
         let def = space.def();
