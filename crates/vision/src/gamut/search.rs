@@ -49,59 +49,66 @@ fn predict(c: f64, r1: f64, r2: f64) -> Option<(f64, f64, f64)> {
 }
 
 /// How far (ΔEOK) from JND − ε or JND a step's predicted distance must
-/// lie for its outcome to be taken from the prediction when the channels
-/// clipped there are not those clipped at the checked step beside it:
-/// where one more channel starts clipping, the distance may turn back
-/// by a few 1e-5 (seen on P3 yellows).
+/// lie for its outcome to be taken from the prediction when a channel
+/// starts clipping near the crossings: where one more channel starts
+/// clipping, the distance may turn back by a few 1e-5 (seen on yellows).
 const KINK_MARGIN: f64 = 2e-3;
 
 /// Whether the search, taking the path [`predict`] gives for `r1` and
 /// `r2` to `(min, chroma, max)`, would take it: the distance at `chroma`
 /// must stop the search, at `min` raise it and at `max` lower it, and so,
-/// the distance growing with chroma, at every step before; where a step
-/// near a crossing clips other channels than `min` or `max` does (the
-/// distance may turn there), it is checked too. Steps up to `lo` and from
-/// `hi` on are known. Returns the clipped colour's Oklab if so, and
-/// otherwise which of `min` and `max` went as predicted.
-#[allow(clippy::too_many_arguments)]
+/// the distance growing with chroma, at every step before — unless a
+/// channel starts clipping among the steps near a crossing (the distance
+/// may turn back there, for a while): then each of those is checked too.
+/// Returns the clipped colour's Oklab if so, and otherwise which of `min`
+/// and `max` went as predicted.
 fn check(
     line: &HueLine,
     c: f64,
     (r1, r2): (f64, f64),
     (min, chroma, max): (f64, f64, f64),
-    (lo, hi): (f64, f64),
 ) -> Result<[f64; 3], (bool, bool)> {
     let (lab, e) = line.clip_at(chroma);
-    let below = min <= lo || step(line.clip_at(min).1) == Step::Up;
-    let above = max >= hi || step(line.clip_at(max).1) == Step::Down;
+    // (Evaluated even where what is known would answer: beyond a kink the
+    // distance may turn back. Chroma 0 is grey; `c`, the colour itself,
+    // is never a step.)
+    let below = min == 0.0 || step(line.clip_at(min).1) == Step::Up;
+    let above = max == c || step(line.clip_at(max).1) == Step::Down;
     if !(below && above && step(e) == Step::Stop) {
         return Err((below, above));
     }
-    // The other steps near a crossing whose clipped channels differ.
+    // The other steps near a crossing: if a channel starts clipping
+    // among them (the clipped channels differ between the nearest steps
+    // at either end), each is checked.
     let slope = EPSILON / (r2 - r1);
-    let (at_min, at_max) = (line.clipped_channels(min), line.clipped_channels(max));
+    let mut near = [(0.0, false); 64];
+    let mut n = 0;
     let (mut a, mut b) = (0.0, c);
-    while b - a > EPSILON {
+    while b - a > EPSILON && n < near.len() {
         let mid = 0.5 * (a + b);
         if mid == chroma {
             break;
         }
         let up = mid <= r1;
-        let near = if up {
-            slope * (r1 - mid) < KINK_MARGIN
-        } else {
-            slope * (mid - r2) < KINK_MARGIN
-        };
-        if near && mid > lo && mid < hi && mid != min && mid != max {
-            let same = line.clipped_channels(mid) == if up { at_min } else { at_max };
-            if !same && step(line.clip_at(mid).1) != if up { Step::Up } else { Step::Down } {
-                return Err((false, false));
-            }
+        let gap = if up { r1 - mid } else { mid - r2 };
+        if slope * gap < KINK_MARGIN && mid != min && mid != max {
+            near[n] = (mid, up);
+            n += 1;
         }
         if up {
             a = mid;
         } else {
             b = mid;
+        }
+    }
+    let near = &near[..n];
+    let lowest = near.iter().fold(min, |m, &(x, _)| m.min(x));
+    let highest = near.iter().fold(max, |m, &(x, _)| m.max(x));
+    if line.clipped_channels(lowest) != line.clipped_channels(highest) {
+        for &(mid, up) in near {
+            if step(line.clip_at(mid).1) != if up { Step::Up } else { Step::Down } {
+                return Err((false, false));
+            }
         }
     }
     Ok(lab)
@@ -136,7 +143,7 @@ pub(super) fn css_color_4(line: &HueLine, c: f64, e0: f64) -> Option<[f64; 3]> {
             break;
         };
         let (min, chroma, max) = path;
-        match check(line, c, (r1, r2), path, (lo, hi)) {
+        match check(line, c, (r1, r2), path) {
             Ok(lab) => return Some(lab),
             Err((false, false)) if min > lo && max < hi => {}
             Err((below, above)) => {

@@ -136,6 +136,31 @@ fn the_fast_mapping_gives_the_references_codes() {
 }
 
 #[test]
+fn the_replay_sees_the_distance_turn_back_past_a_kink() {
+    // Yellows of the night street by day whose clip distance dips below
+    // JND again just after the blue channel starts clipping: the
+    // reference's bisection stops in the dip, and so must the replay.
+    let cases = [
+        (
+            [0.783_574_76, 0.888_988_26, 0.007_288_603],
+            RgbSpace::DisplayP3,
+        ),
+        ([0.808_411_1, 0.925_661_9, 0.035_906_125], RgbSpace::Srgb),
+        ([0.811_821_5, 0.933_253_5, 0.026_069_3], RgbSpace::Srgb),
+        ([0.798_418_05, 0.903_89, 0.033_287_847], RgbSpace::Srgb),
+    ];
+    for (xyz, space) in cases {
+        let def = space.def();
+        let xyz = xyz.map(|v: f32| f64::from(v));
+        let (fast, reference) = (map_to_gamut(xyz, def), map_to_gamut_reference(xyz, def));
+        for k in 0..3 {
+            let d = (code(fast[k]) - code(reference[k])).abs();
+            assert!(d < 1e-6, "{xyz:?}: {fast:?} vs {reference:?}");
+        }
+    }
+}
+
+#[test]
 fn the_lanes_give_the_references_codes() {
     // `map_pixels_to_gamut` (the reference's steps, side by side) on the
     // test colours as f32 pixels with a fourth value, against the
