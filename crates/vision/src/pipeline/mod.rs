@@ -10,7 +10,7 @@ use rayon::prelude::*;
 use scotopia_color::RgbSpace;
 
 use crate::acuity::{gaussian_blur, scotopic_blur_degrees};
-use crate::gamut::map_to_gamut;
+use crate::gamut::map_pixels_to_gamut;
 use crate::glare::{apply_glare, GlareParams, GlareReport, Reproduced};
 use crate::mode::{
     image_statistics, log_average, scotopic_sensitivity, Adaptation, ImageStatistics, VisualState,
@@ -316,10 +316,9 @@ fn run(
 
     // 5. Gamut mapping.
     let space = p.gamut.def();
-    let mut rgb: Vec<[f32; 3]> = shown
-        .par_iter()
-        .map(|q| map_to_gamut([q[0], q[1], q[2]].map(f64::from), space).map(|v| v as f32))
-        .collect();
+    // The CSS search for many pixels at once (gamut/wide.rs; the same
+    // codes as the per-pixel reference, tested).
+    let mut rgb: Vec<[f32; 3]> = map_pixels_to_gamut(&shown, space);
     for &(i, why) in &left_out {
         // Shown as what they are: no light, or more than the display has.
         rgb[i] = match why {
