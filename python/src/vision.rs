@@ -13,7 +13,7 @@ use pyo3::types::PyDict;
 use scotopia_color::RgbSpace;
 use scotopia_image::{read_xyzv, ImageError, RgbInput};
 use scotopia_vision::acuity::{degrees_per_pixel, gaussian_blur, MAX_BLUR_SIGMA};
-use scotopia_vision::gamut::map_to_gamut;
+use scotopia_vision::gamut::map_pixels_to_gamut;
 use scotopia_vision::glare::{apply_glare, GlareParams, Reproduced};
 use scotopia_vision::mode::{image_statistics, Adaptation, VisualState};
 use scotopia_vision::multiscale::{multiscale as run_multiscale, GainAdaptation, MultiscaleParams};
@@ -235,10 +235,9 @@ fn gamut_map<'py>(
 ) -> PyResult<Bound<'py, PyArray3<f32>>> {
     let (w, h, px) = pixels::<3>(&xyz)?;
     let space = RgbSpace::from_name(gamut).map_err(err)?.def();
-    let out = px
-        .iter()
-        .map(|q| map_to_gamut(q.map(f64::from), space).map(|v| v as f32))
-        .collect();
+    // The pipeline's whole-image mapper (the same codes as the per-pixel
+    // reference).
+    let out = py.detach(|| map_pixels_to_gamut(&px, space));
     array(py, w, h, out)
 }
 

@@ -68,9 +68,7 @@ impl Reproduced {
                 || {
                     for (o, px) in out.iter_mut().zip(row) {
                         let y = px[1];
-                        let v = if y < threshold { y } else { threshold };
-                        let kept = v * (cones.gain_wide(v) / g_la);
-                        let f = (y - kept) / y;
+                        let f = (y - kept_by_gain(y, &cones, g_la, threshold)) / y;
                         // Selects: at or below La, not finite, or no
                         // light, nothing glares.
                         *o = if y > la && y < f32::INFINITY && f > 0.0 {
@@ -110,8 +108,8 @@ impl Reproduced {
                 if y <= la {
                     return y;
                 }
-                let v = y.min(threshold);
-                v * (cones.gain_wide(v as f32) / cones.gain_wide(la as f32)) as f64
+                let g_la = cones.gain(la as f32);
+                kept_by_gain(y as f32, &cones, g_la, threshold as f32) as f64
             }
             Reproduced::Reinhard { la, maximum } => {
                 y * reinhard_scale(y, la, maximum) / reinhard_scale(la, la, maximum)
@@ -123,6 +121,15 @@ impl Reproduced {
             y
         }
     }
+}
+
+/// What the multiscale model's response reproduces of luminance `y`:
+/// v·G(v)/G(La) with v = min(y, threshold), `g_la` = G(La); branch-free
+/// (a select), so a row of it vectorises.
+#[inline(always)]
+fn kept_by_gain(y: f32, cones: &GainFunction, g_la: f32, threshold: f32) -> f32 {
+    let v = if y < threshold { y } else { threshold };
+    v * (cones.gain_wide(v) / g_la)
 }
 
 /// How the glare is applied.
@@ -164,11 +171,17 @@ pub fn apply_glare(
     // than stored: a full-size excess image is mostly zeros, and a fresh
     // process pays for each of its pages.
     let r = p.reproduced;
-    if !pixels.par_chunks(width.max(1)).any(|row| {
-        let mut f = vec![0.0f32; row.len()];
-        r.excess_factors(row, &mut f);
-        f.iter().any(|&v| v > 0.0)
-    }) {
+    let glares = pixels
+        .par_chunks(width.max(1))
+        .map_init(
+            || vec![0.0f32; width],
+            |f, row| {
+                r.excess_factors(row, f);
+                f.iter().any(|&v| v > 0.0)
+            },
+        )
+        .any(|g| g);
+    if !glares {
         return GlareReport::default();
     }
     // The PSF beyond its central pixel is smooth, so on large images it is
@@ -179,22 +192,21 @@ pub fn apply_glare(
     let f = coarse_factor(width, height);
     let (cw, ch) = (width.div_ceil(f), height.div_ceil(f));
     let mut coarse = vec![[0.0f32; 4]; cw * ch];
-    coarse
-        .par_chunks_mut(cw)
-        .enumerate()
-        .for_each(|(cy, cells)| {
+    coarse.par_chunks_mut(cw).enumerate().for_each_init(
+        || vec![0.0f32; width],
+        |factors, (cy, cells)| {
             for y in cy * f..((cy + 1) * f).min(height) {
                 let row = &pixels[y * width..(y + 1) * width];
-                let mut factors = vec![0.0f32; width];
-                r.excess_factors(row, &mut factors);
-                for (x, (px, k)) in row.iter().zip(&factors).enumerate() {
+                r.excess_factors(row, factors);
+                for (x, (px, k)) in row.iter().zip(factors.iter()).enumerate() {
                     let cell = &mut cells[x / f];
                     for c in 0..4 {
                         cell[c] += px[c] * k;
                     }
                 }
             }
-        });
+        },
+    );
     // Padding to at least twice the image keeps the circular convolution
     // from wrapping light from one edge onto the other.
     let fft = Fft2::new(smooth_size(2 * cw), smooth_size(2 * ch));
