@@ -252,6 +252,7 @@ pub fn run(args: Args) -> Result<()> {
         None => display_owned(image.pixels, image.width, image.height, &params),
     };
     clock.mark("pipeline");
+    clock.stages(&shown.report.timings);
     say_left_out(&shown);
     if let Some(out) = &args.output {
         write_shown(out, &shown, &params, png)?;
@@ -282,6 +283,15 @@ impl PhaseClock {
                 (now - *start).as_secs_f64() * 1e3
             );
             *start = now;
+        }
+    }
+
+    /// The pipeline's own stages, indented under its phase.
+    fn stages(&self, timings: &[(&'static str, f64)]) {
+        if self.0.is_some() {
+            for (name, secs) in timings {
+                eprintln!("scotopia: time:   {name:<14} {:6.1} ms", secs * 1e3);
+            }
         }
     }
 }

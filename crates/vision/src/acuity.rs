@@ -7,6 +7,8 @@
 
 use rayon::prelude::*;
 
+use crate::wide_math;
+
 /// The highest resolvable spatial frequency (cycles/degree) at adaptation
 /// luminance `la` (cd/m²): ω = 17.25·atan(1.4·log₁₀ La + 0.35) + 25.72, Ward
 /// Larson, Rushmeier & Piatko 1997 (IEEE TVCG 3(4), §5, a fit to Shaler
@@ -84,14 +86,20 @@ pub fn gaussian_blur(pixels: &mut [[f32; 4]], width: usize, height: usize, sigma
     let edges: Vec<(f32, f32)> = (0..width as i64)
         .map(|x| taps.edge_weights(x, width as i64))
         .collect();
-    // Horizontal pass, row by row.
+    // Horizontal pass, row by row: the pixels whose taps all fall inside
+    // the row as one wide loop per tap over the row's channels, the few
+    // near the ends tap by tap with their edge weights (the same sums in
+    // the same order either way).
+    let r = taps.radius as usize;
+    let inner = (r + 1)..width.saturating_sub(r + 1).max(r + 1);
     pixels.par_chunks_mut(width).for_each_init(
         || Vec::with_capacity(width),
         |copy: &mut Vec<[f32; 4]>, row| {
             copy.clear();
             copy.extend_from_slice(row);
             let n = width as i64;
-            for ((x, o), &(w0, w1)) in row.iter_mut().enumerate().zip(&edges) {
+            for x in (0..width).filter(|x| !inner.contains(x)) {
+                let (w0, w1) = edges[x];
                 let mut acc = [0.0f32; 4];
                 let mut add = |p: &[f32; 4], t: f32| axpy(&mut acc, p, t);
                 // (An edge's weight is 0 away from it, and adding 0 · p
@@ -105,11 +113,31 @@ pub fn gaussian_blur(pixels: &mut [[f32; 4]], width: usize, height: usize, sigma
                 if n > 1 && w1 != 0.0 {
                     add(&copy[width - 1], w1);
                 }
-                *o = acc;
+                row[x] = acc;
             }
+            if inner.is_empty() {
+                return;
+            }
+            let out = row[inner.clone()].as_flattened_mut();
+            let source = copy.as_flattened();
+            wide_math::dispatch(
+                #[inline(always)]
+                || {
+                    out.fill(0.0);
+                    for (k, &t) in taps.weights.iter().enumerate() {
+                        // Tap offset k − r: the source starts k − r pixels
+                        // from the output's first pixel.
+                        let from = 4 * (inner.start + k - r);
+                        let src = &source[from..from + out.len()];
+                        for (o, s) in out.iter_mut().zip(src) {
+                            *o += t * s;
+                        }
+                    }
+                },
+            );
         },
     );
-    let radius = taps.radius as usize;
+    let radius = r;
     let row_of = |v: &[[f32; 4]], y: usize| v[y * width..(y + 1) * width].to_vec();
     if radius >= BAND_ROWS / 4 {
         // A wide blur reads far: from a full-size copy (the halos of the
@@ -268,9 +296,15 @@ impl Taps {
         let (y, n) = (y as i64, n as i64);
         let (w0, w1) = self.edge_weights(y, n);
         let add = |out: &mut [[f32; 4]], yy: i64, t: f32| {
-            for (o, p) in out.iter_mut().zip(source(yy as usize)) {
-                axpy(o, p, t);
-            }
+            let (out, src) = (out.as_flattened_mut(), source(yy as usize).as_flattened());
+            wide_math::dispatch(
+                #[inline(always)]
+                || {
+                    for (o, p) in out.iter_mut().zip(src) {
+                        *o += t * p;
+                    }
+                },
+            );
         };
         out.fill([0.0; 4]);
         if w0 != 0.0 {

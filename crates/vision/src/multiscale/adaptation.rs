@@ -14,10 +14,10 @@
 //!   degrees).
 //!
 //! Computed on a bilateral grid (Chen, Paris & Durand 2007): each pixel's
-//! log luminance and weight are splatted trilinearly into cells of the
-//! pooling width in space and of the range width in log luminance, the
-//! grid is blurred, and each pixel reads it back trilinearly at its own
-//! position and luminance. The grid is small (a 1920 × 1080 image at 60°
+//! log luminance and weight are splatted into cells of the pooling width
+//! in space (the nearest cell) and of the range width in log luminance
+//! (linearly), the grid is blurred, and each pixel reads it back
+//! trilinearly at its own position and luminance. The grid is small (a 1920 × 1080 image at 60°
 //! and 0.5° cells is 124 × 70 × ~40 cells), so this costs two passes over
 //! the pixels.
 
@@ -110,25 +110,6 @@ impl Grid {
         (y * self.nx + x) * self.nz + z
     }
 
-    /// Adds `v` at continuous grid position (x, y, z), trilinearly.
-    #[inline(always)]
-    fn splat(&mut self, x: f32, y: f32, z: f32, v: [f32; 3]) {
-        let (ix, iy, iz) = (x as usize, y as usize, z as usize);
-        let (fx, fy, fz) = (x - ix as f32, y - iy as f32, z - iz as f32);
-        for (dy, wy) in [(0, 1.0 - fy), (1, fy)] {
-            for (dx, wx) in [(0, 1.0 - fx), (1, fx)] {
-                let at = self.index(ix + dx, iy + dy, iz);
-                let w = wy * wx;
-                let (a, b) = (w * (1.0 - fz), w * fz);
-                let pair = &mut self.cells[at..at + 2];
-                for c in 0..3 {
-                    pair[0][c] += a * v[c];
-                    pair[1][c] += b * v[c];
-                }
-            }
-        }
-    }
-
     /// The grid read at continuous position (x, y, z), trilinearly.
     #[inline(always)]
     fn read(&self, x: f32, y: f32, z: f32) -> [f32; 3] {
@@ -146,15 +127,6 @@ impl Grid {
             }
         }
         out
-    }
-
-    fn add(mut self, other: Self) -> Self {
-        for (a, b) in self.cells.iter_mut().zip(other.cells) {
-            for c in 0..3 {
-                a[c] += b[c];
-            }
-        }
-        self
     }
 
     /// Blurs along one axis with the binomial kernel [1 4 6 4 1]/16
@@ -297,32 +269,42 @@ pub fn adaptation_map(
             (l - lo) / depth + PAD as f32,
         )
     };
-    // Splat, a grid per task, then summed.
-    let rows_per_task = height.div_ceil(rayon::current_num_threads()).max(1);
-    let mut grid = (0..height)
-        .into_par_iter()
-        .step_by(rows_per_task)
-        .fold(
-            || {
-                (
-                    Grid::new(nx, ny, nz),
-                    vec![0.0f32; width],
-                    vec![0.0f32; width],
-                )
-            },
-            |(mut g, mut lc, mut lr), y0| {
-                for y in y0..(y0 + rows_per_task).min(height) {
-                    logs(y, &mut lc, &mut lr);
+    // Splat: each pixel into the cell column nearest it in space (the
+    // blur and the trilinear read make the spatial kernel smooth), and
+    // linearly between the two luminance cells around it. Image rows go
+    // to their nearest grid row only, so the grid's rows fill in
+    // parallel, each from its own image rows, with no grid per thread.
+    let nearest = |p: usize| ((p as f32 + 0.5) / cell + PAD as f32 + 0.5) as usize;
+    let row_cell: Vec<usize> = (0..height).map(nearest).collect();
+    let column: Vec<usize> = (0..width).map(|x| nearest(x) * nz).collect();
+    let mut grid = Grid::new(nx, ny, nz);
+    grid.cells
+        .par_chunks_mut(nx * nz)
+        .enumerate()
+        .for_each_init(
+            || (vec![0.0f32; width], vec![0.0f32; width]),
+            |(lc, lr), (gy, cells)| {
+                // Image rows are in order, so theirs are a range.
+                let rows =
+                    row_cell.partition_point(|&c| c < gy)..row_cell.partition_point(|&c| c <= gy);
+                for y in rows {
+                    logs(y, lc, lr);
                     for x in 0..width {
-                        let (gx, gy, gz) = at(x, y, lc[x]);
-                        g.splat(gx, gy, gz, [lc[x], lr[x], 1.0]);
+                        let z = (lc[x] - lo) / depth + PAD as f32;
+                        let iz = z as usize;
+                        let fz = z - iz as f32;
+                        // Logs relative to the darkest: small sums, and a
+                        // uniform field's exactly 0.
+                        let v = [lc[x] - lo, lr[x] - lo, 1.0];
+                        let pair = &mut cells[column[x] + iz..column[x] + iz + 2];
+                        for c in 0..3 {
+                            pair[0][c] += (1.0 - fz) * v[c];
+                            pair[1][c] += fz * v[c];
+                        }
                     }
                 }
-                (g, lc, lr)
             },
-        )
-        .map(|(g, _, _)| g)
-        .reduce(|| Grid::new(nx, ny, nz), Grid::add);
+        );
     // Blur in space, then pool in luminance.
     grid.blur(nz, nx);
     grid.blur(nx * nz, ny);
@@ -330,7 +312,10 @@ pub fn adaptation_map(
     // Read back each pixel's means, mixed with the global level.
     let l = pooling.local.clamp(0.0, 1.0) as f32;
     let l_rods = pooling.rods_local.clamp(0.0, 1.0) as f32;
-    let (gc, gr) = ((1.0 - l) * log(global.0), (1.0 - l_rods) * log(global.1));
+    let (gc, gr) = (
+        (1.0 - l) * log(global.0) + l * lo,
+        (1.0 - l_rods) * log(global.1) + l_rods * lo,
+    );
     let mut cones = vec![0.0f32; n];
     let mut rods = vec![0.0f32; n];
     cones
