@@ -96,6 +96,50 @@ pub fn log2(t: f32) -> f64 {
 /// 1/11, 1/9, …, 1/3, 1: the Horner steps after 1/13.
 const ODD_RECIPROCALS: [f64; 6] = [1.0 / 11.0, 1.0 / 9.0, 1.0 / 7.0, 1.0 / 5.0, 1.0 / 3.0, 1.0];
 
+/// log₂ t in f32 for a positive, normal, finite `t`, within 3e-7 plus an
+/// ulp of the result (2e-7 relative in 2^result near 1): for the
+/// adaptation grid's pooling, where twice the lanes matter more than
+/// f64's digits.
+#[inline(always)]
+pub fn log2_f32(t: f32) -> f32 {
+    let bits = t.to_bits();
+    let e = ((bits >> 23) as i32 - 127) as f32;
+    let m = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000);
+    let high = m > std::f32::consts::SQRT_2;
+    let m = if high { 0.5 * m } else { m };
+    let e = if high { e + 1.0 } else { e };
+    // ln m = 2 atanh s, |s| ≤ 0.1716: to s⁹/9, leaving 2·0.1716¹¹/11 < 7e-10.
+    let s = (m - 1.0) / (m + 1.0);
+    let z = s * s;
+    let p = (((z * (1.0 / 9.0) + 1.0 / 7.0) * z + 1.0 / 5.0) * z + 1.0 / 3.0) * z + 1.0;
+    e + (2.0 * std::f32::consts::LOG2_E) * s * p
+}
+
+/// 2^y in f32 for y in [−126, 127] (clamped there; NaN stays NaN), within
+/// 3e-7 relative.
+#[inline(always)]
+pub fn exp2_f32(y: f32) -> f32 {
+    let y = if y < -126.0 { -126.0 } else { y };
+    let y = if y > 127.0 { 127.0 } else { y };
+    // y = k + f, |f| ≤ ½ (1.5·2²³ rounds an f32 below 2²² to an integer).
+    const ROUND: f32 = 12_582_912.0;
+    let r = y + ROUND;
+    let k = r - ROUND;
+    let x = (y - k) * std::f32::consts::LN_2;
+    // e^x, |x| ≤ 0.347, Taylor to x⁷: 0.347⁸/8! < 6e-9.
+    let p = ((((((x * (1.0 / 5040.0) + 1.0 / 720.0) * x + 1.0 / 120.0) * x + 1.0 / 24.0) * x
+        + 1.0 / 6.0)
+        * x
+        + 0.5)
+        * x
+        + 1.0)
+        * x
+        + 1.0;
+    // r's low mantissa bits hold k; k + 127 in the exponent field is 2^k.
+    let scale = f32::from_bits(r.to_bits().wrapping_sub(ROUND.to_bits()).wrapping_add(127) << 23);
+    p * scale
+}
+
 /// `t.powf(n)` for a positive, normal, finite f32 `t`: t^n through
 /// [`log2`] and [`exp2`], rounded once to f32.
 #[inline(always)]
@@ -182,6 +226,25 @@ mod tests {
         }
         assert!(exp2(f64::NAN).is_nan());
         assert_eq!(exp2(-5000.0), (-1000f64).exp2());
+    }
+
+    #[test]
+    fn the_f32_log2_and_exp2_are_within_3e_7() {
+        for i in 0..200_000 {
+            let t = 10f32.powf(-30.0 + i as f32 * 3e-4);
+            let want = f64::from(t).log2();
+            let got = f64::from(log2_f32(t));
+            let ulp = want.abs() * f64::from(f32::EPSILON);
+            assert!((got - want).abs() < 3e-7 + ulp, "log2 {t}: {got} vs {want}");
+        }
+        for i in -125_900..127_000 {
+            let y = i as f32 * 1e-3;
+            let want = f64::from(y).exp2();
+            let got = f64::from(exp2_f32(y));
+            assert!((got / want - 1.0).abs() < 3e-7, "2^{y}: {got} vs {want}");
+        }
+        assert!(exp2_f32(f32::NAN).is_nan());
+        assert_eq!(exp2_f32(-500.0), 2f32.powi(-126));
     }
 
     #[test]

@@ -129,29 +129,39 @@ impl Grid {
         out
     }
 
-    /// Blurs along one axis with the binomial kernel [1 4 6 4 1]/16
-    /// (cells beyond the grid are empty).
-    fn blur(&mut self, stride: usize, len: usize) {
-        const K: [f32; 5] = [1.0 / 16.0, 4.0 / 16.0, 6.0 / 16.0, 4.0 / 16.0, 1.0 / 16.0];
-        let n = self.cells.len();
-        let src = self.cells.clone();
-        // Position along the axis of cell i: (i / stride) % len.
-        self.cells.par_iter_mut().enumerate().for_each(|(i, out)| {
-            let at = (i / stride) % len;
-            let mut sum = [0.0f32; 3];
-            for (k, w) in K.iter().enumerate() {
-                let t = at as isize + k as isize - 2;
-                if t < 0 || t >= len as isize {
-                    continue;
+    /// Blurs in space with the binomial kernel [1 4 6 4 1]/16 along x,
+    /// then along y (cells beyond the grid are empty). A column of cells
+    /// is contiguous, so each tap adds whole columns: wide loops.
+    fn blur_space(&mut self) {
+        let (nx, nz) = (self.nx, self.nz);
+        let row = nx * nz;
+        self.cells
+            .par_chunks_mut(row)
+            .for_each_init(Vec::new, |copy, cells| {
+                copy.clear();
+                copy.extend_from_slice(cells);
+                let (src, out) = (copy.as_flattened(), cells.as_flattened_mut());
+                for x in 0..nx {
+                    let unit = 3 * nz;
+                    blur_taps(&mut out[x * unit..(x + 1) * unit], |d| {
+                        let t = x as isize + d;
+                        (t >= 0 && t < nx as isize).then(|| &src[t as usize * unit..][..unit])
+                    });
                 }
-                let j = (i as isize + (k as isize - 2) * stride as isize) as usize;
-                debug_assert!(j < n);
-                for c in 0..3 {
-                    sum[c] += w * src[j][c];
-                }
-            }
-            *out = sum;
-        });
+            });
+        let copy = self.cells.clone();
+        let ny = self.cells.len() / row.max(1);
+        self.cells
+            .par_chunks_mut(row)
+            .enumerate()
+            .for_each(|(y, cells)| {
+                let unit = 3 * row;
+                let src = copy.as_flattened();
+                blur_taps(cells.as_flattened_mut(), |d| {
+                    let t = y as isize + d;
+                    (t >= 0 && t < ny as isize).then(|| &src[t as usize * unit..][..unit])
+                });
+            });
     }
 
     /// Pools along luminance: cell z gathers cell z + d with weight
@@ -192,6 +202,26 @@ impl Grid {
     }
 }
 
+/// `out` = Σ over d in −2..=2 of the binomial tap (1, 4, 6, 4, 1)/16 times
+/// `source(d)` (absent beyond the grid: nothing added), as one wide loop
+/// per tap.
+fn blur_taps<'a>(out: &mut [f32], source: impl Fn(isize) -> Option<&'a [f32]>) {
+    const K: [f32; 5] = [1.0 / 16.0, 4.0 / 16.0, 6.0 / 16.0, 4.0 / 16.0, 1.0 / 16.0];
+    out.fill(0.0);
+    for (k, &w) in K.iter().enumerate() {
+        if let Some(src) = source(k as isize - 2) {
+            wide_math::dispatch(
+                #[inline(always)]
+                || {
+                    for (o, s) in out.iter_mut().zip(src) {
+                        *o += w * s;
+                    }
+                },
+            );
+        }
+    }
+}
+
 /// The adaptation map of a `width` × `height` image whose pixel `i` has
 /// cone luminance `signals(i).0` (cd/m²) and rod signal `signals(i).1`
 /// (scotopic cd/m²), at `degrees_per_pixel`; `global` is the whole
@@ -205,7 +235,7 @@ pub fn adaptation_map(
     signals: impl Fn(usize) -> (f32, f32) + Sync,
 ) -> AdaptationMap {
     let n = width * height;
-    let log = |v: f32| wide_math::log2(v.max(FLOOR_LUMINANCE)) as f32;
+    let log = |v: f32| wide_math::log2_f32(v.max(FLOOR_LUMINANCE));
     // The luminance range, for the grid's depth (comparisons only; the
     // log of the two ends).
     let (lo, hi) = (0..n)
@@ -306,8 +336,7 @@ pub fn adaptation_map(
             },
         );
     // Blur in space, then pool in luminance.
-    grid.blur(nz, nx);
-    grid.blur(nx * nz, ny);
+    grid.blur_space();
     grid.pool_range(&kernel, pooling.floor as f32);
     // Read back each pixel's means, mixed with the global level.
     let l = pooling.local.clamp(0.0, 1.0) as f32;
@@ -340,8 +369,8 @@ pub fn adaptation_map(
                     || {
                         let rr = &mut rr[..cr.len()];
                         for x in 0..cr.len() {
-                            cr[x] = wide_math::exp2(cr[x] as f64) as f32;
-                            rr[x] = wide_math::exp2(rr[x] as f64) as f32;
+                            cr[x] = wide_math::exp2_f32(cr[x]);
+                            rr[x] = wide_math::exp2_f32(rr[x]);
                         }
                     },
                 );
