@@ -221,23 +221,52 @@ struct Sums {
 /// δ of the log-average: black pixels count as very dark, not as −∞.
 const LOG_DELTA: f64 = 1e-6;
 
+/// Pixels whose logs are taken in one wide loop.
+const LOG_CHUNK: usize = 256;
+
+/// Σ ln(δ + y) over the `used` entries of `ys`, in order; the logs as a
+/// wide loop (`wide_math::log2` of δ + y rounded to f32: 6e-8 in each
+/// log, against libm's `ln` per pixel at a third of the statistics' time).
+fn log_sum(ys: &[f64], used: &[bool; LOG_CHUNK]) -> f64 {
+    let mut logs = [0.0f64; LOG_CHUNK];
+    let logs = &mut logs[..ys.len()];
+    crate::wide_math::dispatch(
+        #[inline(always)]
+        || {
+            for (l, y) in logs.iter_mut().zip(ys) {
+                *l = crate::wide_math::log2((LOG_DELTA + y) as f32) * std::f64::consts::LN_2;
+            }
+        },
+    );
+    logs.iter()
+        .zip(used)
+        .filter(|(_, u)| **u)
+        .map(|(l, _)| l)
+        .sum()
+}
+
 impl Sums {
     fn of(pixels: &[[f32; 4]]) -> Self {
         let mut s = Sums::default();
-        for p in pixels {
-            match left_out(p) {
-                Some(LeftOut::NonFinite) => s.left_out.non_finite += 1,
-                Some(LeftOut::Absurd) => s.left_out.absurd += 1,
-                None => {
-                    let y = (p[1] as f64).max(0.0);
-                    s.used += 1;
-                    s.log_sum += (LOG_DELTA + y).ln();
-                    s.max = s.max.max(y);
-                    for (s, v) in s.sum.iter_mut().zip(p) {
-                        *s += (*v as f64).max(0.0);
+        for chunk in pixels.chunks(LOG_CHUNK) {
+            let mut ys = [0.0f64; LOG_CHUNK];
+            let mut used = [false; LOG_CHUNK];
+            for (i, p) in chunk.iter().enumerate() {
+                match left_out(p) {
+                    Some(LeftOut::NonFinite) => s.left_out.non_finite += 1,
+                    Some(LeftOut::Absurd) => s.left_out.absurd += 1,
+                    None => {
+                        let y = (p[1] as f64).max(0.0);
+                        (ys[i], used[i]) = (y, true);
+                        s.used += 1;
+                        s.max = s.max.max(y);
+                        for (s, v) in s.sum.iter_mut().zip(p) {
+                            *s += (*v as f64).max(0.0);
+                        }
                     }
                 }
             }
+            s.log_sum += log_sum(&ys[..chunk.len()], &used);
         }
         s
     }
@@ -245,9 +274,16 @@ impl Sums {
     /// Only `used` and `log_sum`, as [`Sums::of`] computes them.
     fn of_log(pixels: &[[f32; 4]]) -> Self {
         let mut s = Sums::default();
-        for p in pixels.iter().filter(|p| left_out(p).is_none()) {
-            s.used += 1;
-            s.log_sum += (LOG_DELTA + (p[1] as f64).max(0.0)).ln();
+        for chunk in pixels.chunks(LOG_CHUNK) {
+            let mut ys = [0.0f64; LOG_CHUNK];
+            let mut used = [false; LOG_CHUNK];
+            for (i, p) in chunk.iter().enumerate() {
+                if left_out(p).is_none() {
+                    (ys[i], used[i]) = ((p[1] as f64).max(0.0), true);
+                    s.used += 1;
+                }
+            }
+            s.log_sum += log_sum(&ys[..chunk.len()], &used);
         }
         s
     }
