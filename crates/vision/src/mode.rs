@@ -198,6 +198,14 @@ pub fn log_average(pixels: &[[f32; 4]]) -> f64 {
     (s.log_sum / s.used.max(1) as f64).exp()
 }
 
+/// The pixels of `pixels` that [`log_average`] uses and the sum of their
+/// ln(δ + Y), for a caller that visits every pixel anyway (glare adds
+/// these up row by row): the log-average is exp(sum / count).
+pub fn log_sum_of(pixels: &[[f32; 4]]) -> (usize, f64) {
+    let s = Sums::of_log(pixels);
+    (s.used, s.log_sum)
+}
+
 /// `of` over fixed blocks of `pixels` in parallel, the blocks' sums added
 /// in order.
 fn block_sums(pixels: &[[f32; 4]], of: fn(&[[f32; 4]]) -> Sums) -> Sums {

@@ -155,6 +155,10 @@ pub struct GlareReport {
     /// evaluates it) and on average over the image.
     pub veil_centre: f64,
     pub veil_mean: f64,
+    /// The glared image's log-average luminance (as
+    /// [`crate::mode::log_average`]; summed row by row in the pass that
+    /// adds the veil).
+    pub log_average: f64,
 }
 
 /// Adds glare to `pixels` ([X, Y, Z, V′] absolute, row-major, `width` ×
@@ -219,46 +223,41 @@ pub fn apply_glare(
     // central share.
     let up = Bilinear::new((cw, ch), (width, height));
     let scale = 1.0 / (f * f) as f32;
-    let centre = (height / 2) * width + width / 2;
-    let veils: Vec<(f64, f64)> = pixels
+    let veils: Vec<(f64, f64, (usize, f64))> = pixels
         .par_chunks_mut(width)
         .enumerate()
         .map_init(
-            || {
-                (
-                    vec![0.0f32; width],
-                    vec![[0.0f32; 4]; width],
-                    vec![0.0f32; width],
-                )
-            },
-            |(row_glare, ex, factors), (y, row)| {
+            || (vec![vec![0.0f32; width]; 4], vec![0.0f32; width]),
+            |(veil, factors), (y, row)| {
                 r.excess_factors(row, factors);
-                for ((px, e), k) in row.iter_mut().zip(ex.iter_mut()).zip(factors.iter()) {
-                    *e = px.map(|v| v * k);
-                    for c in 0..4 {
-                        px[c] -= e[c];
-                    }
+                for (c, v) in veil.iter_mut().enumerate() {
+                    up.row(&glare[c], y, v);
+                    v.iter_mut().for_each(|g| *g *= scale);
                 }
-                let (mut sum, mut at_centre) = (0.0f64, 0.0f64);
-                for c in 0..4 {
-                    up.row(&glare[c], y, row_glare);
-                    for (x, ((px, e), g)) in row
-                        .iter_mut()
-                        .zip(ex.iter())
-                        .zip(row_glare.iter())
-                        .enumerate()
-                    {
-                        let veil = g * scale;
-                        px[c] += veil + kept[c] * e[c];
-                        if c == 1 {
-                            sum += veil as f64;
-                            if y * width + x == centre {
-                                at_centre = veil as f64;
+                let veil: &[Vec<f32>] = veil;
+                let factors: &[f32] = factors;
+                // Each channel: less its excess e, plus the veil and the
+                // kept central share of e; a wide loop over the row.
+                wide_math::dispatch(
+                    #[inline(always)]
+                    || {
+                        let factors = &factors[..row.len()];
+                        let veil: [&[f32]; 4] = std::array::from_fn(|c| &veil[c][..row.len()]);
+                        for (x, px) in row.iter_mut().enumerate() {
+                            for c in 0..4 {
+                                let e = px[c] * factors[x];
+                                px[c] = (px[c] - e) + (veil[c][x] + kept[c] * e);
                             }
                         }
-                    }
-                }
-                (sum, at_centre)
+                    },
+                );
+                let sum = veil[1].iter().map(|&v| v as f64).sum::<f64>();
+                let at_centre = if y == height / 2 {
+                    veil[1][width / 2] as f64
+                } else {
+                    0.0
+                };
+                (sum, at_centre, crate::mode::log_sum_of(row))
             },
         )
         .collect();
@@ -267,6 +266,12 @@ pub fn apply_glare(
         applied: true,
         veil_centre: veils.iter().map(|v| v.1).sum(),
         veil_mean: veils.iter().map(|v| v.0).sum::<f64>() / n,
+        log_average: {
+            let (used, sum) = veils
+                .iter()
+                .fold((0, 0.0), |(u, s), v| (u + v.2 .0, s + v.2 .1));
+            (sum / used.max(1) as f64).exp()
+        },
     }
 }
 

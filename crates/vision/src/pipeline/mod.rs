@@ -13,7 +13,7 @@ use crate::acuity::{gaussian_blur, scotopic_blur_degrees};
 use crate::gamut::map_pixels_to_gamut;
 use crate::glare::{apply_glare, GlareParams, GlareReport, Reproduced};
 use crate::mode::{
-    image_statistics, log_average, scotopic_sensitivity, Adaptation, ImageStatistics, VisualState,
+    image_statistics, scotopic_sensitivity, Adaptation, ImageStatistics, VisualState,
 };
 use crate::multiscale::{
     adaptation_map, multiscale_in_place, GainAdaptation, MultiscaleParams, Pooling,
@@ -278,7 +278,7 @@ fn run(
     // The retinal image's log-average: the multiscale model's global
     // adaptation, and the veil at the adaptation point.
     let retinal_log_average = if glare.applied {
-        log_average(&scene)
+        glare.log_average
     } else {
         statistics.log_average
     };
