@@ -17,7 +17,9 @@ pub mod xyzv;
 pub use exr_out::{read_exr, write_exr, ExrImage, Meta};
 pub use limits::{check_buffer, check_image, TooLarge};
 pub use plot::{display_colour, plot_spectrum};
-pub use png_out::{encode_png, write_png, write_png_rgb8, ImageError, PngColour, PngSamples};
+pub use png_out::{
+    encode_png, encode_png_stored, write_png, write_png_rgb8, ImageError, PngColour, PngSamples,
+};
 pub use preview::preview_srgb8;
 pub use read::{read_rgb, Encoding, RgbImage};
 pub use sheet::{sheet, Panel};

@@ -88,7 +88,7 @@ pub fn write_png(
     let tmp = tmp_path(path);
     let result = (|| {
         let file = File::create(&tmp).map_err(io)?;
-        encode_to(BufWriter::new(file), width, height, samples, colour).map_err(|e| {
+        encode_to(BufWriter::new(file), width, height, samples, colour, true).map_err(|e| {
             ImageError::Png {
                 path: name.clone(),
                 message: e.to_string(),
@@ -111,11 +111,37 @@ pub fn encode_png(
     samples: PngSamples,
     colour: PngColour,
 ) -> Result<Vec<u8>, ImageError> {
+    encode_png_with(name, width, height, samples, colour, true)
+}
+
+/// [`encode_png`] with the samples stored uncompressed: for a response
+/// over the loopback, where compressing a full-HD image (~20 ms on one
+/// core) costs more than sending the bytes.
+pub fn encode_png_stored(
+    name: &str,
+    width: u32,
+    height: u32,
+    samples: PngSamples,
+    colour: PngColour,
+) -> Result<Vec<u8>, ImageError> {
+    encode_png_with(name, width, height, samples, colour, false)
+}
+
+fn encode_png_with(
+    name: &str,
+    width: u32,
+    height: u32,
+    samples: PngSamples,
+    colour: PngColour,
+    compress: bool,
+) -> Result<Vec<u8>, ImageError> {
     check_count(name, width, height, samples)?;
     let mut bytes = Vec::new();
-    encode_to(&mut bytes, width, height, samples, colour).map_err(|e| ImageError::Png {
-        path: name.into(),
-        message: e.to_string(),
+    encode_to(&mut bytes, width, height, samples, colour, compress).map_err(|e| {
+        ImageError::Png {
+            path: name.into(),
+            message: e.to_string(),
+        }
     })?;
     Ok(bytes)
 }
@@ -139,6 +165,7 @@ fn encode_to<W: std::io::Write>(
     height: u32,
     samples: PngSamples,
     colour: PngColour,
+    compress: bool,
 ) -> Result<(), png::EncodingError> {
     let (bytes, depth): (std::borrow::Cow<[u8]>, _) = match samples {
         PngSamples::Rgb8(v) => (v.into(), png::BitDepth::Eight),
@@ -151,7 +178,7 @@ fn encode_to<W: std::io::Write>(
             (bytes.into(), png::BitDepth::Sixteen)
         }
     };
-    let compression = if worth_compressing(width, height, depth, &bytes) {
+    let compression = if compress && worth_compressing(width, height, depth, &bytes) {
         // fdeflate with an adaptive row filter: on a dithered
         // 1920×1080 night image ~25× faster than the default (zlib
         // level 6) for files ~1.2× larger (1.07× at 16 bits); README,

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use scotopia_color::RgbSpace;
 use scotopia_image::{
-    encode_png, sheet, write_exr, ImageError, Meta, Panel, PngColour, PngSamples,
+    encode_png, encode_png_stored, sheet, write_exr, ImageError, Meta, Panel, PngColour, PngSamples,
 };
 
 use crate::encode::{pq16, srgb16, srgb8};
@@ -19,6 +19,9 @@ pub struct PngOptions {
     pub sixteen_bit: bool,
     /// Rec. 2100 PQ at the display's absolute peak (`--hdr`).
     pub hdr: bool,
+    /// Samples stored uncompressed (the viewer's responses: compressing
+    /// costs more time than the loopback takes to carry the bytes).
+    pub stored: bool,
 }
 
 impl PngOptions {
@@ -28,6 +31,7 @@ impl PngOptions {
             8 | 16 => Ok(Self {
                 sixteen_bit: bits == 16,
                 hdr,
+                stored: false,
             }),
             _ => Err(format!("bits {bits}: use 8 or 16")),
         }
@@ -122,6 +126,11 @@ pub fn display_png(
     png: PngOptions,
 ) -> Result<Vec<u8>, ImageError> {
     let (w, h) = (d.width as u32, d.height as u32);
+    let encode_png = if png.stored {
+        encode_png_stored
+    } else {
+        encode_png
+    };
     if png.hdr {
         if p.gamut != RgbSpace::Rec2020 {
             return Err(ImageError::Invalid(format!(

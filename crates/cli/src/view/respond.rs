@@ -2,12 +2,13 @@
 //! settings, a pixel's values, and saving.
 
 use anyhow::{bail, Context, Result};
+use rayon::prelude::*;
 use serde_json::json;
 
 use scotopia_image::{encode_png, write_atomic, PngColour, PngSamples, XyzvImage};
 use scotopia_render::output::write_xyzv_pixels;
 use scotopia_vision::display_owned;
-use scotopia_vision::output::{compare_sheet, display_png};
+use scotopia_vision::output::{compare_sheet, display_png, PngOptions};
 
 use super::live::Live;
 use super::query::{merge, View};
@@ -51,7 +52,7 @@ fn picture(live: &Live, query: &str) -> Result<(Vec<u8>, Headers)> {
     let image = XyzvImage {
         width: film.width,
         height: film.height,
-        pixels: film.pixels.iter().map(|p| p.map(|v| v * k)).collect(),
+        pixels: film.pixels.par_iter().map(|p| p.map(|v| v * k)).collect(),
         fov_horizontal: film.fov_horizontal,
         quantity: film.quantity.clone(),
         notes: Vec::new(),
@@ -61,6 +62,10 @@ fn picture(live: &Live, query: &str) -> Result<(Vec<u8>, Headers)> {
     let name = "image.png";
     // Checked in every view, so that a bad setting is never kept.
     let (params, png, _) = settings.vision.params(w, image.fov_horizontal)?;
+    let png = PngOptions {
+        stored: true,
+        ..png
+    };
     let bytes = if view == View::FalseColour {
         let map = crate::false_colour::map(
             &settings.false_colour,
