@@ -216,7 +216,7 @@ fn idle_and_non_reading_clients_do_not_hold_up_others() {
     // A client that pipelines requests for the page and never reads.
     let mut greedy = v.connect();
     let one = format!("GET / HTTP/1.1\r\nHost: {}\r\n\r\n", v.host());
-    for _ in 0..1000 {
+    for _ in 0..5000 {
         if greedy.write_all(one.as_bytes()).is_err() {
             break;
         }

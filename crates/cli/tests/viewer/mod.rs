@@ -74,7 +74,12 @@ impl Viewer {
     /// that ends them) and `body`; the reply.
     pub fn send(&self, head: &str, body: &[u8]) -> Answer {
         let mut s = self.connect();
-        write!(s, "{head}\r\nContent-Length: {}\r\n\r\n", body.len()).unwrap();
+        write!(
+            s,
+            "{head}\r\nConnection: close\r\nContent-Length: {}\r\n\r\n",
+            body.len()
+        )
+        .unwrap();
         s.write_all(body).unwrap();
         read_reply(&mut s).expect("a reply")
     }
