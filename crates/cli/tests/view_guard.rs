@@ -113,7 +113,10 @@ fn only_the_page_can_save() {
         };
         let (code, _, said) = v.send(head, body);
         assert!([403, 415].contains(&code), "{head}: {code} {}", text(&said));
-        assert!(!out.exists() && !out.with_extension("png").exists(), "{head}");
+        assert!(
+            !out.exists() && !out.with_extension("png").exists(),
+            "{head}"
+        );
     }
     // Saving is a POST: a GET (an <img>, a link) is not.
     let (code, _, _) = v.request("GET", "/save?scale=1");
@@ -129,7 +132,10 @@ fn only_the_page_can_save() {
     assert_eq!(code, 200, "{}", text(&said));
     assert!(out.exists() && out.with_extension("png").exists());
     let reply: serde_json::Value = serde_json::from_slice(&said).unwrap();
-    assert_eq!((reply["exr"].as_str(), reply["png"].as_str()), (Some("out.exr"), Some("out.png")));
+    assert_eq!(
+        (reply["exr"].as_str(), reply["png"].as_str()),
+        (Some("out.exr"), Some("out.png"))
+    );
 }
 
 #[test]

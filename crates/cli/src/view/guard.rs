@@ -109,7 +109,12 @@ mod tests {
     fn only_the_served_host_and_port_are_answered() {
         let s = Session::new(8650).unwrap();
         let host = |h: &str| status(s.check_host(&Request::new("GET", "/", &[("Host", h)], b"")));
-        for ok in ["127.0.0.1:8650", "localhost:8650", "LOCALHOST:8650", "[::1]:8650"] {
+        for ok in [
+            "127.0.0.1:8650",
+            "localhost:8650",
+            "LOCALHOST:8650",
+            "[::1]:8650",
+        ] {
             assert_eq!(host(ok), 200, "{ok}");
         }
         for bad in [
@@ -140,10 +145,16 @@ mod tests {
         assert_eq!(change(&[host, json, (TOKEN_HEADER, &t)]), 200);
         let page = ("Origin", "http://127.0.0.1:8650");
         let same_site = ("Sec-Fetch-Site", "same-origin");
-        assert_eq!(change(&[host, json, (TOKEN_HEADER, &t), page, same_site]), 200);
+        assert_eq!(
+            change(&[host, json, (TOKEN_HEADER, &t), page, same_site]),
+            200
+        );
         // No token, a wrong one, one a character short.
         assert_eq!(change(&[host, json]), 403);
-        assert_eq!(change(&[host, json, (TOKEN_HEADER, &t.replace('a', "b"))]), 403);
+        assert_eq!(
+            change(&[host, json, (TOKEN_HEADER, &t.replace('a', "b"))]),
+            403
+        );
         assert_eq!(change(&[host, json, (TOKEN_HEADER, &t[1..])]), 403);
         // Another origin or site, even with the token.
         for other in [
@@ -153,7 +164,11 @@ mod tests {
             ("Sec-Fetch-Site", "cross-site"),
             ("Sec-Fetch-Site", "same-site"),
         ] {
-            assert_eq!(change(&[host, json, (TOKEN_HEADER, &t), other]), 403, "{other:?}");
+            assert_eq!(
+                change(&[host, json, (TOKEN_HEADER, &t), other]),
+                403,
+                "{other:?}"
+            );
         }
         // What a form can send.
         for kind in [

@@ -240,7 +240,10 @@ impl Reply {
         for (name, value) in fixed.into_iter().chain(self.headers) {
             // A value that could end the header (a line break) is left
             // out, as it cannot be sent as it is.
-            if value.bytes().all(|b| b == b'\t' || (b >= 0x20 && b != 0x7f)) {
+            if value
+                .bytes()
+                .all(|b| b == b'\t' || (b >= 0x20 && b != 0x7f))
+            {
                 head.push_str(&format!("{name}: {value}\r\n"));
             }
         }
@@ -305,7 +308,10 @@ mod tests {
         assert_eq!(status(&endless), None);
         endless.push(b'a');
         assert_eq!(status(&endless), Some(431));
-        let big = format!("POST / HTTP/1.1\r\nContent-Length: {}\r\n\r\n", MAX_BODY + 1);
+        let big = format!(
+            "POST / HTTP/1.1\r\nContent-Length: {}\r\n\r\n",
+            MAX_BODY + 1
+        );
         assert_eq!(status(big.as_bytes()), Some(413));
         let chunked = b"POST / HTTP/1.1\r\nTransfer-Encoding: chunked\r\n\r\n";
         assert_eq!(status(chunked), Some(411));
@@ -321,7 +327,10 @@ mod tests {
     fn a_reply_closes_and_leaves_out_a_header_that_would_break_it() {
         let r = Reply::error(421, "no".into()).with("X-Bad", "a\r\nSet-Cookie: x".into());
         let text = String::from_utf8(r.bytes()).unwrap();
-        assert!(text.starts_with("HTTP/1.1 421 Misdirected Request\r\n"), "{text}");
+        assert!(
+            text.starts_with("HTTP/1.1 421 Misdirected Request\r\n"),
+            "{text}"
+        );
         assert!(text.contains("Connection: close\r\n"), "{text}");
         assert!(!text.contains("Set-Cookie"), "{text}");
         assert!(text.ends_with("\r\n\r\n{\"error\":\"no\"}"), "{text}");

@@ -155,7 +155,14 @@ pub fn start(args: Args, cancel: Arc<AtomicBool>) -> Result<Viewing> {
             seconds: 0.0,
             meta,
         };
-        let live = Arc::new(Live::new(frame, Phase::Image, settings, 0, page_name, output));
+        let live = Arc::new(Live::new(
+            frame,
+            Phase::Image,
+            settings,
+            0,
+            page_name,
+            output,
+        ));
         let (url, serving) = serve(&args, live.clone())?;
         return Ok(Viewing {
             url,

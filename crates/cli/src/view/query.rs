@@ -102,7 +102,8 @@ struct Query {
 /// flags, with `-` or `_`), and the settings they make, checked as the
 /// command line checks them. `skip`: keys that are not settings.
 pub fn merge(base: &Pairs, query: &str, skip: &[&str]) -> Result<(Pairs, Settings)> {
-    let given = form_urlencoded::parse(query.as_bytes()).map(|(k, v)| (k.into_owned(), v.into_owned()));
+    let given =
+        form_urlencoded::parse(query.as_bytes()).map(|(k, v)| (k.into_owned(), v.into_owned()));
     merge_pairs(base, given, skip)
 }
 
@@ -259,10 +260,14 @@ mod tests {
 
     #[test]
     fn settings_sent_as_json_are_read_like_a_query() {
-        let given = from_json(br#"{"scale": 0.02, "glare": false, "tonemap": "exposure"}"#).unwrap();
+        let given =
+            from_json(br#"{"scale": 0.02, "glare": false, "tonemap": "exposure"}"#).unwrap();
         let (pairs, s) = merge_pairs(&defaults(), given, &[]).unwrap();
         assert_eq!(s.scale, 0.02);
-        assert_eq!((pairs["glare"].as_str(), pairs["tonemap"].as_str()), ("off", "exposure"));
+        assert_eq!(
+            (pairs["glare"].as_str(), pairs["tonemap"].as_str()),
+            ("off", "exposure")
+        );
         for (body, says) in [
             (&b"scale=2"[..], "not JSON"),
             (b"[1]", "not a JSON object"),
@@ -272,9 +277,13 @@ mod tests {
             let e = from_json(body).unwrap_err().to_string();
             assert!(e.contains(says), "{e}");
         }
-        let e = merge_pairs(&defaults(), from_json(br#"{"colour": "blue"}"#).unwrap(), &[])
-            .unwrap_err()
-            .to_string();
+        let e = merge_pairs(
+            &defaults(),
+            from_json(br#"{"colour": "blue"}"#).unwrap(),
+            &[],
+        )
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("unknown setting 'colour'"), "{e}");
     }
 }

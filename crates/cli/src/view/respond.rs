@@ -83,7 +83,8 @@ pub fn status(live: &Live) -> serde_json::Value {
 /// `GET /image.png?SETTINGS`: the picture, with what the eye did in its
 /// headers (mode, adaptation luminance) and the film's spp.
 pub fn image(live: &Live, query: &str) -> Reply {
-    let given = form_urlencoded::parse(query.as_bytes()).map(|(k, v)| (k.into_owned(), v.into_owned()));
+    let given =
+        form_urlencoded::parse(query.as_bytes()).map(|(k, v)| (k.into_owned(), v.into_owned()));
     match picture(live, given) {
         Ok((bytes, headers)) => Reply::png(bytes, headers),
         Err(e) => Reply::error(400, format!("{e:#}")),

@@ -160,10 +160,9 @@ fn work(
         let Ok((id, request)) = job else { return };
         // A failure inside one answer is that request's 500, not a worker
         // lost.
-        let reply = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            handler.answer(&request)
-        }))
-        .unwrap_or_else(|_| Reply::error(500, "the viewer failed on this request".into()));
+        let reply =
+            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| handler.answer(&request)))
+                .unwrap_or_else(|_| Reply::error(500, "the viewer failed on this request".into()));
         if replies.send((id, reply.bytes())).is_err() {
             return;
         }
