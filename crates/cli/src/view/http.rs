@@ -66,41 +66,68 @@ pub enum Received {
     Refused(Reply),
 }
 
-/// Reads `bytes`, everything a connection has sent so far.
-pub fn receive(bytes: &[u8]) -> Received {
-    let Some(end) = head_end(bytes) else {
-        return if bytes.len() > MAX_HEAD {
-            Received::Refused(Reply::error(
-                431,
-                format!("the request's head is over {MAX_HEAD} bytes"),
-            ))
-        } else {
-            Received::More
-        };
-    };
-    if end > MAX_HEAD {
-        return Received::Refused(Reply::error(
-            431,
-            format!("the request's head is over {MAX_HEAD} bytes"),
-        ));
-    }
-    match parse_head(&bytes[..end]) {
-        Err(reply) => Received::Refused(reply),
-        Ok((mut request, length)) => match bytes.get(end..end + length) {
-            Some(body) => {
-                request.body = body.to_vec();
+/// A request arriving: its bytes so far, and its head once read (so that
+/// neither is looked through again for each new piece).
+#[derive(Default)]
+pub struct Incoming {
+    bytes: Vec<u8>,
+    /// How far the search for the head's end has looked.
+    scanned: usize,
+    /// The head read: the request without its body, where the body starts
+    /// and its length.
+    head: Option<(Request, usize, usize)>,
+}
+
+impl Incoming {
+    /// Takes the next bytes the connection sent.
+    pub fn push(&mut self, data: &[u8]) -> Received {
+        self.bytes.extend_from_slice(data);
+        if self.head.is_none() {
+            let too_long = || {
+                Received::Refused(Reply::error(
+                    431,
+                    format!("the request's head is over {MAX_HEAD} bytes"),
+                ))
+            };
+            // The end (a line break, then CRLF or LF) may straddle pieces.
+            let Some(end) = head_end(&self.bytes, self.scanned.saturating_sub(2)) else {
+                self.scanned = self.bytes.len();
+                return if self.bytes.len() > MAX_HEAD {
+                    too_long()
+                } else {
+                    Received::More
+                };
+            };
+            if end > MAX_HEAD {
+                return too_long();
+            }
+            match parse_head(&self.bytes[..end]) {
+                Err(reply) => return Received::Refused(reply),
+                Ok((request, length)) => self.head = Some((request, end, length)),
+            }
+        }
+        match self.head.take() {
+            Some((mut request, end, length)) if self.bytes.len() >= end + length => {
+                request.body = self.bytes[end..end + length].to_vec();
                 Received::Whole(request)
             }
-            None => Received::More,
-        },
+            head => {
+                self.head = head;
+                Received::More
+            }
+        }
+    }
+
+    /// The bytes held (never more than a head, a body and a last piece).
+    pub fn held(&self) -> usize {
+        self.bytes.len()
     }
 }
 
-/// Where the head ends: after the first empty line (CRLF, or LF alone as
-/// httparse also reads).
-fn head_end(bytes: &[u8]) -> Option<usize> {
-    let mut from = 0;
-    while let Some(i) = bytes[from..].iter().position(|&b| b == b'\n') {
+/// Where the head ends, looking from `from`: after the first empty line
+/// (CRLF, or LF alone as httparse also reads).
+fn head_end(bytes: &[u8], mut from: usize) -> Option<usize> {
+    while let Some(i) = bytes.get(from..)?.iter().position(|&b| b == b'\n') {
         let at = from + i;
         match bytes.get(at + 1..) {
             Some([b'\n', ..]) => return Some(at + 2),
@@ -276,6 +303,10 @@ fn reason(status: u16) -> &'static str {
 mod tests {
     use super::*;
 
+    fn receive(bytes: &[u8]) -> Received {
+        Incoming::default().push(bytes)
+    }
+
     fn status(bytes: &[u8]) -> Option<u16> {
         match receive(bytes) {
             Received::More => None,
@@ -298,6 +329,28 @@ mod tests {
         assert_eq!(r.header("HOST"), Some("x"));
         // LF alone ends lines too.
         assert_eq!(status(b"GET / HTTP/1.0\n\n"), Some(200));
+    }
+
+    #[test]
+    fn a_request_sent_a_byte_at_a_time_is_the_same() {
+        for text in [
+            &b"POST /save HTTP/1.1\r\nHost: x\r\nContent-Length: 3\r\n\r\nabcdef"[..],
+            b"POST /save HTTP/1.1\nHost: x\nContent-Length: 3\n\nabcdef",
+        ] {
+            let mut incoming = Incoming::default();
+            let whole = text.len() - 3;
+            for (i, b) in text.iter().enumerate() {
+                match incoming.push(&[*b]) {
+                    Received::More => assert!(i + 1 < whole, "byte {i}"),
+                    Received::Whole(r) => {
+                        assert_eq!((i + 1, r.body.as_slice()), (whole, &b"abc"[..]));
+                        assert_eq!(r.header("host"), Some("x"));
+                        break;
+                    }
+                    Received::Refused(r) => panic!("refused: {}", r.status),
+                }
+            }
+        }
     }
 
     #[test]

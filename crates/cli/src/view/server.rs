@@ -27,7 +27,7 @@ use anyhow::{bail, Context, Result};
 use mio::net::{TcpListener, TcpStream};
 use mio::{Events, Interest, Poll, Token, Waker};
 
-use super::http::{receive, Received, Reply, Request, MAX_BODY, MAX_HEAD};
+use super::http::{Incoming, Received, Reply, Request, MAX_BODY, MAX_HEAD};
 
 /// The port tried first when none is given.
 pub const DEFAULT_PORT: u16 = 8650;
@@ -179,7 +179,7 @@ struct Connection {
 
 enum State {
     /// What it has sent so far.
-    Reading(Vec<u8>),
+    Reading(Incoming),
     /// Its request is with a worker.
     Working,
     /// The reply and how much of it is sent.
@@ -252,7 +252,7 @@ impl Loop {
                     {
                         continue;
                     }
-                    let state = State::Reading(Vec::new());
+                    let state = State::Reading(Incoming::default());
                     let deadline = Instant::now() + READ_TIME;
                     self.connections.insert(
                         id,
@@ -298,7 +298,7 @@ impl Loop {
             return;
         };
         let next = match &mut c.state {
-            State::Reading(bytes) => match read(&mut c.stream, bytes) {
+            State::Reading(incoming) => match read(&mut c.stream, incoming) {
                 Err(()) => Next::Close,
                 Ok(None) => Next::Keep,
                 Ok(Some(Received::More)) => Next::Keep,
@@ -354,23 +354,20 @@ impl Loop {
 
 /// Reads what has arrived: `Err` when the connection is over, `Ok(None)`
 /// when nothing more is there yet, else what the bytes so far amount to.
-fn read(stream: &mut TcpStream, bytes: &mut Vec<u8>) -> Result<Option<Received>, ()> {
+fn read(stream: &mut TcpStream, incoming: &mut Incoming) -> Result<Option<Received>, ()> {
     let mut chunk = [0u8; 8192];
     loop {
         match stream.read(&mut chunk) {
             // Closed before a whole request.
             Ok(0) => return Err(()),
-            Ok(n) => {
-                bytes.extend_from_slice(&chunk[..n]);
-                match receive(bytes) {
-                    Received::More => {
-                        // `receive` refuses a head over its limit, and a
-                        // body is at most MAX_BODY: never more than this.
-                        debug_assert!(bytes.len() <= MAX_HEAD + MAX_BODY + chunk.len());
-                    }
-                    done => return Ok(Some(done)),
+            Ok(n) => match incoming.push(&chunk[..n]) {
+                Received::More => {
+                    // A head over its limit is refused, a body is at most
+                    // MAX_BODY: never more than this is held.
+                    debug_assert!(incoming.held() <= MAX_HEAD + MAX_BODY + chunk.len());
                 }
-            }
+                done => return Ok(Some(done)),
+            },
             Err(e) if e.kind() == ErrorKind::WouldBlock => return Ok(None),
             Err(e) if e.kind() == ErrorKind::Interrupted => {}
             Err(_) => return Err(()),
