@@ -145,3 +145,49 @@ def test_slider_contract(browser, viewer):
             f"slider at {attrs['value']} (log10), image asked for {query}")
     finally:
         page.close()
+
+
+def test_save_from_the_page_writes_what_it_shows(browser, viewer):
+    """The page's Save sends its settings with the session's token (issue
+    38): the PNG written is /image.png for the query the image shows."""
+    page = open_page(browser, viewer.url)
+    try:
+        query = set_light_level(page, -1.0)
+        page.click("#save")
+        page.wait_for_function(
+            "() => document.getElementById('saved').textContent.startsWith('saved')"
+            " || document.getElementById('error').textContent !== ''",
+            timeout=60_000)
+        assert page.text_content("#error") == ""
+        said = page.text_content("#saved")
+        # File names only: the page is told no folders.
+        assert "night-street.png" in said and "/" not in said, said
+        assert viewer.out.with_suffix(".png").read_bytes() == viewer.get("image.png?" + query)
+    finally:
+        page.close()
+
+
+def test_another_site_cannot_save(browser, viewer):
+    """A page of another origin posts a form to /save and tries a fetch with
+    JSON: neither writes anything (issue 38)."""
+    png = viewer.out.with_suffix(".png")
+    before = png.read_bytes() if png.exists() else None
+    page = browser.new_page()
+    try:
+        save = viewer.url + "save"
+        page.set_content(
+            f'<form id="f" method="POST" action="{save}">'
+            '<input name="scale" value="1e-30"></form>')
+        with page.expect_response(save) as answer:
+            page.evaluate("() => document.getElementById('f').submit()")
+        assert answer.value.status in (403, 415)
+        page.set_content("<p>elsewhere</p>")
+        sent = page.evaluate(
+            """url => fetch(url, {method: 'POST', headers: {'Content-Type': 'application/json'},
+                                  body: '{"scale": 1e-30}'})
+                      .then(r => 'answered ' + r.status, e => 'blocked')""",
+            save)
+        assert sent == "blocked" or sent in ("answered 403", "answered 415"), sent
+        assert (png.read_bytes() if png.exists() else None) == before
+    finally:
+        page.close()

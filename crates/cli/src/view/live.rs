@@ -42,11 +42,13 @@ impl Phase {
 pub struct Live {
     frame: RwLock<Arc<Frame>>,
     phase: Mutex<Phase>,
-    /// The settings last asked for (initially the command line's).
-    settings: Mutex<Pairs>,
+    /// The command line's settings: what every request's own are laid
+    /// over (no request changes them).
+    pub start: Pairs,
     /// The samples per pixel aimed at (0: until the time is up).
     pub target_spp: u32,
-    /// What the page calls the input.
+    /// What the page calls the input: its file name (the page is told no
+    /// folders).
     pub name: String,
     /// Where saving writes the EXR (and the PNG beside it).
     pub output: PathBuf,
@@ -56,7 +58,7 @@ impl Live {
     pub fn new(
         frame: Frame,
         phase: Phase,
-        settings: Pairs,
+        start: Pairs,
         target_spp: u32,
         name: String,
         output: PathBuf,
@@ -64,7 +66,7 @@ impl Live {
         Self {
             frame: RwLock::new(Arc::new(frame)),
             phase: Mutex::new(phase),
-            settings: Mutex::new(settings),
+            start,
             target_spp,
             name,
             output,
@@ -89,16 +91,5 @@ impl Live {
 
     pub fn set_phase(&self, phase: Phase) {
         *self.phase.lock().unwrap_or_else(|e| e.into_inner()) = phase;
-    }
-
-    pub fn settings(&self) -> Pairs {
-        self.settings
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .clone()
-    }
-
-    pub fn set_settings(&self, pairs: Pairs) {
-        *self.settings.lock().unwrap_or_else(|e| e.into_inner()) = pairs;
     }
 }

@@ -3,6 +3,8 @@
 //! The render publishes the film at pass boundaries; each page request
 //! runs only the vision pipeline on the latest film.
 
+mod guard;
+mod http;
 mod live;
 mod page;
 mod query;
@@ -50,7 +52,7 @@ pub struct Args {
 
 /// How often the render shows the page its film (at pass boundaries).
 const REFRESH: Duration = Duration::from_millis(500);
-/// Request threads: each runs the vision pipeline for one page request.
+/// Request workers: each runs the vision pipeline for one page request.
 const REQUEST_THREADS: usize = 4;
 
 /// A viewer started: its page's address, and the render (if any) going on
@@ -139,6 +141,8 @@ pub fn start(args: Args, cancel: Arc<AtomicBool>) -> Result<Viewing> {
         );
     }
     let name = input.display().to_string();
+    // The page is told file names, no folders.
+    let page_name = respond::file_name(&input);
     if is_image {
         let image = read_xyzv(&input, RgbInput::default())?;
         for note in &image.notes {
@@ -151,7 +155,14 @@ pub fn start(args: Args, cancel: Arc<AtomicBool>) -> Result<Viewing> {
             seconds: 0.0,
             meta,
         };
-        let live = Arc::new(Live::new(frame, Phase::Image, settings, 0, name, output));
+        let live = Arc::new(Live::new(
+            frame,
+            Phase::Image,
+            settings,
+            0,
+            page_name,
+            output,
+        ));
         let (url, serving) = serve(&args, live.clone())?;
         return Ok(Viewing {
             url,
@@ -181,7 +192,7 @@ pub fn start(args: Args, cancel: Arc<AtomicBool>) -> Result<Viewing> {
         Phase::Rendering,
         settings,
         prepared.total,
-        name.clone(),
+        page_name,
         output.clone(),
     ));
     let (url, serving) = serve(&args, live.clone())?;
@@ -260,13 +271,13 @@ fn snapshot(prepared: &Prepared, name: &str, film: &Film, facts: &RunFacts) -> F
 
 /// Starts the server, says where, and opens the page unless told not to.
 fn serve(args: &Args, live: Arc<Live>) -> Result<(String, server::Serving)> {
-    let (server, port) = server::bind(args.port)?;
+    let (listener, port) = server::bind(args.port)?;
+    let session = guard::Session::new(port)?;
     let url = format!("http://127.0.0.1:{port}/");
-    eprintln!(
-        "scotopia: view at {url} (Ctrl-C stops; the film is saved to {})",
-        live.output.display()
-    );
-    let serving = server::spawn(server, live, REQUEST_THREADS);
+    let output = live.output.display().to_string();
+    let site = Arc::new(respond::Site { live, session });
+    let serving = server::spawn(listener, site, REQUEST_THREADS)?;
+    eprintln!("scotopia: view at {url} (Ctrl-C stops; the film is saved to {output})");
     if !args.no_open {
         if let Err(e) = webbrowser::open(&url) {
             eprintln!("scotopia: note: cannot open a browser ({e}): open {url}");

@@ -102,8 +102,19 @@ struct Query {
 /// flags, with `-` or `_`), and the settings they make, checked as the
 /// command line checks them. `skip`: keys that are not settings.
 pub fn merge(base: &Pairs, query: &str, skip: &[&str]) -> Result<(Pairs, Settings)> {
+    let given =
+        form_urlencoded::parse(query.as_bytes()).map(|(k, v)| (k.into_owned(), v.into_owned()));
+    merge_pairs(base, given, skip)
+}
+
+/// `base` with `given` over it, as [`merge`].
+pub fn merge_pairs(
+    base: &Pairs,
+    given: impl IntoIterator<Item = (String, String)>,
+    skip: &[&str],
+) -> Result<(Pairs, Settings)> {
     let mut pairs = base.clone();
-    for (k, v) in form_urlencoded::parse(query.as_bytes()) {
+    for (k, v) in given {
         let key = k.replace('_', "-");
         if skip.contains(&key.as_str()) {
             continue;
@@ -111,10 +122,31 @@ pub fn merge(base: &Pairs, query: &str, skip: &[&str]) -> Result<(Pairs, Setting
         if flag(&key).is_none() {
             bail!("unknown setting '{key}': use {}", names().join(", "));
         }
-        pairs.insert(key, v.into_owned());
+        pairs.insert(key, v);
     }
     let settings = parse(&pairs)?;
     Ok((pairs, settings))
+}
+
+/// Settings sent as a JSON object (`{"scale": 0.02, "glare": false}`):
+/// strings as they are, numbers as written, true/false as on/off.
+pub fn from_json(body: &[u8]) -> Result<Vec<(String, String)>> {
+    let value: serde_json::Value =
+        serde_json::from_slice(body).map_err(|e| anyhow!("the settings are not JSON ({e})"))?;
+    let serde_json::Value::Object(map) = value else {
+        bail!("the settings are not a JSON object of setting → value");
+    };
+    map.into_iter()
+        .map(|(k, v)| {
+            let text = match v {
+                serde_json::Value::String(s) => s,
+                serde_json::Value::Number(n) => n.to_string(),
+                serde_json::Value::Bool(b) => if b { "on" } else { "off" }.into(),
+                other => bail!("setting '{k}': {other} is not a value"),
+            };
+            Ok((k, text))
+        })
+        .collect()
 }
 
 /// The settings `pairs` make.
@@ -224,5 +256,34 @@ mod tests {
         }
         // Keys that are not settings are passed over when asked.
         assert!(merge(&defaults(), "x=3&y=4", &["x", "y"]).is_ok());
+    }
+
+    #[test]
+    fn settings_sent_as_json_are_read_like_a_query() {
+        let given =
+            from_json(br#"{"scale": 0.02, "glare": false, "tonemap": "exposure"}"#).unwrap();
+        let (pairs, s) = merge_pairs(&defaults(), given, &[]).unwrap();
+        assert_eq!(s.scale, 0.02);
+        assert_eq!(
+            (pairs["glare"].as_str(), pairs["tonemap"].as_str()),
+            ("off", "exposure")
+        );
+        for (body, says) in [
+            (&b"scale=2"[..], "not JSON"),
+            (b"[1]", "not a JSON object"),
+            (br#"{"scale": null}"#, "setting 'scale': null"),
+            (br#"{"scale": [1]}"#, "setting 'scale'"),
+        ] {
+            let e = from_json(body).unwrap_err().to_string();
+            assert!(e.contains(says), "{e}");
+        }
+        let e = merge_pairs(
+            &defaults(),
+            from_json(br#"{"colour": "blue"}"#).unwrap(),
+            &[],
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("unknown setting 'colour'"), "{e}");
     }
 }

@@ -1,5 +1,9 @@
-//! What each route answers: the status, the picture for a page's
-//! settings, a pixel's values, and saving.
+//! What each route answers: the page, the status, the picture for a
+//! page's settings, a pixel's values, and saving. No GET changes anything:
+//! each request carries its settings, laid over the command line's.
+
+use std::path::Path;
+use std::sync::Arc;
 
 use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
@@ -10,11 +14,56 @@ use scotopia_render::output::write_xyzv_pixels;
 use scotopia_vision::display_owned;
 use scotopia_vision::output::{compare_sheet, display_png, PngOptions};
 
+use super::guard::Session;
+use super::http::{Reply, Request};
 use super::live::Live;
-use super::query::{merge, View};
-use super::server::Reply;
+use super::query::{from_json, merge, merge_pairs, View};
+use super::server::Handler;
 
-/// `GET /status`.
+/// The viewer's site: the film shown and the session guarding it.
+pub struct Site {
+    pub live: Arc<Live>,
+    pub session: Session,
+}
+
+impl Handler for Site {
+    fn admit(&self, request: &Request) -> Result<(), Reply> {
+        self.session.check_host(request)
+    }
+
+    fn answer(&self, request: &Request) -> Reply {
+        let live = &self.live;
+        let query = request.query.as_str();
+        match (request.method.as_str(), request.path.as_str()) {
+            ("GET", "/") => Reply::html(super::page::html(self.session.token())),
+            ("GET", "/status") => Reply::json(status(live)),
+            ("GET", "/image.png") => image(live, query),
+            ("GET", "/pixel") => pixel(live, query),
+            ("POST", "/save") => match self.session.check_change(request) {
+                Ok(()) => save(live, request),
+                Err(refused) => refused,
+            },
+            (_, "/save") => Reply::error(405, "use POST /save".into()).with("Allow", "POST".into()),
+            (_, "/" | "/status" | "/image.png" | "/pixel") => {
+                Reply::error(405, "method not allowed".into()).with("Allow", "GET".into())
+            }
+            (_, path) => Reply::error(
+                404,
+                format!("no page {path}: try /, /status, /image.png, /pixel or /save"),
+            ),
+        }
+    }
+}
+
+/// A path as the page may see it: its file name, no folders.
+pub fn file_name(path: &Path) -> String {
+    path.file_name()
+        .unwrap_or(path.as_os_str())
+        .to_string_lossy()
+        .into_owned()
+}
+
+/// `GET /status` (file names only: the page needs no folders).
 pub fn status(live: &Live) -> serde_json::Value {
     let f = live.frame();
     json!({
@@ -27,15 +76,17 @@ pub fn status(live: &Live) -> serde_json::Value {
         "height": f.image.height,
         "fov": f.image.fov_horizontal,
         "quantity": f.image.quantity.as_deref().unwrap_or("radiance"),
-        "settings": live.settings(),
-        "output": live.output.display().to_string(),
+        "settings": live.start,
+        "output": file_name(&live.output),
     })
 }
 
 /// `GET /image.png?SETTINGS`: the picture, with what the eye did in its
 /// headers (mode, adaptation luminance) and the film's spp.
 pub fn image(live: &Live, query: &str) -> Reply {
-    match picture(live, query) {
+    let given =
+        form_urlencoded::parse(query.as_bytes()).map(|(k, v)| (k.into_owned(), v.into_owned()));
+    match picture(live, given) {
         Ok((bytes, headers)) => Reply::png(bytes, headers),
         Err(e) => Reply::error(400, format!("{e:#}")),
     }
@@ -43,8 +94,12 @@ pub fn image(live: &Live, query: &str) -> Reply {
 
 type Headers = Vec<(&'static str, String)>;
 
-fn picture(live: &Live, query: &str) -> Result<(Vec<u8>, Headers)> {
-    let (pairs, settings) = merge(&live.settings(), query, &[])?;
+/// The picture for `given` settings over the command line's.
+fn picture(
+    live: &Live,
+    given: impl IntoIterator<Item = (String, String)>,
+) -> Result<(Vec<u8>, Headers)> {
+    let (_, settings) = merge_pairs(&live.start, given, &[])?;
     let (view, k) = settings.view()?;
     let frame = live.frame();
     // The film at the light level, in one pass (the frame is shared).
@@ -93,7 +148,6 @@ fn picture(live: &Live, query: &str) -> Result<(Vec<u8>, Headers)> {
         headers.push(("X-Scotopia-Adaptation", format!("{:.4e}", state.luminance)));
         bytes
     };
-    live.set_settings(pairs);
     Ok((bytes, headers))
 }
 
@@ -107,7 +161,7 @@ pub fn pixel(live: &Live, query: &str) -> Reply {
 }
 
 fn pixel_values(live: &Live, query: &str) -> Result<serde_json::Value> {
-    let (_, settings) = merge(&live.settings(), query, &["x", "y"])?;
+    let (_, settings) = merge(&live.start, query, &["x", "y"])?;
     let (_, k) = settings.view()?;
     let coordinate = |name: &str| -> Result<usize> {
         let text = form_urlencoded::parse(query.as_bytes())
@@ -148,23 +202,37 @@ fn pixel_values(live: &Live, query: &str) -> Result<serde_json::Value> {
     }))
 }
 
-/// `POST /save?SETTINGS`: the film as an EXR at the output path and the
-/// picture for the settings as a PNG beside it.
-pub fn save(live: &Live, query: &str) -> Reply {
-    match save_files(live, query) {
+/// `POST /save` with the settings as a JSON object: the film as an EXR at
+/// the output path and the picture for those settings as a PNG beside it.
+pub fn save(live: &Live, request: &Request) -> Reply {
+    if !request.query.is_empty() {
+        return Reply::error(
+            400,
+            "POST /save takes its settings as JSON in the body, not in the query".into(),
+        );
+    }
+    let given = match from_json(&request.body) {
+        Ok(g) => g,
+        Err(e) => return Reply::error(400, format!("{e:#}")),
+    };
+    // Bad settings are the request's fault; a failed write is not.
+    let bytes = match picture(live, given) {
+        Ok((bytes, _)) => bytes,
+        Err(e) => return Reply::error(400, format!("{e:#}")),
+    };
+    match save_files(live, &bytes) {
         Ok(v) => Reply::json(v),
         Err(e) => Reply::error(500, format!("{e:#}")),
     }
 }
 
-fn save_files(live: &Live, query: &str) -> Result<serde_json::Value> {
-    let (bytes, _) = picture(live, query)?;
+fn save_files(live: &Live, bytes: &[u8]) -> Result<serde_json::Value> {
     let frame = live.frame();
     let image = &frame.image;
     let exr = &live.output;
     write_xyzv_pixels(exr, image.width, image.height, &image.pixels, &frame.meta)?;
     let png = exr.with_extension("png");
-    write_atomic(&png, &bytes).with_context(|| format!("{}: cannot write", png.display()))?;
+    write_atomic(&png, bytes).with_context(|| format!("{}: cannot write", png.display()))?;
     eprintln!(
         "scotopia: saved {} spp → {} and {}",
         frame.spp,
@@ -172,8 +240,8 @@ fn save_files(live: &Live, query: &str) -> Result<serde_json::Value> {
         png.display()
     );
     Ok(json!({
-        "exr": exr.display().to_string(),
-        "png": png.display().to_string(),
+        "exr": file_name(exr),
+        "png": file_name(&png),
         "spp": frame.spp,
     }))
 }
