@@ -10,11 +10,12 @@ pub mod png_out;
 pub mod preview;
 pub mod read;
 pub mod sheet;
+pub mod output_file;
 mod tmp_file;
-pub use tmp_file::write_atomic;
 pub mod xyzv;
 
 pub use exr_out::{read_exr, write_exr, ExrImage, Meta};
+pub use output_file::{check_outputs, write_atomic, write_output, OutputFile, OutputOptions};
 pub use limits::{check_buffer, check_image, TooLarge};
 pub use plot::{display_colour, plot_spectrum};
 pub use png_out::{encode_png, write_png, write_png_rgb8, ImageError, PngColour, PngSamples};
