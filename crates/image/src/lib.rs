@@ -11,10 +11,12 @@ pub mod preview;
 pub mod read;
 pub mod sheet;
 pub mod output_file;
+mod plain_file;
 mod tmp_file;
 pub mod xyzv;
 
 pub use exr_out::{read_exr, write_exr, ExrImage, Meta};
+pub use plain_file::open_plain;
 pub use output_file::{check_outputs, write_atomic, write_output, OutputFile, OutputOptions};
 pub use limits::{check_buffer, check_image, TooLarge};
 pub use plot::{display_colour, plot_spectrum};

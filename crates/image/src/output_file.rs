@@ -282,7 +282,7 @@ pub fn check_outputs(inputs: &[(&str, &Path)], outputs: &[(&str, &Path)]) -> Res
         let id = identity(path);
         if let Some((flag, out, _)) = outputs.iter().find(|o| o.2 == id) {
             return Err(format!(
-                "{flag} {}: is {input} {}, which this run reads; writing it would destroy it: give another output",
+                "{flag} {} is {input} ({}): writing it would destroy an input of this run; give another output",
                 out.display(),
                 path.display()
             ));
