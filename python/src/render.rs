@@ -34,8 +34,10 @@ use crate::scene::load_options;
 /// (an int width keeping the aspect, a (width, height) pair, or "WxH").
 /// `checkpoint` names a file where the film's exact sums are saved every
 /// `checkpoint_every` seconds and at the end; with `resume` the render
-/// continues from it when it is there (the same scene, parameters and
-/// options; `spp` may grow), bit-identical to an uninterrupted render.
+/// continues from it when it is there (the same scene, files it reads,
+/// parameters and options; `spp` may grow), bit-identical to an
+/// uninterrupted render; a damaged checkpoint, or one saved before a file
+/// the scene reads was edited, is a `ValueError`.
 /// `quantity` "illuminance" renders the illuminance (lx) at the first
 /// surface each pixel sees instead of radiance. The GIL is released while
 /// rendering.
@@ -306,7 +308,11 @@ fn check_outputs(files: &[PathBuf], outputs: [&Option<PathBuf>; 3]) -> Result<()
         .iter()
         .enumerate()
         .map(|(i, f)| {
-            let what = if i == 0 { "the scene" } else { "a file the scene reads" };
+            let what = if i == 0 {
+                "the scene"
+            } else {
+                "a file the scene reads"
+            };
             (what, f.as_path())
         })
         .collect();

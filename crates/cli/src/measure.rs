@@ -131,7 +131,10 @@ pub fn run(args: Args) -> Result<()> {
         bail!("--spp must be positive");
     }
     let output: &[(&str, &Path)] = &[("-o", &args.output)];
-    let inputs = [("the scene", &*args.scene), ("--points", &*args.points)];
+    let inputs = [
+        ("the scene", &*args.scene),
+        ("the --points file", &*args.points),
+    ];
     scotopia_image::check_outputs(&inputs, output).map_err(anyhow::Error::msg)?;
     let receivers = read_points(&args.points)?;
     let load = LoadOptions {
@@ -139,7 +142,10 @@ pub fn run(args: Args) -> Result<()> {
         ..load_options(None)?
     };
     let (scene, files) = load_scene_tracked(&args.scene, &parameters(&args.define)?, &load)?;
-    let read: Vec<(&str, &Path)> = files.iter().map(|f| ("a file the scene reads", &**f)).collect();
+    let read: Vec<(&str, &Path)> = files
+        .iter()
+        .map(|f| ("a file the scene reads", &**f))
+        .collect();
     scotopia_image::check_outputs(&read, output).map_err(anyhow::Error::msg)?;
     for w in &scene.warnings {
         eprintln!("scotopia: warning: {w}");

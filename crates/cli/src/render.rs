@@ -40,9 +40,10 @@ pub struct Args {
     /// can be resumed, or a finished one given more samples.
     #[arg(long, value_name = "SECONDS")]
     pub(crate) checkpoint: Option<f64>,
-    /// Continue from OUT.exr.ckpt if it is there (same scene file,
-    /// parameters, seed and options; --spp may grow): the result is
-    /// bit-identical to an uninterrupted render of as many samples.
+    /// Continue from OUT.exr.ckpt if it is there (same scene file, files
+    /// it reads, parameters, seed and options; --spp may grow): the result
+    /// is bit-identical to an uninterrupted render of as many samples. A
+    /// damaged checkpoint, or one saved before a file was edited, is refused.
     #[arg(long)]
     pub(crate) resume: bool,
     /// Also write the spectral radiance image as a spectral OpenEXR
@@ -508,7 +509,11 @@ fn check_outputs(args: &Args, inputs: &[PathBuf]) -> Result<()> {
         .iter()
         .enumerate()
         .map(|(i, p)| {
-            let what = if i == 0 { "the scene" } else { "a file the scene reads" };
+            let what = if i == 0 {
+                "the scene"
+            } else {
+                "a file the scene reads"
+            };
             (what, p.as_path())
         })
         .collect();

@@ -159,8 +159,15 @@ fn outputs_that_are_inputs_or_twice_the_same_file_are_refused() {
     }
     // Two outputs that do not exist yet, named two ways.
     let (a, b) = (dir.join("a.png"), dir.join("sub/../a.png"));
-    let e = check_outputs(&inputs, &[("-o", &dir.join("x.exr")), ("--preview", &a), ("--display", &b)])
-        .unwrap_err();
+    let e = check_outputs(
+        &inputs,
+        &[
+            ("-o", &dir.join("x.exr")),
+            ("--preview", &a),
+            ("--display", &b),
+        ],
+    )
+    .unwrap_err();
     assert!(e.contains("--preview") && e.contains("--display"), "{e}");
     assert!(check_outputs(&inputs, &[("-o", &dir.join("x.exr")), ("--preview", &a)]).is_ok());
     // /dev/null twice destroys nothing.

@@ -224,7 +224,8 @@ mod tests {
 
     /// Decodes `path` with the `png` crate: (width, height, bit depth, bytes).
     fn decode(path: &Path) -> (u32, u32, png::BitDepth, Vec<u8>) {
-        let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+        let decoder =
+            png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
         let mut reader = decoder.read_info().unwrap();
         let mut buf = vec![0; reader.output_buffer_size().unwrap()];
         let info = reader.next_frame(&mut buf).unwrap();

@@ -35,8 +35,12 @@ pub fn checkpoint_key(
     let mut sources = Vec::new();
     for file in files {
         if std::fs::metadata(file).is_ok_and(|m| m.is_file()) {
-            let hash = hash_file(file)
-                .map_err(|e| format!("{}: cannot read it to fingerprint the render: {e}", file.display()))?;
+            let hash = hash_file(file).map_err(|e| {
+                format!(
+                    "{}: cannot read it to fingerprint the render: {e}",
+                    file.display()
+                )
+            })?;
             sources.push(Source {
                 path: file.display().to_string(),
                 hash,
@@ -127,9 +131,7 @@ mod tests {
         let files = [scene.clone(), lamp.clone(), dir.clone()];
         let load = LoadOptions::default();
         let base = RenderOptions::default();
-        let key = |p: &Parameters, o: &RenderOptions| {
-            checkpoint_key(&files, p, &load, o).unwrap()
-        };
+        let key = |p: &Parameters, o: &RenderOptions| checkpoint_key(&files, p, &load, o).unwrap();
         let mut a = Parameters::new();
         a.insert("x".into(), "1".into());
         a.insert("y".into(), "2".into());

@@ -54,7 +54,10 @@ fn a_checkpoint_reads_back_bit_for_bit() {
     let path = dir.join("a.ckpt");
     let c = sample();
     c.write_with(&path, &sources()).unwrap();
-    assert_eq!(Checkpoint::read_with(&path).unwrap(), (c.clone(), sources()));
+    assert_eq!(
+        Checkpoint::read_with(&path).unwrap(),
+        (c.clone(), sources())
+    );
     c.write(&path).unwrap();
     assert_eq!(Checkpoint::read_with(&path).unwrap(), (c, vec![]));
     // Nothing but the checkpoint is left in the folder.
@@ -71,11 +74,9 @@ fn every_flipped_bit_and_every_truncation_is_refused() {
     let path = dir.join("a.ckpt");
     sample().write_with(&path, &sources()).unwrap();
     let bytes = std::fs::read(&path).unwrap();
-    let refused = |b: &[u8], what: &str| {
-        match Checkpoint::decode(b, b.len() as u64, "a.ckpt") {
-            Ok(_) => panic!("{what}: read as a checkpoint"),
-            Err(e) => assert!(e.starts_with("a.ckpt: "), "{what}: {e}"),
-        }
+    let refused = |b: &[u8], what: &str| match Checkpoint::decode(b, b.len() as u64, "a.ckpt") {
+        Ok(_) => panic!("{what}: read as a checkpoint"),
+        Err(e) => assert!(e.starts_with("a.ckpt: "), "{what}: {e}"),
     };
     assert!(Checkpoint::decode(&bytes[..], bytes.len() as u64, "a.ckpt").is_ok());
     for at in 0..bytes.len() {

@@ -26,7 +26,10 @@ pub(crate) fn recording<T>(f: impl FnOnce() -> T) -> (T, Vec<PathBuf>) {
     let out = f();
     let files = RESOLVED.with(|r| r.replace(outer)).unwrap_or_default();
     let mut seen = std::collections::HashSet::new();
-    let files = files.into_iter().filter(|f| seen.insert(f.clone())).collect();
+    let files = files
+        .into_iter()
+        .filter(|f| seen.insert(f.clone()))
+        .collect();
     (out, files)
 }
 
