@@ -318,12 +318,13 @@ pub fn run(args: Args) -> Result<()> {
         Some(t) => bail!("--checkpoint {t}: give 0 to 1e9 seconds"),
         None => None,
     };
-    let key = match every.is_some() || args.resume {
-        true => {
-            Checkpoint::check_path(&ckpt_path).map_err(anyhow::Error::msg)?;
-            Some(checkpoint_key(&files, &params, &load, &options).map_err(anyhow::Error::msg)?)
-        }
-        false => None,
+    // A FIFO or device where the checkpoint goes is an error now, not at
+    // the first save; the key hashes every file the scene read.
+    let key = if every.is_some() || args.resume {
+        Checkpoint::check_path(&ckpt_path).map_err(anyhow::Error::msg)?;
+        Some(checkpoint_key(&files, &params, &load, &options).map_err(anyhow::Error::msg)?)
+    } else {
+        None
     };
     let resume = match &key {
         Some(key) if args.resume && ckpt_path.exists() => {
