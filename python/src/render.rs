@@ -2,7 +2,7 @@
 //! V′ image as an H × W × 4 float32 array and the metadata as a dict.
 
 use std::collections::HashMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
@@ -22,7 +22,7 @@ use scotopia_render::output::{
 };
 use scotopia_render::scene::IntegratorKind;
 use scotopia_render::wavelength::WavelengthStrategy;
-use scotopia_scene::load_scene_with;
+use scotopia_scene::{load_scene_tracked, load_scene_with};
 
 use crate::scene::load_options;
 
@@ -34,8 +34,10 @@ use crate::scene::load_options;
 /// (an int width keeping the aspect, a (width, height) pair, or "WxH").
 /// `checkpoint` names a file where the film's exact sums are saved every
 /// `checkpoint_every` seconds and at the end; with `resume` the render
-/// continues from it when it is there (the same scene, parameters and
-/// options; `spp` may grow), bit-identical to an uninterrupted render.
+/// continues from it when it is there (the same scene, files it reads,
+/// parameters and options; `spp` may grow), bit-identical to an
+/// uninterrupted render; a damaged checkpoint, or one saved before a file
+/// the scene reads was edited, is a `ValueError`.
 /// `quantity` "illuminance" renders the illuminance (lx) at the first
 /// surface each pixel sees instead of radiance. The GIL is released while
 /// rendering.
@@ -76,7 +78,9 @@ fn render<'py>(
     }
     let load = load_options(res.as_ref())?;
     let params = params.unwrap_or_default();
-    let scene = load_scene_with(&path, &params, &load).map_err(|e| err(e.to_string()))?;
+    let (scene, files) =
+        load_scene_tracked(&path, &params, &load).map_err(|e| err(e.to_string()))?;
+    check_outputs(&files, [&output, &spectral, &checkpoint]).map_err(err)?;
     let options = RenderOptions {
         spp,
         time_limit,
@@ -90,15 +94,33 @@ fn render<'py>(
         quantity,
         shard: None,
     };
-    let key = scotopia_scene::checkpoint_key(&path, &params, &load, &options)
-        .map_err(|e| err(format!("{}: {e}", path.display())))?;
+    if let Some(file) = &checkpoint {
+        Checkpoint::check_path(file).map_err(err)?;
+    }
+    let key = match &checkpoint {
+        Some(_) => scotopia_scene::checkpoint_key(&files, &params, &load, &options).map_err(err)?,
+        None => scotopia_scene::CheckpointKey {
+            key: 0,
+            sources: Vec::new(),
+        },
+    };
     let resume_from = match &checkpoint {
-        Some(file) if resume && file.exists() => Some(Checkpoint::read(file).map_err(err)?),
+        Some(file) if resume && file.exists() => {
+            let (c, saved) = Checkpoint::read_with(file).map_err(err)?;
+            if let Some(why) = key.refusal(c.key, &saved) {
+                return Err(err(format!("{}: cannot resume: {why}", file.display())));
+            }
+            Some(c)
+        }
         _ => None,
     };
-    let save = |c: &Checkpoint| checkpoint.as_ref().map_or(Ok(()), |f| c.write(f));
+    let save = |c: &Checkpoint| {
+        checkpoint
+            .as_ref()
+            .map_or(Ok(()), |f| c.write_with(f, &key.sources))
+    };
     let checkpoints = checkpoint.as_ref().map(|_| Checkpointing {
-        key,
+        key: key.key,
         resume: resume_from,
         every: Duration::from_secs_f64(checkpoint_every),
         save: &save,
@@ -277,6 +299,29 @@ fn render_shard<'py>(
     d.set_item("rows", rows)?;
     d.set_item("meta", meta_dict(py, meta)?)?;
     Ok(d)
+}
+
+/// Refuses an output (`output`, `spectral`, `checkpoint`) that is a file
+/// the scene reads (`files`, the scene first) or that names one file twice.
+fn check_outputs(files: &[PathBuf], outputs: [&Option<PathBuf>; 3]) -> Result<(), String> {
+    let inputs: Vec<(&str, &Path)> = files
+        .iter()
+        .enumerate()
+        .map(|(i, f)| {
+            let what = if i == 0 {
+                "the scene"
+            } else {
+                "a file the scene reads"
+            };
+            (what, f.as_path())
+        })
+        .collect();
+    let outputs: Vec<(&str, &Path)> = ["output", "spectral", "checkpoint"]
+        .into_iter()
+        .zip(outputs)
+        .filter_map(|(name, p)| Some((name, p.as_deref()?)))
+        .collect();
+    scotopia_image::check_outputs(&inputs, &outputs)
 }
 
 /// Writes an H × W × 4 X, Y, Z, V′ image as the OpenEXR `render` writes

@@ -86,6 +86,36 @@ def test_a_checkpointed_render_resumes_to_the_same_bits(tmp_path):
         scotopia.render(scene, spp=24, checkpoint=str(ckpt), resume=True, cluster=8, **opts)
 
 
+def test_a_checkpoint_refuses_to_resume_after_a_file_of_the_scene_changed(tmp_path):
+    # Issue 38: the key hashes every file the scene reads; the refusal
+    # names the file. A damaged checkpoint is refused too.
+    import pytest
+
+    (tmp_path / "refl.spd").write_text("400 0.5\n700 0.6\n")
+    scene = tmp_path / "s.xml"
+    scene.write_text(
+        '<scene version="3.0.0"><sensor type="perspective"><film type="hdrfilm">'
+        '<integer name="width" value="2"/><integer name="height" value="1"/></film>'
+        '</sensor><shape type="sphere"><float name="radius" value="0.5"/>'
+        '<transform name="to_world"><translate z="3"/></transform><bsdf type="diffuse">'
+        '<spectrum name="reflectance" filename="refl.spd"/></bsdf></shape>'
+        '<emitter type="constant"/></scene>'
+    )
+    ckpt = tmp_path / "s.ckpt"
+    scotopia.render(str(scene), spp=2, checkpoint=str(ckpt), checkpoint_every=0)
+    (tmp_path / "refl.spd").write_text("400 0.5\n700 0.7\n")
+    with pytest.raises(ValueError, match="refl.spd has changed"):
+        scotopia.render(str(scene), spp=4, checkpoint=str(ckpt), resume=True)
+    (tmp_path / "refl.spd").write_text("400 0.5\n700 0.6\n")
+    data = bytearray(ckpt.read_bytes())
+    data[-20] ^= 0xFF
+    ckpt.write_bytes(bytes(data))
+    with pytest.raises(ValueError, match="checksum"):
+        scotopia.render(str(scene), spp=4, checkpoint=str(ckpt), resume=True)
+    with pytest.raises(ValueError, match="the scene"):
+        scotopia.render(str(scene), spp=1, output=str(scene))
+
+
 def test_measure_gives_the_inverse_square_law_and_its_standard_errors(tmp_path):
     # A 1000 cd point source 3 m above the floor: E = I cos θ / d². The
     # scene has no sensor: a measurement needs none.

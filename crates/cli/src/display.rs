@@ -211,6 +211,12 @@ pub fn run(args: Args) -> Result<()> {
     if args.output.is_none() && args.compare.is_none() && !args.info {
         bail!("nothing to do: give -o OUT.png, --compare OUT.png or --info");
     }
+    let outputs: Vec<(&str, &Path)> = [("-o", &args.output), ("--compare", &args.compare)]
+        .into_iter()
+        .filter_map(|(flag, p)| Some((flag, p.as_deref()?)))
+        .collect();
+    scotopia_image::check_outputs(&[("the input", &args.input)], &outputs)
+        .map_err(anyhow::Error::msg)?;
     let space = RgbSpace::from_name(&args.input_space)
         .with_context(|| format!("--input-space {}", args.input_space))?;
     let mut image = read_xyzv(

@@ -10,7 +10,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use scotopia_render::integrator::{measure, Receiver, RenderOptions};
 use scotopia_render::math::Vec3;
-use scotopia_scene::{load_scene_with, LoadOptions};
+use scotopia_scene::{load_scene_tracked, LoadOptions};
 use scotopia_vision::mode::Mesopic;
 
 use crate::info::{load_options, parameters};
@@ -130,12 +130,23 @@ pub fn run(args: Args) -> Result<()> {
     if args.spp == Some(0) {
         bail!("--spp must be positive");
     }
+    let output: &[(&str, &Path)] = &[("-o", &args.output)];
+    let inputs = [
+        ("the scene", &*args.scene),
+        ("the --points file", &*args.points),
+    ];
+    scotopia_image::check_outputs(&inputs, output).map_err(anyhow::Error::msg)?;
     let receivers = read_points(&args.points)?;
     let load = LoadOptions {
         sensor_optional: true,
         ..load_options(None)?
     };
-    let scene = load_scene_with(&args.scene, &parameters(&args.define)?, &load)?;
+    let (scene, files) = load_scene_tracked(&args.scene, &parameters(&args.define)?, &load)?;
+    let read: Vec<(&str, &Path)> = files
+        .iter()
+        .map(|f| ("a file the scene reads", &**f))
+        .collect();
+    scotopia_image::check_outputs(&read, output).map_err(anyhow::Error::msg)?;
     for w in &scene.warnings {
         eprintln!("scotopia: warning: {w}");
     }

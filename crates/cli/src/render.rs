@@ -19,7 +19,7 @@ use scotopia_render::scene::IntegratorKind;
 use scotopia_render::scene::Scene;
 use scotopia_render::wavelength::WavelengthStrategy;
 use scotopia_scene::mitsuba::Parameters;
-use scotopia_scene::{checkpoint_key, load_scene_with, LoadOptions};
+use scotopia_scene::{checkpoint_key, load_scene_tracked, LoadOptions};
 
 use scotopia_vision::output::PngOptions;
 use scotopia_vision::DisplayParams;
@@ -40,9 +40,10 @@ pub struct Args {
     /// can be resumed, or a finished one given more samples.
     #[arg(long, value_name = "SECONDS")]
     pub(crate) checkpoint: Option<f64>,
-    /// Continue from OUT.exr.ckpt if it is there (same scene file,
-    /// parameters, seed and options; --spp may grow): the result is
-    /// bit-identical to an uninterrupted render of as many samples.
+    /// Continue from OUT.exr.ckpt if it is there (same scene file, files
+    /// it reads, parameters, seed and options; --spp may grow): the result
+    /// is bit-identical to an uninterrupted render of as many samples. A
+    /// damaged checkpoint, or one saved before a file was edited, is refused.
     #[arg(long)]
     pub(crate) resume: bool,
     /// Also write the spectral radiance image as a spectral OpenEXR
@@ -151,6 +152,8 @@ pub struct Prepared {
     /// Samples per pixel the render aims at (0: until its time is up).
     pub total: u32,
     pub pool: rayon::ThreadPool,
+    /// Every file the scene read, the scene file first.
+    pub files: Vec<PathBuf>,
 }
 
 impl Setup {
@@ -186,7 +189,7 @@ impl Setup {
         }
         let load = load_options(self.res.as_deref())?;
         let params = parameters(&self.define)?;
-        let scene = load_scene_with(&self.scene, &params, &load)?;
+        let (scene, files) = load_scene_tracked(&self.scene, &params, &load)?;
         for w in &scene.warnings {
             eprintln!("scotopia: warning: {w}");
         }
@@ -219,6 +222,7 @@ impl Setup {
             load,
             total,
             pool,
+            files,
         })
     }
 }
@@ -246,6 +250,7 @@ pub fn cancel_on_interrupt() -> Result<Arc<AtomicBool>> {
 }
 
 pub fn run(args: Args) -> Result<()> {
+    check_outputs(&args, std::slice::from_ref(&args.setup.scene))?;
     if let Some(address) = &args.ray {
         return crate::ray::render(&args, address);
     }
@@ -256,9 +261,11 @@ pub fn run(args: Args) -> Result<()> {
         load,
         total,
         pool,
+        files,
     } = args
         .setup
         .prepare(args.spectral.is_some().then_some(args.bands))?;
+    check_outputs(&args, &files)?;
     // The vision pipeline's settings and size, checked before rendering.
     let display = match &args.display {
         Some(_) => {
@@ -311,36 +318,48 @@ pub fn run(args: Args) -> Result<()> {
         Some(t) => bail!("--checkpoint {t}: give 0 to 1e9 seconds"),
         None => None,
     };
-    let resume = if args.resume && ckpt_path.exists() {
-        let c = Checkpoint::read(&ckpt_path).map_err(anyhow::Error::msg)?;
-        eprintln!(
-            "scotopia: resuming from {} ({} spp)",
-            ckpt_path.display(),
-            c.done
-        );
-        Some(c)
+    // A FIFO or device where the checkpoint goes is an error now, not at
+    // the first save; the key hashes every file the scene read.
+    let key = if every.is_some() || args.resume {
+        Checkpoint::check_path(&ckpt_path).map_err(anyhow::Error::msg)?;
+        Some(checkpoint_key(&files, &params, &load, &options).map_err(anyhow::Error::msg)?)
     } else {
-        if args.resume {
-            eprintln!(
-                "scotopia: no checkpoint {}: starting afresh",
-                ckpt_path.display()
-            );
-        }
         None
     };
-    let save = |c: &Checkpoint| c.write(&ckpt_path);
-    let checkpoints = if every.is_some() || resume.is_some() {
-        Some(Checkpointing {
-            key: checkpoint_key(&args.setup.scene, &params, &load, &options).with_context(
-                || format!("{}: cannot read the scene", args.setup.scene.display()),
-            )?,
+    let resume = match &key {
+        Some(key) if args.resume && ckpt_path.exists() => {
+            let (c, saved) = Checkpoint::read_with(&ckpt_path).map_err(anyhow::Error::msg)?;
+            if let Some(why) = key.refusal(c.key, &saved) {
+                bail!("{}: cannot resume: {why}", ckpt_path.display());
+            }
+            eprintln!(
+                "scotopia: resuming from {} ({} spp)",
+                ckpt_path.display(),
+                c.done
+            );
+            Some(c)
+        }
+        _ => {
+            if args.resume {
+                eprintln!(
+                    "scotopia: no checkpoint {}: starting afresh",
+                    ckpt_path.display()
+                );
+            }
+            None
+        }
+    };
+    let sources = key.as_ref().map_or(&[][..], |k| &k.sources[..]);
+    let save = |c: &Checkpoint| c.write_with(&ckpt_path, sources);
+    let checkpoints = match &key {
+        Some(key) if every.is_some() || resume.is_some() => Some(Checkpointing {
+            key: key.key,
             resume,
             // Resuming without --checkpoint still saves when interrupted.
             every: every.unwrap_or(Duration::MAX),
             save: &save,
-        })
-    } else {
-        None
+        }),
+        _ => None,
     };
     let saving = checkpoints.is_some();
     let rendered = pool
@@ -468,6 +487,38 @@ pub(crate) fn write_pictures(
         write_shown(out, &shown, params, png)?;
     }
     Ok(())
+}
+
+/// Refuses outputs that are one of the run's `inputs` (the scene and the
+/// files it reads) or that name one file twice.
+fn check_outputs(args: &Args, inputs: &[PathBuf]) -> Result<()> {
+    let ckpt = checkpoint_path(&args.output);
+    let mut outputs: Vec<(&str, &Path)> = vec![("-o", &args.output)];
+    for (flag, path) in [
+        ("--spectral", &args.spectral),
+        ("--preview", &args.preview),
+        ("--display", &args.display),
+    ] {
+        if let Some(p) = path {
+            outputs.push((flag, p));
+        }
+    }
+    if args.checkpoint.is_some() || args.resume {
+        outputs.push(("the checkpoint", &ckpt));
+    }
+    let inputs: Vec<(&str, &Path)> = inputs
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let what = if i == 0 {
+                "the scene"
+            } else {
+                "a file the scene reads"
+            };
+            (what, p.as_path())
+        })
+        .collect();
+    scotopia_image::check_outputs(&inputs, &outputs).map_err(anyhow::Error::msg)
 }
 
 /// Where `--checkpoint` saves and `--resume` reads: beside the output.

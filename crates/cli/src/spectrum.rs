@@ -107,6 +107,10 @@ fn source(args: &Args) -> Result<(Spectrum, String)> {
 }
 
 pub fn run(args: Args) -> Result<()> {
+    if let (Some(file), Some(plot)) = (&args.file, &args.plot) {
+        scotopia_image::check_outputs(&[("the --file spectrum", file)], &[("--plot", plot)])
+            .map_err(anyhow::Error::msg)?;
+    }
     let text = report(&args)?;
     crate::print(&text)
 }

@@ -1,6 +1,6 @@
 //! Bounded, seeded fuzzing of everything scotopia reads (issue 22): scenes
 //! (XML), meshes (OBJ, PLY, Mitsuba's serialized), spectra and reradiation
-//! matrices (CSV) and images (EXR) are mutated
+//! matrices (CSV), images (EXR) and checkpoints are mutated
 //! — bytes flipped, cut, repeated, extreme numbers and odd tokens spliced
 //! in — and fed to the command line in a child process each. Every run
 //! must end in success or a clean error: no panic, no death by a signal,
@@ -206,6 +206,10 @@ fn s(p: &Path) -> String {
     p.to_str().unwrap().to_string()
 }
 
+fn s_ref(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
 /// The night street with its shared world written in place of its
 /// `<include>`, so that the mutations reach the world's elements too.
 fn inline_world(text: &str) -> Vec<u8> {
@@ -378,6 +382,60 @@ fn mutated_images_display_or_fail_cleanly() {
     fuzz(40, &bytes, &dir, "case.exr", |p| {
         vec!["display".into(), s(p), "-o".into(), s(&png)]
     });
+}
+
+/// Checkpoints mutated as the other inputs are: every mutation that
+/// changes a byte is refused (exit 1, naming the checkpoint), never
+/// resumed; one that changes nothing resumes.
+#[test]
+fn mutated_checkpoints_are_refused() {
+    let dir = out_dir("fuzz", "ckpt");
+    // The scene is written by `tiny_scene`; its output here is case.exr.
+    let _ = tiny_scene(&dir, "ckpt.xml", "<shape type=\"sphere\"/>");
+    let (scene, out) = (s(&dir.join("ckpt.xml")), dir.join("case.exr"));
+    let ckpt = dir.join("case.exr.ckpt");
+    let run = |extra: &[&str]| {
+        let mut a = vec!["render", &scene, "-o", s_ref(&out)];
+        a.extend_from_slice(extra);
+        a.into_iter().map(String::from).collect::<Vec<String>>()
+    };
+    let first = Command::new(env!("CARGO_BIN_EXE_scotopia"))
+        .args(run(&["--spp", "1", "--checkpoint", "0"]))
+        .output()
+        .unwrap();
+    assert!(
+        first.status.success(),
+        "{}",
+        String::from_utf8_lossy(&first.stderr)
+    );
+    let good = std::fs::read(&ckpt).unwrap();
+    let resume = run(&["--resume", "--spp", "3"]);
+    let resume: Vec<&str> = resume.iter().map(String::as_str).collect();
+    let mut rng = Rng(50);
+    let mut failures = Vec::new();
+    for case in 0..cases() {
+        let bytes = mutate(&good, &mut rng);
+        std::fs::write(&ckpt, &bytes).unwrap();
+        let _ = std::fs::remove_file(&out);
+        let result = run_clean(&resume, "case.exr.ckpt");
+        let resumed = out.exists();
+        let wrong = match result {
+            Err(e) => Some(e),
+            Ok(()) if resumed && bytes != good => Some("resumed from a damaged checkpoint".into()),
+            Ok(()) => None,
+        };
+        if let Some(e) = wrong {
+            let keep = dir.join(format!("failing-{case}.ckpt"));
+            let _ = std::fs::write(&keep, &bytes);
+            failures.push(format!("case {case} (kept as {}): {e}", keep.display()));
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{} failures:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
 }
 
 /// The harness itself sees what it must: a panic message, an abort, a

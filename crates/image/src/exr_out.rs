@@ -6,7 +6,7 @@ use std::path::Path;
 use exr::prelude::*;
 use std::result::Result;
 
-use crate::tmp_file::tmp_path;
+use crate::output_file::{write_output, OutputOptions};
 use crate::ImageError;
 
 /// A header attribute's value.
@@ -67,21 +67,25 @@ pub fn write_exr(
         encoding,
         AnyChannels::sort(list),
     );
-    let tmp = tmp_path(path);
-    let result = Image::from_layer(layer)
-        .write()
-        .to_file(&tmp)
-        .map_err(|e| fail(e.to_string()))
-        .and_then(|()| {
-            std::fs::rename(&tmp, path).map_err(|cause| ImageError::Io {
-                path: path.display().to_string(),
-                cause,
-            })
-        });
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
+    let image = Image::from_layer(layer);
+    let io = |e: exr::error::Error| match e {
+        exr::error::Error::Io(e) => e,
+        other => std::io::Error::other(other.to_string()),
+    };
+    write_output(path, OutputOptions::OUTPUT, |out| {
+        if out.seekable() {
+            image.write().to_unbuffered(out).map_err(io)
+        } else {
+            // The encoder seeks back to its offset table: a FIFO cannot.
+            let mut memory = std::io::Cursor::new(Vec::new());
+            image.write().to_unbuffered(&mut memory).map_err(io)?;
+            std::io::Write::write_all(out, memory.get_ref())
+        }
+    })
+    .map_err(|cause| ImageError::Io {
+        path: path.display().to_string(),
+        cause,
+    })
 }
 
 /// EXR text is 8-bit: characters outside Latin-1 become '?'.

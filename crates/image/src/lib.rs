@@ -5,17 +5,20 @@
 mod exr_fast;
 pub mod exr_out;
 pub mod limits;
+pub mod output_file;
+mod plain_file;
 pub mod plot;
 pub mod png_out;
 pub mod preview;
 pub mod read;
 pub mod sheet;
 mod tmp_file;
-pub use tmp_file::write_atomic;
 pub mod xyzv;
 
 pub use exr_out::{read_exr, write_exr, ExrImage, Meta};
 pub use limits::{check_buffer, check_image, TooLarge};
+pub use output_file::{check_outputs, write_atomic, write_output, OutputFile, OutputOptions};
+pub use plain_file::open_plain;
 pub use plot::{display_colour, plot_spectrum};
 pub use png_out::{
     encode_png, encode_png_stored, write_png, write_png_rgb8, ImageError, PngColour, PngSamples,

@@ -1,11 +1,9 @@
 //! PNG output, written atomically: to a temporary file beside the target,
 //! then renamed, so a failed run never leaves a half-written image.
 
-use std::fs::File;
-use std::io::BufWriter;
 use std::path::Path;
 
-use crate::tmp_file::tmp_path;
+use crate::output_file::{write_output, OutputOptions};
 
 /// Errors reading or writing images.
 #[derive(Debug, thiserror::Error)]
@@ -85,21 +83,24 @@ pub fn write_png(
         path: name.clone(),
         cause,
     };
-    let tmp = tmp_path(path);
-    let result = (|| {
-        let file = File::create(&tmp).map_err(io)?;
-        encode_to(BufWriter::new(file), width, height, samples, colour, true).map_err(|e| {
-            ImageError::Png {
-                path: name.clone(),
-                message: e.to_string(),
+    let mut encoded = Ok(());
+    write_output(path, OutputOptions::OUTPUT, |out| {
+        encode_to(out, width, height, samples, colour, true).map_err(|e| match e {
+            png::EncodingError::IoError(e) => e,
+            e => {
+                // Not the file's fault: said as the encoder's error.
+                encoded = Err(e.to_string());
+                std::io::Error::other("not encoded")
             }
-        })?;
-        std::fs::rename(&tmp, path).map_err(io)
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
+        })
+    })
+    .map_err(|cause| match encoded {
+        Err(message) => ImageError::Png {
+            path: name.clone(),
+            message,
+        },
+        Ok(()) => io(cause),
+    })
 }
 
 /// The bytes of the PNG file [`write_png`] would write (for a server's
@@ -250,7 +251,8 @@ mod tests {
 
     /// Decodes `path` with the `png` crate: (width, height, bit depth, bytes).
     fn decode(path: &Path) -> (u32, u32, png::BitDepth, Vec<u8>) {
-        let decoder = png::Decoder::new(std::io::BufReader::new(File::open(path).unwrap()));
+        let decoder =
+            png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
         let mut reader = decoder.read_info().unwrap();
         let mut buf = vec![0; reader.output_buffer_size().unwrap()];
         let info = reader.next_frame(&mut buf).unwrap();

@@ -12,6 +12,8 @@ pub mod mitsuba;
 pub mod volume;
 
 pub use build::registry;
-pub use build::{bsdf_from_xml, load_scene, load_scene_with, LoadOptions, Resolution};
-pub use checkpoint_key::checkpoint_key;
+pub use build::{
+    bsdf_from_xml, load_scene, load_scene_tracked, load_scene_with, LoadOptions, Resolution,
+};
+pub use checkpoint_key::{checkpoint_key, CheckpointKey};
 pub use info::{GridInfo, LightInfo, MediumInfo, SceneInfo};

@@ -6,21 +6,31 @@
 //! render adds the same numbers in the same order as an uninterrupted one
 //! and ends bit-identical to it.
 //!
-//! Format (little-endian): magic `SCOTCKPT`, version u32, key u64 (the
-//! caller's fingerprint of the scene and options), samples done u32,
-//! width u32, height u32, bands u32 (0: none), four u64 counters, then per
-//! pixel four f64 sums and a u32 count, then the f64 band sums.
+//! Format 2 (little-endian): magic `SCOTCKPT`, version u32, key u64 (the
+//! caller's fingerprint of the scene, its files and the options), samples
+//! done u32, width u32, height u32, bands u32 (0: none), four u64
+//! counters; the files the scene read: a u32 count, then each as a u32
+//! length, its path (UTF-8) and its content's hash u64; per pixel four f64
+//! sums and a u32 count; the f64 band sums; last, the XXH3-64 hash of
+//! every byte before it. A checkpoint is checked whole before it is used:
+//! its size against its header, the hash, and that its numbers agree
+//! (see [`Checkpoint::check`]).
 
-use std::fs::File;
 use std::io::{BufReader, BufWriter, Read, Write};
 use std::path::Path;
+
+use xxhash_rust::xxh3::Xxh3;
+
+use scotopia_image::{open_plain, write_output, OutputOptions};
 
 use super::{Bands, Film, PixelSum};
 
 const MAGIC: &[u8; 8] = b"SCOTCKPT";
-const VERSION: u32 = 1;
-const HEADER: u64 = 8 + 4 + 8 + 4 + 4 + 4 + 4 + 4 * 8;
+const VERSION: u32 = 2;
 const PIXEL: u64 = 4 * 8 + 4;
+/// Bounds on the list of files, checked before anything is allocated.
+const MAX_SOURCES: u32 = 1 << 20;
+const MAX_SOURCE_PATH: u32 = 1 << 16;
 
 /// What a render has accumulated after `done` samples per pixel.
 #[derive(Debug, Clone, PartialEq)]
@@ -34,82 +44,122 @@ pub struct Checkpoint {
     pub film: Film,
 }
 
+/// A file the render depends on and the hash of its content, kept in the
+/// checkpoint so that a refused resume can say which file changed.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Source {
+    pub path: String,
+    pub hash: u64,
+}
+
 impl Checkpoint {
-    /// Writes the checkpoint to a temporary file beside `path` and renames
-    /// it over `path`, so that a kill during the write leaves the previous
-    /// checkpoint whole.
+    /// Writes the checkpoint (without a list of files) atomically.
     pub fn write(&self, path: &Path) -> Result<(), String> {
-        let fail =
-            |e: std::io::Error| format!("{}: cannot write the checkpoint: {e}", path.display());
-        let mut name = path.file_name().unwrap_or_default().to_os_string();
-        name.push(format!(".tmp{}", std::process::id()));
-        let tmp = path.with_file_name(name);
-        let result = (|| {
-            let mut w = BufWriter::new(File::create(&tmp)?);
-            w.write_all(MAGIC)?;
-            w.write_all(&VERSION.to_le_bytes())?;
-            w.write_all(&self.key.to_le_bytes())?;
-            w.write_all(&self.done.to_le_bytes())?;
-            let f = &self.film;
-            w.write_all(&f.width.to_le_bytes())?;
-            w.write_all(&f.height.to_le_bytes())?;
-            w.write_all(&(f.bands.map_or(0, |b| b.0) as u32).to_le_bytes())?;
-            for c in self.counts {
-                w.write_all(&c.to_le_bytes())?;
-            }
-            for p in &f.pixels {
-                for v in p.xyzv {
-                    w.write_all(&v.to_le_bytes())?;
-                }
-                w.write_all(&p.samples.to_le_bytes())?;
-            }
-            for v in &f.spectral {
-                w.write_all(&v.to_le_bytes())?;
-            }
-            let file = w.into_inner().map_err(|e| e.into_error())?;
-            file.sync_all()?;
-            std::fs::rename(&tmp, path)
-        })();
-        if result.is_err() {
-            let _ = std::fs::remove_file(&tmp);
-        }
-        result.map_err(fail)
+        self.write_with(path, &[])
     }
 
-    /// Reads a checkpoint, checking its size against its header before
-    /// allocating anything.
+    /// Writes the checkpoint and `sources` to a temporary file beside
+    /// `path`, synced, and renames it over `path`, so that a kill during
+    /// the write leaves the previous checkpoint whole. `path` must be a
+    /// plain file (or not exist yet): a FIFO or device is an error.
+    pub fn write_with(&self, path: &Path, sources: &[Source]) -> Result<(), String> {
+        write_output(path, OutputOptions::CHECKPOINT, |out| {
+            let mut w = Hashing::new(BufWriter::new(out));
+            self.encode(&mut w, sources)?;
+            let sum = w.hash.digest();
+            w.inner.write_all(&sum.to_le_bytes())?;
+            w.inner.flush()
+        })
+        .map_err(|e| format!("{}: cannot write the checkpoint: {e}", path.display()))
+    }
+
+    fn encode(&self, w: &mut impl Write, sources: &[Source]) -> std::io::Result<()> {
+        w.write_all(MAGIC)?;
+        w.write_all(&VERSION.to_le_bytes())?;
+        w.write_all(&self.key.to_le_bytes())?;
+        w.write_all(&self.done.to_le_bytes())?;
+        let f = &self.film;
+        w.write_all(&f.width.to_le_bytes())?;
+        w.write_all(&f.height.to_le_bytes())?;
+        w.write_all(&(f.bands.map_or(0, |b| b.0) as u32).to_le_bytes())?;
+        for c in self.counts {
+            w.write_all(&c.to_le_bytes())?;
+        }
+        w.write_all(&(sources.len() as u32).to_le_bytes())?;
+        for s in sources {
+            w.write_all(&(s.path.len() as u32).to_le_bytes())?;
+            w.write_all(s.path.as_bytes())?;
+            w.write_all(&s.hash.to_le_bytes())?;
+        }
+        for p in &f.pixels {
+            for v in p.xyzv {
+                w.write_all(&v.to_le_bytes())?;
+            }
+            w.write_all(&p.samples.to_le_bytes())?;
+        }
+        for v in &f.spectral {
+            w.write_all(&v.to_le_bytes())?;
+        }
+        Ok(())
+    }
+
+    /// Whether `path` can hold a checkpoint: a plain file or nothing yet
+    /// (checked before a render, so a FIFO or device there is an error at
+    /// once, not at the first save).
+    pub fn check_path(path: &Path) -> Result<(), String> {
+        match std::fs::metadata(path) {
+            Ok(m) if !m.is_file() => Err(format!(
+                "{}: {}, not a checkpoint file: give an output whose .ckpt can be a file",
+                path.display(),
+                scotopia_image::output_file::describe(&m)
+            )),
+            _ => Ok(()),
+        }
+    }
+
+    /// Reads a checkpoint and checks it whole (see the module's note).
     pub fn read(path: &Path) -> Result<Self, String> {
-        let bad = |what: &str| format!("{}: not a scotopia checkpoint: {what}", path.display());
+        Self::read_with(path).map(|(c, _)| c)
+    }
+
+    /// [`Checkpoint::read`], with the files it was saved with.
+    pub fn read_with(path: &Path) -> Result<(Self, Vec<Source>), String> {
         let io = |e: std::io::Error| format!("{}: cannot read the checkpoint: {e}", path.display());
-        let file = File::open(path).map_err(io)?;
+        let file = open_plain(path).map_err(io)?;
         let len = file.metadata().map_err(io)?.len();
-        let mut r = BufReader::new(file);
+        Self::decode(BufReader::new(file), len, &path.display().to_string())
+    }
+
+    /// A checkpoint from `len` bytes of `r`; `name` is what errors call it.
+    fn decode(r: impl Read, len: u64, name: &str) -> Result<(Self, Vec<Source>), String> {
+        let bad = |what: &str| format!("{name}: not a usable scotopia checkpoint: {what}");
+        let io = |e: std::io::Error| format!("{name}: cannot read the checkpoint: {e}");
+        let mut r = Hashing::new(r);
+        let truncated = |_| bad("truncated");
         let mut magic = [0u8; 8];
-        r.read_exact(&mut magic).map_err(|_| bad("too short"))?;
+        r.read_exact(&mut magic).map_err(truncated)?;
         if &magic != MAGIC {
             return Err(bad("wrong magic number"));
         }
-        let u32s = |r: &mut BufReader<File>| -> Result<u32, String> {
-            let mut b = [0u8; 4];
-            r.read_exact(&mut b).map_err(|_| bad("truncated header"))?;
-            Ok(u32::from_le_bytes(b))
-        };
-        let version = u32s(&mut r)?;
+        let version = u32s(&mut r).map_err(truncated)?;
         if version != VERSION {
             return Err(bad(&format!(
-                "version {version}, this scotopia reads {VERSION}"
+                "format version {version}, where this scotopia reads {VERSION} (older \
+                 checkpoints carry no checksum): delete it and render afresh"
             )));
         }
-        let mut b8 = [0u8; 8];
-        r.read_exact(&mut b8).map_err(|_| bad("truncated header"))?;
-        let key = u64::from_le_bytes(b8);
-        let done = u32s(&mut r)?;
-        let (width, height, bands) = (u32s(&mut r)?, u32s(&mut r)?, u32s(&mut r)?);
+        let key = u64s(&mut r).map_err(truncated)?;
+        let done = u32s(&mut r).map_err(truncated)?;
+        let (width, height, bands) = (
+            u32s(&mut r).map_err(truncated)?,
+            u32s(&mut r).map_err(truncated)?,
+            u32s(&mut r).map_err(truncated)?,
+        );
         let mut counts = [0u64; 4];
         for c in &mut counts {
-            r.read_exact(&mut b8).map_err(|_| bad("truncated header"))?;
-            *c = u64::from_le_bytes(b8);
+            *c = u64s(&mut r).map_err(truncated)?;
         }
+        let sources = read_sources(&mut r, len).map_err(|e| bad(&e))?;
         let bands = (bands > 0).then_some(Bands(bands as usize));
         let pixels = width as u64 * height as u64;
         // As `Film::row_stride`: one unused slot per row without bands.
@@ -117,13 +167,14 @@ impl Checkpoint {
         let want = pixels
             .checked_mul(PIXEL)
             .and_then(|p| p.checked_add(stride.checked_mul(height as u64)?.checked_mul(8)?))
-            .and_then(|p| p.checked_add(HEADER));
+            .and_then(|p| p.checked_add(r.count + 8));
         if want != Some(len) {
             return Err(bad(&format!(
                 "{len} bytes, where a {width}×{height} film needs {}",
                 want.map_or("more than can be addressed".into(), |w| w.to_string())
             )));
         }
+        // The size is the file's: what is allocated is no more than it.
         let mut film = Film::new(width, height, bands);
         if film.spectral.len() as u64 != stride * height as u64 {
             return Err(bad("band layout"));
@@ -131,24 +182,135 @@ impl Checkpoint {
         for p in &mut film.pixels {
             let mut xyzv = [0.0f64; 4];
             for v in &mut xyzv {
-                r.read_exact(&mut b8).map_err(io)?;
-                *v = f64::from_le_bytes(b8);
+                *v = f64::from_bits(u64s(&mut r).map_err(io)?);
             }
             *p = PixelSum {
                 xyzv,
-                samples: u32s(&mut r)?,
+                samples: u32s(&mut r).map_err(io)?,
             };
         }
         for v in &mut film.spectral {
-            r.read_exact(&mut b8).map_err(io)?;
-            *v = f64::from_le_bytes(b8);
+            *v = f64::from_bits(u64s(&mut r).map_err(io)?);
         }
-        Ok(Self {
+        let sum = r.hash.digest();
+        let mut stored = [0u8; 8];
+        r.inner.read_exact(&mut stored).map_err(io)?;
+        if u64::from_le_bytes(stored) != sum {
+            return Err(bad(
+                "its checksum does not match (the file is damaged): delete it and render afresh",
+            ));
+        }
+        let c = Self {
             key,
             done,
             counts,
             film,
-        })
+        };
+        c.check().map_err(|e| bad(&e))?;
+        Ok((c, sources))
+    }
+
+    /// Whether the numbers agree: each pixel has at most `done` samples,
+    /// the samples missing are the dropped ones counted, and every sum is
+    /// finite (non-finite samples are dropped, never added).
+    pub fn check(&self) -> Result<(), String> {
+        let f = &self.film;
+        let mut missing = 0u64;
+        for (i, p) in f.pixels.iter().enumerate() {
+            let (x, y) = (i % f.width as usize, i / f.width as usize);
+            if p.samples > self.done {
+                return Err(format!(
+                    "pixel ({x}, {y}) has {} samples, more than the {} done",
+                    p.samples, self.done
+                ));
+            }
+            if p.xyzv.iter().any(|v| !v.is_finite()) {
+                return Err(format!("pixel ({x}, {y}) has a sum that is not finite"));
+            }
+            missing += (self.done - p.samples) as u64;
+        }
+        if missing != self.counts[0] {
+            return Err(format!(
+                "{missing} samples are missing from the pixels, where {} were dropped",
+                self.counts[0]
+            ));
+        }
+        if f.spectral.iter().any(|v| !v.is_finite()) {
+            return Err("a band sum is not finite".into());
+        }
+        Ok(())
+    }
+}
+
+fn read_sources(r: &mut Hashing<impl Read>, len: u64) -> Result<Vec<Source>, String> {
+    let truncated = |_| "truncated".to_string();
+    let count = u32s(r).map_err(truncated)?;
+    if count > MAX_SOURCES {
+        return Err(format!("{count} files listed, more than {MAX_SOURCES}"));
+    }
+    let mut sources = Vec::new();
+    for _ in 0..count {
+        let n = u32s(r).map_err(truncated)?;
+        if n > MAX_SOURCE_PATH || r.count + n as u64 > len {
+            return Err(format!("a file name of {n} bytes"));
+        }
+        let mut path = vec![0u8; n as usize];
+        r.read_exact(&mut path).map_err(truncated)?;
+        let path = String::from_utf8(path).map_err(|_| "a file name that is not UTF-8")?;
+        let hash = u64s(r).map_err(truncated)?;
+        sources.push(Source { path, hash });
+    }
+    Ok(sources)
+}
+
+fn u32s(r: &mut impl Read) -> std::io::Result<u32> {
+    let mut b = [0u8; 4];
+    r.read_exact(&mut b)?;
+    Ok(u32::from_le_bytes(b))
+}
+
+fn u64s(r: &mut impl Read) -> std::io::Result<u64> {
+    let mut b = [0u8; 8];
+    r.read_exact(&mut b)?;
+    Ok(u64::from_le_bytes(b))
+}
+
+/// A reader or writer that hashes the bytes passing through and counts them.
+struct Hashing<T> {
+    inner: T,
+    hash: Xxh3,
+    count: u64,
+}
+
+impl<T> Hashing<T> {
+    fn new(inner: T) -> Self {
+        Self {
+            inner,
+            hash: Xxh3::new(),
+            count: 0,
+        }
+    }
+}
+
+impl<R: Read> Read for Hashing<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        self.hash.update(&buf[..n]);
+        self.count += n as u64;
+        Ok(n)
+    }
+}
+
+impl<W: Write> Write for Hashing<W> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.inner.write(buf)?;
+        self.hash.update(&buf[..n]);
+        self.count += n as u64;
+        Ok(n)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.inner.flush()
     }
 }
 
@@ -167,63 +329,5 @@ pub fn fingerprint(parts: &[&[u8]]) -> u64 {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn sample() -> Checkpoint {
-        let mut film = Film::new(3, 2, Some(Bands(5)));
-        for (i, p) in film.pixels.iter_mut().enumerate() {
-            p.add([i as f32, 0.1, -2.5, 1e30]);
-        }
-        for (i, v) in film.spectral.iter_mut().enumerate() {
-            *v = i as f64 * 0.37;
-        }
-        Checkpoint {
-            key: 0xdead_beef_1234,
-            done: 7,
-            counts: [1, 2, 3, 4],
-            film,
-        }
-    }
-
-    #[test]
-    fn fingerprints_tell_parts_apart() {
-        let a = fingerprint(&[b"ab", b"c"]);
-        assert_eq!(a, fingerprint(&[b"ab", b"c"]));
-        assert_ne!(a, fingerprint(&[b"a", b"bc"]));
-        assert_ne!(a, fingerprint(&[b"ab", b"d"]));
-    }
-
-    #[test]
-    fn a_checkpoint_reads_back_bit_for_bit() {
-        let path = std::env::temp_dir().join(format!("ckpt-rt-{}.ckpt", std::process::id()));
-        let c = sample();
-        c.write(&path).unwrap();
-        assert_eq!(Checkpoint::read(&path).unwrap(), c);
-        let _ = std::fs::remove_file(&path);
-    }
-
-    #[test]
-    fn damaged_checkpoints_are_errors_naming_the_file() {
-        let path = std::env::temp_dir().join(format!("ckpt-bad-{}.ckpt", std::process::id()));
-        sample().write(&path).unwrap();
-        let bytes = std::fs::read(&path).unwrap();
-        // Truncated, a header claiming a huge film, and not one at all.
-        std::fs::write(&path, &bytes[..bytes.len() - 1]).unwrap();
-        let e = Checkpoint::read(&path).unwrap_err();
-        assert!(
-            e.contains(&path.display().to_string()) && e.contains("bytes"),
-            "{e}"
-        );
-        let mut huge = bytes.clone();
-        huge[24..28].copy_from_slice(&u32::MAX.to_le_bytes());
-        huge[28..32].copy_from_slice(&u32::MAX.to_le_bytes());
-        std::fs::write(&path, &huge).unwrap();
-        assert!(Checkpoint::read(&path).unwrap_err().contains("film needs"));
-        std::fs::write(&path, b"hello").unwrap();
-        assert!(Checkpoint::read(&path)
-            .unwrap_err()
-            .contains("not a scotopia checkpoint"));
-        let _ = std::fs::remove_file(&path);
-    }
-}
+#[path = "checkpoint_tests.rs"]
+mod tests;

@@ -757,7 +757,7 @@ fn render_k<const K: usize>(
             let key = checkpoints.as_ref().map_or(0, |c| c.key);
             if c.key != key {
                 return Err(RenderError::Checkpoint(
-                    "the checkpoint was saved by a render of another scene or with other options"
+                    "the checkpoint was saved by a render of another scene, with other options, or before a file the scene reads was edited"
                         .into(),
                 ));
             }

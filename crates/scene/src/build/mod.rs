@@ -24,7 +24,7 @@ pub use sensor::Resolution;
 pub use standalone::bsdf_from_xml;
 
 use std::collections::{HashMap, HashSet};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use scotopia_color::{Spectrum, SpectrumKind};
 use scotopia_render::bsdf::Bsdf;
@@ -197,6 +197,24 @@ pub fn load_scene_with(
     params: &Parameters,
     options: &LoadOptions,
 ) -> Result<Scene, SceneErrors> {
+    load_scene_tracked(path, params, options).map(|(scene, _)| scene)
+}
+
+/// [`load_scene_with`], and every file the scene read: the scene file, its
+/// includes, meshes, textures, spectra, photometric files, grids (what a
+/// checkpoint's fingerprint hashes, so that an edited one is noticed).
+pub fn load_scene_tracked(
+    path: &Path,
+    params: &Parameters,
+    options: &LoadOptions,
+) -> Result<(Scene, Vec<PathBuf>), SceneErrors> {
+    let (scene, read) = crate::mitsuba::recording(|| load(path, params, options));
+    let mut files = vec![path.to_path_buf()];
+    files.extend(read.into_iter().filter(|f| f != path));
+    Ok((scene?, files))
+}
+
+fn load(path: &Path, params: &Parameters, options: &LoadOptions) -> Result<Scene, SceneErrors> {
     let parsed = parse_scene(path, params)?;
     let root = parsed.root;
     let mut b = Builder::new();

@@ -16,6 +16,7 @@ pub use parse::{
     XML_LIMIT,
 };
 pub use props::{Props, Usage};
+pub(crate) use search::recording;
 pub use search::{resolve, SearchPath};
 pub use spectrum::{normalised_illuminant, read_spectrum, read_spectrum_as};
 pub use values::{parse_floats, parse_rgb, read_transform};

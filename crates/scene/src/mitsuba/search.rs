@@ -10,7 +10,36 @@
 //! folder of the file the element is written in, so fragments that name
 //! files beside themselves load too.
 
+use std::cell::RefCell;
 use std::path::{Path, PathBuf};
+
+thread_local! {
+    /// The files resolved while [`recording`] runs on this thread (loading
+    /// runs on one thread): what a checkpoint's fingerprint hashes.
+    static RESOLVED: RefCell<Option<Vec<PathBuf>>> = const { RefCell::new(None) };
+}
+
+/// Runs `f` and returns with its result every file it resolved, in the
+/// order first resolved, each once.
+pub(crate) fn recording<T>(f: impl FnOnce() -> T) -> (T, Vec<PathBuf>) {
+    let outer = RESOLVED.with(|r| r.replace(Some(Vec::new())));
+    let out = f();
+    let files = RESOLVED.with(|r| r.replace(outer)).unwrap_or_default();
+    let mut seen = std::collections::HashSet::new();
+    let files = files
+        .into_iter()
+        .filter(|f| seen.insert(f.clone()))
+        .collect();
+    (out, files)
+}
+
+fn note(path: &Path) {
+    RESOLVED.with(|r| {
+        if let Some(files) = r.borrow_mut().as_mut() {
+            files.push(path.to_path_buf());
+        }
+    });
+}
 
 /// An ordered list of folders to look for files in.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
@@ -35,6 +64,12 @@ impl SearchPath {
     /// The first folder holding `file`; if none does, `file` under the
     /// first folder (so an error names the path Mitsuba would read first).
     pub fn resolve(&self, file: &str) -> PathBuf {
+        let found = self.find(file);
+        note(&found);
+        found
+    }
+
+    fn find(&self, file: &str) -> PathBuf {
         let p = Path::new(file);
         if p.is_absolute() {
             return p.to_path_buf();
