@@ -10,7 +10,7 @@
 
 use rayon::prelude::*;
 
-use crate::screen::{left_out, LeftOut, LeftOutCount};
+use crate::screen::{left_out, LeftOut, LeftOutCount, ABSURD_LUMINANCE};
 
 /// Jensen et al. 2001: s = 0 at log₁₀ L ≤ −2, 1 at log₁₀ L ≥ 0.6, and the
 /// smoothstep 3t² − 2t³ of t = (log₁₀ L + 2) / 2.6 between. s = 1 is fully
@@ -137,7 +137,10 @@ pub enum Adaptation {
 }
 
 impl Adaptation {
-    /// Parses `global`, `local` or a positive luminance in cd/m².
+    /// Parses `global`, `local` or a luminance in cd/m² from
+    /// [`f32::MIN_POSITIVE`] (the pipeline works in f32: smaller is 0 or
+    /// subnormal there) to [`ABSURD_LUMINANCE`] (brighter than any scene a
+    /// person can look at; 1e39 would be ∞ in f32).
     pub fn parse(text: &str) -> Option<Self> {
         match text.to_ascii_lowercase().as_str() {
             "global" => Some(Adaptation::Global),
@@ -145,7 +148,9 @@ impl Adaptation {
             other => other
                 .parse::<f64>()
                 .ok()
-                .filter(|l| l.is_finite() && *l > 0.0)
+                .filter(|&l| {
+                    (l as f32).is_normal() && l > 0.0 && l <= f64::from(ABSURD_LUMINANCE)
+                })
                 .map(Adaptation::Fixed),
         }
     }
@@ -162,13 +167,35 @@ pub struct ImageStatistics {
     pub sp_ratio: f64,
     /// Mean X, Y, Z, V′ of the pixels used.
     pub mean: [f64; 4],
-    /// Pixels left out of all of these (see [`crate::screen`]).
+    /// Pixels left out of all of these (see [`crate::screen`]), except
+    /// that absurd ones count in `log_average` at [`ABSURD_LUMINANCE`].
     pub left_out: LeftOutCount,
+    /// Pixels used whose luminance Y is negative (counted as black): not
+    /// an absolute X, Y, Z, V′ image, or a broken one.
+    pub negative: usize,
+}
+
+impl ImageStatistics {
+    /// A warning for the user when some pixels have negative luminance.
+    pub fn negative_note(&self) -> Option<String> {
+        (self.negative > 0).then(|| {
+            format!(
+                "{} pixel(s) have negative luminance (Y < 0), shown black: the input should be \
+                 absolute X, Y, Z, V′ (cd/m²), which is never negative",
+                self.negative
+            )
+        })
+    }
 }
 
 /// Statistics of pixels given as [X, Y, Z, V′], over the pixels that are
 /// finite and not absurd ([`crate::screen::left_out`]): the others count
-/// neither as black nor at all.
+/// neither as black nor at all; but an absurd pixel counts in the
+/// log-average (the adaptation) at [`ABSURD_LUMINANCE`], as it is shown
+/// (at the display's peak): one such pixel in N moves the log-average by
+/// a factor (10¹⁰/L)^(1/N) at most, while an image that is mostly absurd
+/// (a light level far too high) is reported photopic, as it looks, not
+/// adapted to its few dark pixels. No pixel counted: black (δ).
 pub fn image_statistics(pixels: &[[f32; 4]]) -> ImageStatistics {
     // In parallel over fixed blocks, each summed in order and the blocks'
     // sums added in order: the same figures on any number of threads.
@@ -178,15 +205,27 @@ pub fn image_statistics(pixels: &[[f32; 4]]) -> ImageStatistics {
         max,
         sum,
         left_out,
+        negative,
     } = block_sums(pixels, Sums::of);
     let n = used.max(1) as f64;
     ImageStatistics {
-        log_average: (log_sum / n).exp(),
+        log_average: log_mean(log_sum, used + left_out.absurd, left_out.absurd),
         maximum: max,
         sp_ratio: if sum[1] > 0.0 { sum[3] / sum[1] } else { 0.0 },
         mean: sum.map(|s| s / n),
         left_out,
+        negative,
     }
+}
+
+/// exp of the mean of the logs: `log_sum` over the pixels used, and
+/// `absurd` more at [`ABSURD_LUMINANCE`]; δ when there are none.
+fn log_mean(log_sum: f64, counted: usize, absurd: usize) -> f64 {
+    if counted == 0 {
+        return LOG_DELTA;
+    }
+    let absurd_log = (LOG_DELTA + f64::from(ABSURD_LUMINANCE)).ln();
+    ((log_sum + absurd as f64 * absurd_log) / counted as f64).exp()
 }
 
 /// [`image_statistics`]`(pixels).log_average` alone, the same number
@@ -195,7 +234,7 @@ pub fn image_statistics(pixels: &[[f32; 4]]) -> ImageStatistics {
 /// pipeline already has from before glare.
 pub fn log_average(pixels: &[[f32; 4]]) -> f64 {
     let s = block_sums(pixels, Sums::of_log);
-    (s.log_sum / s.used.max(1) as f64).exp()
+    log_mean(s.log_sum, s.used + s.left_out.absurd, s.left_out.absurd)
 }
 
 /// `of` over fixed blocks of `pixels` in parallel, the blocks' sums added
@@ -216,6 +255,8 @@ struct Sums {
     sum: [f64; 4],
     /// The pixels not used, by reason (counted in the same pass).
     left_out: LeftOutCount,
+    /// Pixels used with Y < 0.
+    negative: usize,
 }
 
 /// δ of the log-average: black pixels count as very dark, not as −∞.
@@ -229,6 +270,7 @@ impl Sums {
                 Some(LeftOut::NonFinite) => s.left_out.non_finite += 1,
                 Some(LeftOut::Absurd) => s.left_out.absurd += 1,
                 None => {
+                    s.negative += usize::from(p[1] < 0.0);
                     let y = (p[1] as f64).max(0.0);
                     s.used += 1;
                     s.log_sum += (LOG_DELTA + y).ln();
@@ -242,12 +284,19 @@ impl Sums {
         s
     }
 
-    /// Only `used` and `log_sum`, as [`Sums::of`] computes them.
+    /// Only `used`, `log_sum` and the absurd count, as [`Sums::of`]
+    /// computes them.
     fn of_log(pixels: &[[f32; 4]]) -> Self {
         let mut s = Sums::default();
-        for p in pixels.iter().filter(|p| left_out(p).is_none()) {
-            s.used += 1;
-            s.log_sum += (LOG_DELTA + (p[1] as f64).max(0.0)).ln();
+        for p in pixels {
+            match left_out(p) {
+                Some(LeftOut::Absurd) => s.left_out.absurd += 1,
+                Some(LeftOut::NonFinite) => {}
+                None => {
+                    s.used += 1;
+                    s.log_sum += (LOG_DELTA + (p[1] as f64).max(0.0)).ln();
+                }
+            }
         }
         s
     }
@@ -262,6 +311,7 @@ impl Sums {
                 non_finite: self.left_out.non_finite + b.left_out.non_finite,
                 absurd: self.left_out.absurd + b.left_out.absurd,
             },
+            negative: self.negative + b.negative,
         }
     }
 }
