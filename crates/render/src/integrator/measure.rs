@@ -122,9 +122,13 @@ fn measure_k<const K: usize>(
 
 /// `n` (finite, not zero) at unit length: scaled by its largest component
 /// first, so that a normal of any finite size works (3e38 in each
-/// component has a length beyond f32, and would normalise to 0: 0 lx).
+/// component has a length beyond f32, and would normalise to 0: 0 lx; a
+/// subnormal one, 1e-40, would give NaN).
 pub fn unit_normal(n: Vec3) -> Vec3 {
-    (n / n.abs().max_component()).normalize()
+    let m = n.abs().max_component();
+    // Divided component by component: `Vec3 / f32` multiplies by 1/m,
+    // which is ∞ for a subnormal m (1e-40).
+    Vec3::new(n.x / m, n.y / m, n.z / m).normalize()
 }
 
 impl Renderer<'_> {
