@@ -115,7 +115,16 @@ mod tests {
     fn a_light_level_that_is_0_or_infinite_in_f32_is_an_error_naming_the_flag() {
         assert_eq!(light_scale(0.02), Ok(0.02));
         assert_eq!(light_scale(1e20), Ok(1e20));
-        for bad in [1e38, 1e39, 1e-39, 1e-300, 0.0, -1.0, f64::NAN, f64::INFINITY] {
+        for bad in [
+            1e38,
+            1e39,
+            1e-39,
+            1e-300,
+            0.0,
+            -1.0,
+            f64::NAN,
+            f64::INFINITY,
+        ] {
             let e = light_scale(bad).unwrap_err();
             assert!(e.starts_with("--scale "), "{bad}: {e}");
         }

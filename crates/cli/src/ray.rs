@@ -86,7 +86,10 @@ pub fn render(args: &Args, address: &str) -> Result<()> {
             )
         })?;
     // Read on a thread, so that a large report never blocks the driver.
-    let mut stdout = child.stdout.take().context("--ray: no pipe from the driver")?;
+    let mut stdout = child
+        .stdout
+        .take()
+        .context("--ray: no pipe from the driver")?;
     let reader = std::thread::spawn(move || {
         let mut bytes = Vec::new();
         stdout.read_to_end(&mut bytes).map(|_| bytes)
@@ -149,7 +152,9 @@ fn wait_forwarding(
         }
         match asked {
             None if cancel.load(Ordering::Relaxed) => {
-                eprintln!("scotopia: stopping the distributed render (merging the shards that finished)");
+                eprintln!(
+                    "scotopia: stopping the distributed render (merging the shards that finished)"
+                );
                 // Gone already: try_wait reports it next.
                 let _ = kill(pid, Signal::SIGINT);
                 asked = Some(Instant::now());

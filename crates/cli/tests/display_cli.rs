@@ -336,7 +336,14 @@ fn nan_and_absurd_pixels_leave_the_rest_of_the_image_alone_and_are_named_once() 
     // cd/m², as it is shown: (1e10/20)^(1/3056) = 1.0066 at most), and
     // the same 8-bit code values elsewhere.
     let adaptation = |o: &str| -> f64 {
-        o.lines().next().unwrap_or_default().split_whitespace().nth(1).unwrap().parse().unwrap()
+        o.lines()
+            .next()
+            .unwrap_or_default()
+            .split_whitespace()
+            .nth(1)
+            .unwrap()
+            .parse()
+            .unwrap()
     };
     let (la, lb) = (adaptation(&out_a), adaptation(&out_b));
     assert!(lb >= la && lb / la < 1.0066, "{out_a}\n{out_b}");
@@ -372,7 +379,10 @@ fn numbers_that_are_0_or_infinite_in_f32_are_errors_naming_the_flag() {
     ] {
         let (code, _, err) = scotopia(&["display", e, "--info", flag, value]);
         assert_eq!(code, 1, "{flag} {value}: {err}");
-        assert!(err.contains(&format!("error: {flag} ")), "{flag} {value}: {err}");
+        assert!(
+            err.contains(&format!("error: {flag} ")),
+            "{flag} {value}: {err}"
+        );
     }
 }
 
@@ -399,7 +409,11 @@ fn the_mode_reported_is_that_of_the_image_shown_and_negative_pixels_are_warned()
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("mode          photopic"), "{out}");
     let shown = scotopia_image::read_rgb(&png).unwrap();
-    assert!(shown.pixels[64 * 40].iter().all(|&v| v > 0.99), "{:?}", shown.pixels[64 * 40]);
+    assert!(
+        shown.pixels[64 * 40].iter().all(|&v| v > 0.99),
+        "{:?}",
+        shown.pixels[64 * 40]
+    );
     // Negative luminance: a warning, once.
     let negative = grey_exr(&dir, "negative.exr", |i, p| {
         if i % 2 == 0 {

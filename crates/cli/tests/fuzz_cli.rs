@@ -389,9 +389,38 @@ fn mutated_images_display_or_fail_cleanly() {
 /// A small EULUMDAT file: one rotationally symmetric plane, three γ angles.
 fn small_ldt() -> Vec<u8> {
     let mut l: Vec<&str> = vec![
-        "scotopia fuzz", "1", "1", "1", "0", "3", "90", "r1", "lamp", "L-1", "case.ldt",
-        "2026-12-03", "100", "100", "50", "50", "0", "0", "0", "0", "0", "100", "80", "1", "0",
-        "1", "1", "LED", "1000", "3000 K", "80", "10",
+        "scotopia fuzz",
+        "1",
+        "1",
+        "1",
+        "0",
+        "3",
+        "90",
+        "r1",
+        "lamp",
+        "L-1",
+        "case.ldt",
+        "2026-12-03",
+        "100",
+        "100",
+        "50",
+        "50",
+        "0",
+        "0",
+        "0",
+        "0",
+        "0",
+        "100",
+        "80",
+        "1",
+        "0",
+        "1",
+        "1",
+        "LED",
+        "1000",
+        "3000 K",
+        "80",
+        "10",
     ];
     l.extend(["0,5"; 10]);
     l.extend(["0", "0", "90", "180", "300", "100", "0"]);
@@ -403,9 +432,8 @@ fn mutated_photometric_files_load_or_fail_cleanly() {
     let dir = out_dir("fuzz", "luminaire");
     let ies = std::fs::read(scenes().join("lamps/street-type2.ies")).unwrap();
     for (seed, name, bytes) in [(50, "case.ies", ies), (51, "case.ldt", small_ldt())] {
-        let lamp = format!(
-            "<emitter type=\"ies\"><string name=\"filename\" value=\"{name}\"/></emitter>"
-        );
+        let lamp =
+            format!("<emitter type=\"ies\"><string name=\"filename\" value=\"{name}\"/></emitter>");
         let render = tiny_scene(&dir, &format!("{name}.xml"), &lamp);
         fuzz(seed, &bytes, &dir, name, render);
     }
@@ -423,9 +451,18 @@ fn mutated_points_files_measure_or_fail_cleanly() {
     let points = b"# a grid\nx,y,z,nx,ny,nz\n0,0,0,0,1,0\n1,0,0,0,1,0\n0,0,1,0,2.5,0\n\n-1,0.5,-1,0.1,1,0.1\n";
     let out = dir.join("out.csv");
     fuzz(52, points, &dir, "case.csv", |p| {
-        ["measure", &s(&scene), "--points", &s(p), "--spp", "4", "-o", &s(&out)]
-            .map(String::from)
-            .to_vec()
+        [
+            "measure",
+            &s(&scene),
+            "--points",
+            &s(p),
+            "--spp",
+            "4",
+            "-o",
+            &s(&out),
+        ]
+        .map(String::from)
+        .to_vec()
     });
 }
 

@@ -275,7 +275,10 @@ fn points_files_are_read_as_written() {
     for (name, text) in [
         ("lf", &b"x,y,z,nx,ny,nz\n0,0,0,0,1,0\n1,0,0,0,1,0\n"[..]),
         ("bom", b"\xef\xbb\xbf0,0,0,0,1,0\n1,0,0,0,1,0\n"),
-        ("bom-header", b"\xef\xbb\xbf\"X\", \"Y\", \"Z\", NX, NY, NZ\r\n0,0,0,0,1,0\r\n1,0,0,0,1,0\r\n"),
+        (
+            "bom-header",
+            b"\xef\xbb\xbf\"X\", \"Y\", \"Z\", NX, NY, NZ\r\n0,0,0,0,1,0\r\n1,0,0,0,1,0\r\n",
+        ),
         ("cr", b"# grid\rx,y,z,nx,ny,nz\r0,0,0,0,1,0\r1,0,0,0,1,0\r"),
     ] {
         let (code, rows, err) = measure_lamp(name, text);
@@ -291,7 +294,10 @@ fn a_row_that_does_not_parse_is_an_error_naming_its_line_even_first() {
     for (text, line) in [
         // A typo in the first row is not a header: the point is not lost.
         (&b"0,0,O,0,1,0\n1,0,0,0,1,0\n"[..], ":1:"),
-        (b"# grid\n\nx,y,z,nx,ny,nz\n0,0,0,0,1,0\nx,y,z,nx,ny,nz\n", ":5:"),
+        (
+            b"# grid\n\nx,y,z,nx,ny,nz\n0,0,0,0,1,0\nx,y,z,nx,ny,nz\n",
+            ":5:",
+        ),
         (b"position,normal\n0,0,0,0,1,0\n", ":1:"),
         (b"0,0,0,0,1,0\r1,0,0,0,1,O\r", ":2:"),
         (b"0,0,0,0,1e39,0\n", ":1:"),
@@ -304,14 +310,13 @@ fn a_row_that_does_not_parse_is_an_error_naming_its_line_even_first() {
 
 #[test]
 fn a_very_large_normal_is_normalised_not_zero() {
-    let (code, rows, err) =
-        measure_lamp("huge-normal", b"0,0,0,3e38,3e38,3e38\n0,0,0,0,1e-40,0\n0,0,0,0,1,0\n");
+    let (code, rows, err) = measure_lamp(
+        "huge-normal",
+        b"0,0,0,3e38,3e38,3e38\n0,0,0,0,1e-40,0\n0,0,0,0,1,0\n",
+    );
     assert_eq!(code, 0, "{err}");
     // (1,1,1)/√3 sees the lamp at 54.7° from its normal: cos = 1/√3.
-    assert!(
-        (rows[0][6] - 100.0 / 3f64.sqrt()).abs() < 10.0,
-        "{rows:?}"
-    );
+    assert!((rows[0][6] - 100.0 / 3f64.sqrt()).abs() < 10.0, "{rows:?}");
     // A subnormal normal is a normal too: 100 lx straight up.
     assert!((rows[1][6] - 100.0).abs() < 10.0, "{rows:?}");
 }
@@ -329,5 +334,8 @@ fn an_endless_points_file_is_refused_at_its_size_limit() {
         dir.join("o.csv").to_str().unwrap(),
     ]);
     assert_eq!(code, 1, "{err}");
-    assert!(err.contains("/dev/zero") && err.contains("limit of 64 MiB"), "{err}");
+    assert!(
+        err.contains("/dev/zero") && err.contains("limit of 64 MiB"),
+        "{err}"
+    );
 }

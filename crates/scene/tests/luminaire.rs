@@ -649,13 +649,21 @@ fn eulumdat_with_ies_words_in_its_text_lines_is_eulumdat() {
     l[0] = "IES Lighting Ltd";
     l[23] = "-1";
     let e = parse_luminaire(&l.join("\r\n"), "lamp.ldt").unwrap_err();
-    assert!(e.to_string().starts_with("lamp.ldt:24: the conversion factor"), "{e}");
+    assert!(
+        e.to_string()
+            .starts_with("lamp.ldt:24: the conversion factor"),
+        "{e}"
+    );
 }
 
 #[test]
 fn cr_lf_and_crlf_line_endings_all_read() {
     let ldt = ldt_of(2, Symmetry::AboutC0C180, &[(1, 1000.0)], 1.0);
-    let ies = ies_of("IESNA:LM-63-2002", &range(0.0, 180.0, 15.0), Symmetry::AboutC0C180);
+    let ies = ies_of(
+        "IESNA:LM-63-2002",
+        &range(0.0, 180.0, 15.0),
+        Symmetry::AboutC0C180,
+    );
     for (text, format) in [(ldt, Format::Eulumdat), (ies, Format::Ies { year: 2002 })] {
         let lf = text.replace("\r\n", "\n");
         let want = parse_luminaire(&lf, "lamp").unwrap();

@@ -148,9 +148,7 @@ impl Adaptation {
             other => other
                 .parse::<f64>()
                 .ok()
-                .filter(|&l| {
-                    (l as f32).is_normal() && l > 0.0 && l <= f64::from(ABSURD_LUMINANCE)
-                })
+                .filter(|&l| (l as f32).is_normal() && l > 0.0 && l <= f64::from(ABSURD_LUMINANCE))
                 .map(Adaptation::Fixed),
         }
     }

@@ -9,7 +9,11 @@ pub fn lines(text: &str) -> impl Iterator<Item = &str> {
         let t = rest?;
         match t.find(['\n', '\r']) {
             Some(i) => {
-                let after = if t[i..].starts_with("\r\n") { i + 2 } else { i + 1 };
+                let after = if t[i..].starts_with("\r\n") {
+                    i + 2
+                } else {
+                    i + 1
+                };
                 rest = (after < t.len()).then(|| &t[after..]);
                 Some(&t[..i])
             }

@@ -226,7 +226,10 @@ mod tests {
             "wavelength,value\r\n400,1\r\n500,2\r\n",
         ] {
             let s = parse_spectrum(text, "x", false).unwrap();
-            assert_eq!((s.eval(400.0), s.eval(500.0)), (lf.eval(400.0), lf.eval(500.0)));
+            assert_eq!(
+                (s.eval(400.0), s.eval(500.0)),
+                (lf.eval(400.0), lf.eval(500.0))
+            );
         }
         // Line numbers count CR-only lines too.
         assert!(message("400,1\r500,abc\r").starts_with("lamp.csv:2: 'abc'"));

@@ -82,13 +82,7 @@ pub fn parse_luminaire(text: &str, source: &str) -> Result<Photometry, Luminaire
             if !ies::is_ies(&lines) {
                 return Err(ldt);
             }
-            ies::parse(&lines, source).map_err(|e| {
-                if ies::has_header(&lines) {
-                    e
-                } else {
-                    ldt
-                }
-            })
+            ies::parse(&lines, source).map_err(|e| if ies::has_header(&lines) { e } else { ldt })
         }),
         (false, false) => Err(error(
             source,

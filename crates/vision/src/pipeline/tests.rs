@@ -211,7 +211,10 @@ fn negative_luminance_is_counted_for_a_warning() {
     let out = display(&px, W, H, &DisplayParams::default());
     assert_eq!(out.report.statistics.negative, 2);
     let note = out.report.statistics.negative_note().unwrap();
-    assert!(note.contains("2 pixel(s) have negative luminance"), "{note}");
+    assert!(
+        note.contains("2 pixel(s) have negative luminance"),
+        "{note}"
+    );
     let clean = display(&scene(20.0, 1.0), W, H, &DisplayParams::default());
     assert_eq!(clean.report.statistics.negative_note(), None);
 }
