@@ -41,7 +41,7 @@ pub fn build_ies(p: &Props, node: &Node) -> Result<GoniometricLight, SceneError>
     // ~0 lm lamp that renders black, as an all-zero one would: refused
     // alike, with its flux.
     let flux = photometry.total_flux_lm();
-    if !(flux >= MIN_LUMENS) {
+    if flux.is_nan() || flux < MIN_LUMENS {
         return Err(node.error(format!(
             "{file}: the luminaire emits nothing (its candela give {flux:e} lm, under \
              {MIN_LUMENS:e} lm: a unit mistake or a broken export?)"
