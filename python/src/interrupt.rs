@@ -33,8 +33,13 @@ pub(crate) fn interruptible<T: Send>(
             value
         });
         let mut raised = None;
+        let mut rx = done_rx;
         loop {
-            match py.detach(|| done_rx.recv_timeout(POLL)) {
+            // The receiver is moved to the GIL-free closure and back (it
+            // is Send, not Sync).
+            let (got, back) = py.detach(move || (rx.recv_timeout(POLL), rx));
+            rx = back;
+            match got {
                 Err(mpsc::RecvTimeoutError::Timeout) => {}
                 // Sent, or the worker panicked (its sender dropped).
                 _ => break,
