@@ -135,7 +135,8 @@ def display(
     cd/m². Returns (linear RGB H × W × 3 in [0, 1] of ``gamut``, report
     dict with the adaptation luminance, s, m, mode and stage timings).
     Non-finite pixels and pixels above 1e10 cd/m² are left out of the
-    image statistics (shown black and at peak white) with a warning.
+    image statistics (shown black and at peak white) with a warning, as are
+    pixels of negative luminance (shown black: not an absolute image).
     ``output`` writes a .png or .exr, ``compare`` a sheet of the stages.
     ``age`` (years, 1 to 100; default 25) and ``pigmentation`` (CIE
     146:2002's factor: 0 very dark eyes, 0.5 brown, the default, 1 light
@@ -172,6 +173,8 @@ def display(
     )
     if report.get("left_out"):
         warnings.warn(report["left_out"], stacklevel=2)
+    if report.get("negative"):
+        warnings.warn(report["negative"], stacklevel=2)
     return rgb, report
 
 

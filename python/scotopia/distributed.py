@@ -198,6 +198,59 @@ def cut_shards(spp, height, shards, split="samples"):
 # ---------------------------------------------------------------- Ray
 
 
+#: Seconds a cluster's address has to answer before connecting fails
+#: (environment variable SCOTOPIA_RAY_CONNECT_TIMEOUT overrides it). Ray's
+#: own connection retries for minutes on an address that does not answer.
+CONNECT_TIMEOUT = 30.0
+
+
+def connect_timeout():
+    """CONNECT_TIMEOUT, or SCOTOPIA_RAY_CONNECT_TIMEOUT (seconds) when set."""
+    text = os.environ.get("SCOTOPIA_RAY_CONNECT_TIMEOUT")
+    if text is None:
+        return CONNECT_TIMEOUT
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not (0 < value <= 3600):
+        raise ValueError(
+            f"SCOTOPIA_RAY_CONNECT_TIMEOUT={text}: give seconds from 0 to 3600"
+        )
+    return value
+
+
+def _host_port(address):
+    """(host, port) of an address that names one ("ray://h:p", "h:p"),
+    else None ("auto", "local": Ray finds the cluster itself)."""
+    rest = address.split("://", 1)[1] if "://" in address else address
+    host, sep, port = rest.rpartition(":")
+    if not sep or not port.isdigit():
+        return None
+    return host.strip("[]") or "127.0.0.1", int(port)
+
+
+def check_reachable(address, timeout=None):
+    """Raises ConnectionError naming ``address`` unless a TCP connection to
+    its host and port opens within ``timeout`` seconds (default
+    ``connect_timeout()``): an unreachable cluster fails at once or within
+    the timeout, where ``ray.init`` would retry for minutes."""
+    timeout = connect_timeout() if timeout is None else timeout
+    target = _host_port(address)
+    if target is None:
+        return
+    import socket
+
+    try:
+        socket.create_connection(target, timeout=timeout).close()
+    except OSError as e:
+        why = "no answer" if isinstance(e, socket.timeout) else e.strerror or str(e)
+        raise ConnectionError(
+            f"Ray address {address}: cannot reach {target[0]}:{target[1]} within "
+            f"{timeout:g} s ({why}); is the cluster up (ray start --head)?"
+        ) from None
+
+
 def _connect(address, num_cpus):
     ray = _ray()
     if not ray.is_initialized():
@@ -205,6 +258,7 @@ def _connect(address, num_cpus):
         if address is None:
             ray.init(num_cpus=num_cpus or os.cpu_count(), include_dashboard=False, **kw)
         else:
+            check_reachable(address)
             ray.init(address=address, **kw)
     return ray
 
@@ -507,6 +561,8 @@ def _main(argv=None):
     a = p.parse_args(argv)
     params = dict(d.split("=", 1) for d in a.D) or None
     t = time.perf_counter()
+    if a.address:
+        _connect_or_exit(a.address)
     exr = a.output if a.output and a.output.lower().endswith(".exr") else None
     image, meta = render(
         a.scene, spp=a.spp, seed=a.seed, shards=a.shards, address=a.address,
@@ -518,6 +574,37 @@ def _main(argv=None):
     if a.output and not exr:
         np.save(a.output, image)
     print(json.dumps(meta, indent=1, default=str))
+
+
+def _connect_or_exit(address):
+    """Connects this process (the CLI's driver) to the cluster at
+    ``address`` within ``connect_timeout()`` seconds, or exits with status
+    3 and says why: past the TCP check, ``ray.init`` can still wait for
+    minutes (an open port that is not Ray's), in C++ where no Python
+    exception reaches it, so a watchdog thread ends the process."""
+    import threading
+
+    timeout = connect_timeout()
+
+    def give_up():
+        print(
+            f"scotopia: Ray address {address}: no Ray cluster answered within "
+            f"{timeout:g} s (SCOTOPIA_RAY_CONNECT_TIMEOUT sets the limit)",
+            file=sys.stderr,
+            flush=True,
+        )
+        os._exit(3)
+
+    watchdog = threading.Timer(timeout, give_up)
+    watchdog.daemon = True
+    watchdog.start()
+    try:
+        _connect(address, None)
+    except ConnectionError as e:
+        print(f"scotopia: {e}", file=sys.stderr)
+        sys.exit(3)
+    finally:
+        watchdog.cancel()
 
 
 if __name__ == "__main__":

@@ -5,6 +5,7 @@ mod arrays;
 mod bsdf;
 mod colour;
 mod false_colour;
+mod interrupt;
 mod measure;
 mod render;
 mod report;

@@ -23,7 +23,8 @@ use scotopia_vision::mode::Mesopic;
 /// `L_cdm2` (its luminance ρE/π), `m` (the adaptation coefficient at it)
 /// and `Lmes_cdm2` (the mesopic luminance). `spp`: samples per point
 /// (default: the scene's samples per pixel). The scene needs no sensor.
-/// The GIL is released while measuring.
+/// The GIL is released while measuring; Ctrl-C stops it and raises
+/// KeyboardInterrupt.
 #[pyfunction]
 #[pyo3(signature = (path, points, spp = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, reflectance = 1.0))]
 #[allow(clippy::too_many_arguments)]
@@ -76,17 +77,16 @@ fn measure<'py>(
         cluster,
         ..RenderOptions::default()
     };
-    let measured = py
-        .detach(|| {
-            measure_points(
-                &scene,
-                &receivers,
-                &options,
-                &AtomicBool::new(false),
-                &|_, _| {},
-            )
-        })
-        .map_err(|e| err(e.to_string()))?;
+    // Ctrl-C stops the measurement (nothing is returned, as the CLI
+    // writes nothing) and raises KeyboardInterrupt.
+    let cancel = AtomicBool::new(false);
+    let (measured, interrupted) = crate::interrupt::interruptible(py, &cancel, || {
+        measure_points(&scene, &receivers, &options, &cancel, &|_, _| {})
+    });
+    if let Some(e) = interrupted {
+        return Err(e);
+    }
+    let measured = measured.map_err(|e| err(e.to_string()))?;
     let d = PyDict::new(py);
     let column = |f: fn(&scotopia_render::integrator::Measured) -> f64| {
         measured

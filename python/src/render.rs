@@ -40,7 +40,10 @@ use crate::scene::load_options;
 /// the scene reads was edited, is a `ValueError`.
 /// `quantity` "illuminance" renders the illuminance (lx) at the first
 /// surface each pixel sees instead of radiance. The GIL is released while
-/// rendering.
+/// rendering. Ctrl-C (or any signal handler that raises) stops the render
+/// at its next pass: the outputs and the checkpoint are written with what
+/// it has, then KeyboardInterrupt is raised, as the CLI exits. `resume`
+/// without `checkpoint` is a ValueError.
 #[pyfunction]
 #[pyo3(signature = (path, spp = None, time = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, output = None, spectral = None, bands = 47, integrator = None, res = None, checkpoint = None, checkpoint_every = 60.0, resume = false, tracer = "scalar", quantity = "radiance"))]
 #[allow(clippy::too_many_arguments)]
@@ -75,6 +78,11 @@ fn render<'py>(
         return Err(err(format!(
             "checkpoint_every {checkpoint_every}: give 0 to 1e9 seconds"
         )));
+    }
+    if resume && checkpoint.is_none() {
+        return Err(err(
+            "resume=True needs checkpoint, the file to resume from (and to save to)".into(),
+        ));
     }
     let load = load_options(res.as_ref())?;
     let params = params.unwrap_or_default();
@@ -125,20 +133,16 @@ fn render<'py>(
         every: Duration::from_secs_f64(checkpoint_every),
         save: &save,
     });
-    let rendered = py
-        .detach(|| {
-            render_resumable(
-                &scene,
-                &options,
-                &AtomicBool::new(false),
-                &|_, _| {},
-                checkpoints,
-            )
-        })
-        .map_err(|e| match e {
-            RenderError::TooLarge(_) => PyMemoryError::new_err(e.to_string()),
-            _ => err(e.to_string()),
-        })?;
+    // Ctrl-C ends the render at its pass boundary (the checkpoint saved);
+    // the outputs are written, then KeyboardInterrupt raised.
+    let cancel = AtomicBool::new(false);
+    let (rendered, interrupted) = crate::interrupt::interruptible(py, &cancel, || {
+        render_resumable(&scene, &options, &cancel, &|_, _| {}, checkpoints)
+    });
+    let rendered = rendered.map_err(|e| match e {
+        RenderError::TooLarge(_) => PyMemoryError::new_err(e.to_string()),
+        _ => err(e.to_string()),
+    })?;
     let meta = render_metadata(
         &scene,
         &options,
@@ -150,6 +154,9 @@ fn render<'py>(
     }
     if let Some(out) = spectral {
         write_spectral_exr(&out, &rendered, &meta).map_err(|e| err(e.to_string()))?;
+    }
+    if let Some(e) = interrupted {
+        return Err(e);
     }
     let (w, h) = (rendered.film.width as usize, rendered.film.height as usize);
     let flat: Vec<f32> = rendered.film.xyzv().into_iter().flatten().collect();
@@ -262,12 +269,18 @@ fn render_shard<'py>(
         }),
         ..RenderOptions::default()
     };
-    let rendered = py
-        .detach(|| render_resumable(&scene, &options, &AtomicBool::new(false), &|_, _| {}, None))
-        .map_err(|e| match e {
-            RenderError::TooLarge(_) => PyMemoryError::new_err(e.to_string()),
-            _ => err(e.to_string()),
-        })?;
+    // Ctrl-C: the shard is incomplete, so nothing of it is returned.
+    let cancel = AtomicBool::new(false);
+    let (rendered, interrupted) = crate::interrupt::interruptible(py, &cancel, || {
+        render_resumable(&scene, &options, &cancel, &|_, _| {}, None)
+    });
+    if let Some(e) = interrupted {
+        return Err(e);
+    }
+    let rendered = rendered.map_err(|e| match e {
+        RenderError::TooLarge(_) => PyMemoryError::new_err(e.to_string()),
+        _ => err(e.to_string()),
+    })?;
     let film = &rendered.film;
     let (w, h) = (film.width as usize, film.height as usize);
     let sums: Vec<f64> = film.pixels.iter().flat_map(|p| p.xyzv).collect();

@@ -33,15 +33,21 @@ impl Viewer {
         py.import("json")?.call_method1("loads", (text,))
     }
 
-    /// Waits for the render to end (the page stays up).
+    /// Waits for the render to end (the page stays up). Ctrl-C stops the
+    /// render (its film is written, as on the CLI's Ctrl-C) and raises
+    /// KeyboardInterrupt.
     fn wait(&self, py: Python<'_>) -> PyResult<()> {
-        py.detach(|| {
+        let (ended, interrupted) = crate::interrupt::interruptible(py, &self.cancel, || {
             let mut v = self.viewing.lock().map_err(|_| closed())?;
             match v.as_mut() {
                 Some(v) => v.wait().map_err(err),
                 None => Ok(()),
             }
-        })
+        });
+        match interrupted {
+            Some(e) => Err(e),
+            None => ended,
+        }
     }
 
     /// Stops the render (its film is written, as on Ctrl-C) and the page.

@@ -167,14 +167,17 @@ fn multiscale<'py>(
     mean_ceiling: f64,
 ) -> PyResult<Bound<'py, PyArray3<f32>>> {
     let (w, h, px) = pixels::<4>(&image)?;
-    finite_in("display_peak", display_peak, f64::MIN_POSITIVE, f64::MAX)?;
+    // Luminances the model uses in f32: from the smallest normal f32 (not
+    // 0 there) to the largest (not ∞).
+    let (lo, hi) = (f64::from(f32::MIN_POSITIVE), f64::from(f32::MAX));
+    finite_in("display_peak", display_peak, lo, hi)?;
     finite_in("degrees_per_pixel", degrees_per_pixel, 1e-6, 180.0)?;
     for (name, v) in [
         ("display_adaptation", display_adaptation),
         ("adaptation", adaptation),
     ] {
         if let Some(v) = v {
-            finite_in(name, v, f64::MIN_POSITIVE, f64::MAX)?;
+            finite_in(name, v, lo, hi)?;
         }
     }
     if mean_ceiling.is_nan() || mean_ceiling <= 0.0 {
@@ -296,7 +299,9 @@ fn display<'py>(
         .map_err(|e| PyMemoryError::new_err(e.to_string()))?;
     let adaptation = Adaptation::parse(adaptation).ok_or_else(|| {
         err(format!(
-            "adaptation '{adaptation}': use 'global', 'local' or a luminance in cd/m²"
+            "adaptation '{adaptation}': use 'global', 'local' or a luminance from {:e} to {:e} cd/m²",
+            f32::MIN_POSITIVE,
+            scotopia_vision::screen::ABSURD_LUMINANCE
         ))
     })?;
     let tonemap = ToneOperator::from_name(tonemap).ok_or_else(|| {
@@ -346,6 +351,9 @@ fn display<'py>(
     // Pixels left out of the statistics (non-finite or absurd): a sentence,
     // or None; the Python wrapper issues it as a warning.
     d.set_item("left_out", r.statistics.left_out.note())?;
+    // Pixels of negative luminance (shown black): a sentence or None, a
+    // warning in Python too.
+    d.set_item("negative", r.statistics.negative_note())?;
     let t = PyDict::new(py);
     for (stage, secs) in &r.timings {
         t.set_item(*stage, *secs)?;

@@ -87,3 +87,35 @@ def test_an_exr_declaring_a_huge_window_is_a_memory_error(tmp_path):
     forged.write_bytes(bytes(data))
     with pytest.raises(MemoryError, match="forged.exr.*limit is"):
         vision.read_image(forged)
+
+
+# Issue 38: numbers checked in the precision they are used in (f32).
+@pytest.mark.parametrize(
+    "kwargs, names",
+    [
+        (dict(display_peak=1e-300), "display-peak"),
+        (dict(display_peak=1e-40), "display-peak"),
+        (dict(adaptation="1e39"), "adaptation"),
+        (dict(adaptation="1e-300"), "adaptation"),
+    ],
+)
+def test_display_numbers_that_are_0_or_infinite_in_f32_are_value_errors(kwargs, names):
+    with pytest.raises(ValueError, match=names):
+        scotopia.display(image(), fov=40.0, **kwargs)
+
+
+@pytest.mark.parametrize("name", ["display_peak", "adaptation", "display_adaptation"])
+def test_multiscale_luminances_that_are_0_in_f32_are_value_errors(name):
+    with pytest.raises(ValueError, match=name):
+        vision.multiscale(image(), **{name: 1e-300})
+
+
+def test_a_negative_image_is_warned_about_not_shown_black_silently():
+    neg = -image(y=5.0)
+    with pytest.warns(UserWarning, match="64 pixel.*negative luminance"):
+        scotopia.display(neg, fov=40.0)
+
+
+def test_resume_without_a_checkpoint_is_a_value_error():
+    with pytest.raises(ValueError, match="resume=True needs checkpoint"):
+        scotopia.render(CORNELL, spp=1, params={"res": "4"}, resume=True)

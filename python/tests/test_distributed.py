@@ -313,3 +313,52 @@ def test_the_cli_renders_on_ray_through_this_package(tmp_path):
     bad = subprocess.run(cmd[:-4] + ["--time", "3", "-o", str(out)], env=env,
                          capture_output=True, text=True, timeout=60)
     assert bad.returncode != 0 and "--time is not available with --ray" in bad.stderr
+
+
+# Issue 38: an address that does not answer fails within a stated time,
+# and the CLI's --ray honours SIGTERM.
+def test_an_unreachable_address_is_a_connection_error_at_once():
+    from scotopia import distributed
+
+    with pytest.raises(ConnectionError, match="127.0.0.1:1.*cannot reach"):
+        distributed.check_reachable("127.0.0.1:1", timeout=5)
+    with pytest.raises(ConnectionError, match="cannot reach"):
+        distributed.check_reachable("ray://127.0.0.1:1", timeout=5)
+    distributed.check_reachable("auto")  # Ray finds it: nothing to check
+
+
+def test_the_driver_gives_up_on_an_address_within_its_timeout(tmp_path):
+    # 127.0.0.1:1 refuses at once; a TEST-NET address (RFC 5737) never
+    # answers, or (behind a proxy that accepts every connection) is no Ray
+    # cluster: ray.init would retry for minutes, the watchdog ends it.
+    env = dict(os.environ, SCOTOPIA_RAY_CONNECT_TIMEOUT="3")
+    for address, says in [("127.0.0.1:1", "cannot reach"),
+                          ("198.51.100.1:6379", "within 3 s")]:
+        done = subprocess.run(
+            [sys.executable, "-m", "scotopia.distributed", CORNELL, "--spp", "1",
+             "--address", address, "-o", str(tmp_path / "x.exr")],
+            env=env, capture_output=True, text=True, timeout=120)
+        assert done.returncode == 3, done.stderr
+        assert says in done.stderr and address in done.stderr, done.stderr
+
+
+def test_the_cli_on_ray_stops_on_sigterm(tmp_path):
+    from view_harness import scotopia_binary
+
+    # The driver stuck connecting (no timeout for a while): SIGTERM to the
+    # CLI stops it and the driver, instead of waiting for Ray.
+    cmd = [str(scotopia_binary()), "render", CORNELL, "-D", "res=8", "--spp", "1",
+           "--ray", "198.51.100.1:6379", "-o", str(tmp_path / "x.exr")]
+    env = dict(os.environ, SCOTOPIA_PYTHON=sys.executable,
+               SCOTOPIA_RAY_CONNECT_TIMEOUT="600")
+    child = subprocess.Popen(cmd, env=env, stderr=subprocess.PIPE, text=True)
+    try:
+        time.sleep(3)  # the driver is started and connecting
+        child.send_signal(signal.SIGTERM)
+        _, err = child.communicate(timeout=120)
+    finally:
+        if child.poll() is None:
+            child.kill()
+            child.wait()
+    assert child.returncode == 1, err
+    assert "interrupted" in err or "stopped" in err, err

@@ -134,8 +134,10 @@ impl VisionArgs {
         let peak = display_peak(self.display_peak, self.hdr).map_err(flag)?;
         let adaptation = Adaptation::parse(&self.adaptation).with_context(|| {
             format!(
-                "--adaptation {}: use global, local or a luminance in cd/m²",
-                self.adaptation
+                "--adaptation {}: use global, local or a luminance from {:e} to {:e} cd/m²",
+                self.adaptation,
+                f32::MIN_POSITIVE,
+                scotopia_vision::screen::ABSURD_LUMINANCE
             )
         })?;
         let tonemap = ToneOperator::from_name(&self.tonemap).with_context(|| {
@@ -228,11 +230,9 @@ pub fn run(args: Args) -> Result<()> {
     )?;
     clock.mark("read EXR");
     if let Some(k) = args.scale {
-        if !(k.is_finite() && k > 0.0) {
-            bail!("--scale {k}: must be a positive factor");
-        }
+        let k = crate::numbers::light_scale(k).map_err(anyhow::Error::msg)?;
         for p in &mut image.pixels {
-            *p = p.map(|v| v * k as f32);
+            *p = p.map(|v| v * k);
         }
     }
     for note in &image.notes {
@@ -307,6 +307,9 @@ impl PhaseClock {
 pub fn say_left_out(shown: &Displayed) {
     if let Some(note) = shown.report.statistics.left_out.note() {
         eprintln!("scotopia: note: {note}");
+    }
+    if let Some(note) = shown.report.statistics.negative_note() {
+        eprintln!("scotopia: warning: {note}");
     }
 }
 

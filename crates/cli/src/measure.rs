@@ -21,8 +21,10 @@ pub struct Args {
     /// The scene (Mitsuba 3 XML). Its sensor is not used and may be absent.
     scene: PathBuf,
     /// The points: CSV rows `x,y,z,nx,ny,nz` (scene units; the normal is
-    /// the side the receiver faces). A header line, blank lines and lines
-    /// starting with # are skipped.
+    /// the side the receiver faces, any length but zero). The header line
+    /// x,y,z,nx,ny,nz, blank lines and lines starting with # are skipped;
+    /// any other row that is not six numbers is an error naming its line.
+    /// At most 64 MiB.
     #[arg(long, value_name = "POINTS.csv")]
     points: PathBuf,
     /// The output: the points with photopic and scotopic illuminance, their
@@ -58,28 +60,54 @@ pub struct Args {
     cluster: usize,
 }
 
+/// The largest points file read: a calculation grid of a million points
+/// is ~40 MiB of text, so 64 MiB (the limit of the other data files)
+/// suffices and stops `/dev/zero` or a runaway file at once.
+pub const POINTS_FILE_LIMIT: u64 = 64 * scotopia_color::io::MIB;
+
+/// The header a points file may start with (any case, fields quoted or not).
+const POINT_COLUMNS: [&str; 6] = ["x", "y", "z", "nx", "ny", "nz"];
+
 /// The receivers of a points file; errors name the file and line.
 pub fn read_points(path: &Path) -> Result<Vec<Receiver>> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("{}: cannot read the points", path.display()))?;
+    let name = path.display().to_string();
+    let bytes = scotopia_color::io::read_limited(path, POINTS_FILE_LIMIT)
+        .with_context(|| format!("{name}: cannot read the points"))?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        anyhow::anyhow!(
+            "{name}: not UTF-8 text (invalid byte at offset {})",
+            e.utf8_error().valid_up_to()
+        )
+    })?;
+    parse_points(&text, &name)
+}
+
+/// The receivers of a points file's text; `name` names it in errors.
+/// Rows `x,y,z,nx,ny,nz`; blank lines and `#` lines skipped; lines end in
+/// LF, CRLF or CR; a UTF-8 byte-order mark is skipped. A header is known
+/// by its words (x,y,z,nx,ny,nz, before the first point), so any other
+/// row that is not six numbers — a typo in the first row too — is an
+/// error naming its line, never a point silently lost. Numbers must be
+/// finite in f32, where the renderer works; a normal need not be of unit
+/// length (the measurement normalises it) but must not be zero.
+pub fn parse_points(text: &str, name: &str) -> Result<Vec<Receiver>> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut out = Vec::new();
-    // One header line, before the first point.
-    let mut header = false;
-    for (i, line) in text.lines().enumerate() {
+    for (i, line) in scotopia_color::io::lines(text).enumerate() {
         let line = line.trim();
         if line.is_empty() || line.starts_with('#') {
             continue;
         }
+        let at = || format!("{name}:{}", i + 1);
         let fields: Vec<&str> = line.split(',').map(str::trim).collect();
-        let numbers: Option<Vec<f32>> = fields.iter().map(|f| f.parse::<f32>().ok()).collect();
-        let at = || format!("{}:{}", path.display(), i + 1);
+        if out.is_empty() && is_header(&fields) {
+            continue;
+        }
+        let numbers: Option<Vec<f64>> = fields.iter().map(|f| f.parse::<f64>().ok()).collect();
         let Some(v) = numbers else {
-            if out.is_empty() && !header {
-                header = true;
-                continue;
-            }
             bail!(
-                "{}: expected six numbers x,y,z,nx,ny,nz, found {line:?}",
+                "{}: expected six numbers x,y,z,nx,ny,nz (or, before the first point, the header \
+                 x,y,z,nx,ny,nz), found {line:?}",
                 at()
             );
         };
@@ -90,11 +118,14 @@ pub fn read_points(path: &Path) -> Result<Vec<Receiver>> {
                 v.len()
             );
         }
-        if v.iter().any(|x| !x.is_finite()) {
-            bail!("{}: every number must be finite", at());
+        if v.iter().any(|x| !(*x as f32).is_finite()) {
+            bail!(
+                "{}: every number must be finite (within ±3.4e38, single precision)",
+                at()
+            );
         }
-        let n = Vec3::new(v[3], v[4], v[5]);
-        if n.length_squared() <= 0.0 {
+        let n = Vec3::new(v[3] as f32, v[4] as f32, v[5] as f32);
+        if n.abs().max_component() == 0.0 {
             bail!(
                 "{}: the normal ({}, {}, {}) is zero",
                 at(),
@@ -104,14 +135,24 @@ pub fn read_points(path: &Path) -> Result<Vec<Receiver>> {
             );
         }
         out.push(Receiver {
-            p: Vec3::new(v[0], v[1], v[2]),
+            p: Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32),
             n,
         });
     }
     if out.is_empty() {
-        bail!("{}: no points", path.display());
+        bail!("{name}: no points");
     }
     Ok(out)
+}
+
+/// The fields are the header's words.
+fn is_header(fields: &[&str]) -> bool {
+    fields.len() == POINT_COLUMNS.len()
+        && fields.iter().zip(POINT_COLUMNS).all(|(f, want)| {
+            f.trim_matches(|c| c == '"' || c == '\'')
+                .trim()
+                .eq_ignore_ascii_case(want)
+        })
 }
 
 /// The output's columns.

@@ -3,6 +3,7 @@
 
 use std::time::Duration;
 
+use scotopia_vision::screen::ABSURD_LUMINANCE;
 use scotopia_vision::Observer;
 
 /// The most worker threads `--threads` accepts.
@@ -62,6 +63,26 @@ pub fn pigmentation(text: &str) -> Result<f64, String> {
         .map_err(|e| e.to_string())
 }
 
+/// The most a light level (`--scale`, the viewer's `scale`) may multiply
+/// the image by: a pixel at the brightest luminance a scene can have
+/// (`ABSURD_LUMINANCE`, 1e10 cd/m²) times it stays finite in f32, in
+/// which the pipeline multiplies (1e38 made every lit pixel ∞: black).
+pub const MAX_SCALE: f64 = f32::MAX as f64 / ABSURD_LUMINANCE as f64;
+
+/// A light level K, checked in f32 where it is used: positive, a normal
+/// f32 (not 0 or subnormal there) and at most [`MAX_SCALE`]. The error
+/// names the flag.
+pub fn light_scale(k: f64) -> Result<f32, String> {
+    if k.is_finite() && k > 0.0 && (k as f32).is_normal() && k <= MAX_SCALE {
+        Ok(k as f32)
+    } else {
+        Err(format!(
+            "--scale {k}: must be a positive factor from {:e} to {MAX_SCALE:.1e}",
+            f32::MIN_POSITIVE
+        ))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -88,5 +109,27 @@ mod tests {
         for bad in ["-0.1", "1.5", "NaN", "blue"] {
             assert!(pigmentation(bad).is_err(), "{bad}");
         }
+    }
+
+    #[test]
+    fn a_light_level_that_is_0_or_infinite_in_f32_is_an_error_naming_the_flag() {
+        assert_eq!(light_scale(0.02), Ok(0.02));
+        assert_eq!(light_scale(1e20), Ok(1e20));
+        for bad in [
+            1e38,
+            1e39,
+            1e-39,
+            1e-300,
+            0.0,
+            -1.0,
+            f64::NAN,
+            f64::INFINITY,
+        ] {
+            let e = light_scale(bad).unwrap_err();
+            assert!(e.starts_with("--scale "), "{bad}: {e}");
+        }
+        // A pixel at the brightest a scene can be stays finite.
+        let k = light_scale(MAX_SCALE).unwrap();
+        assert!((ABSURD_LUMINANCE * k).is_finite());
     }
 }

@@ -332,9 +332,21 @@ fn nan_and_absurd_pixels_leave_the_rest_of_the_image_alone_and_are_named_once() 
         "{err_b}"
     );
     assert!(!err_a.contains("left out"), "{err_a}");
-    // The same adaptation, and the same 8-bit code values elsewhere.
-    let line = |o: &str| o.lines().next().unwrap_or_default().to_string();
-    assert_eq!(line(&out_a), line(&out_b), "{out_a}\n{out_b}");
+    // Nearly the same adaptation (the absurd pixel counts in it at 1e10
+    // cd/m², as it is shown: (1e10/20)^(1/3056) = 1.0066 at most), and
+    // the same 8-bit code values elsewhere.
+    let adaptation = |o: &str| -> f64 {
+        o.lines()
+            .next()
+            .unwrap_or_default()
+            .split_whitespace()
+            .nth(1)
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    let (la, lb) = (adaptation(&out_a), adaptation(&out_b));
+    assert!(lb >= la && lb / la < 1.0066, "{out_a}\n{out_b}");
     assert!(out_b.contains("left out"), "{out_b}");
     for i in (0..64 * 48).filter(|&i| !in_block(i) && i != 100) {
         for c in 0..3 {
@@ -349,4 +361,67 @@ fn nan_and_absurd_pixels_leave_the_rest_of_the_image_alone_and_are_named_once() 
     }
     // Not black: the grey is shown as grey.
     assert!(b.pixels[0].iter().all(|&v| v > 0.05), "{:?}", b.pixels[0]);
+}
+
+#[test]
+fn numbers_that_are_0_or_infinite_in_f32_are_errors_naming_the_flag() {
+    let dir = out_dir("numbers-f32");
+    let exr = grey_exr(&dir, "grey.exr", |_, _| {});
+    let e = exr.to_str().unwrap();
+    for (flag, value) in [
+        ("--display-peak", "1e-300"),
+        ("--display-peak", "1e-40"),
+        ("--adaptation", "1e39"),
+        ("--adaptation", "1e-300"),
+        ("--scale", "1e39"),
+        ("--scale", "1e38"),
+        ("--scale", "1e-300"),
+    ] {
+        let (code, _, err) = scotopia(&["display", e, "--info", flag, value]);
+        assert_eq!(code, 1, "{flag} {value}: {err}");
+        assert!(
+            err.contains(&format!("error: {flag} ")),
+            "{flag} {value}: {err}"
+        );
+    }
+}
+
+#[test]
+fn the_mode_reported_is_that_of_the_image_shown_and_negative_pixels_are_warned() {
+    let dir = out_dir("mode-shown");
+    let exr = grey_exr(&dir, "grey.exr", |i, p| {
+        if i < 64 * 12 {
+            *p = [0.0; 4];
+        }
+    });
+    let png = dir.join("white.png");
+    // 1e20 times a 20 cd/m² grey: shown white (above 1e10 cd/m²); not
+    // "scotopic" from the black rows.
+    let (code, out, err) = scotopia(&[
+        "display",
+        exr.to_str().unwrap(),
+        "--scale",
+        "1e20",
+        "--info",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("mode          photopic"), "{out}");
+    let shown = scotopia_image::read_rgb(&png).unwrap();
+    assert!(
+        shown.pixels[64 * 40].iter().all(|&v| v > 0.99),
+        "{:?}",
+        shown.pixels[64 * 40]
+    );
+    // Negative luminance: a warning, once.
+    let negative = grey_exr(&dir, "negative.exr", |i, p| {
+        if i % 2 == 0 {
+            p[1] = -p[1];
+        }
+    });
+    let (code, _, err) = scotopia(&["display", negative.to_str().unwrap(), "--info"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(err.matches("negative luminance").count(), 1, "{err}");
+    assert!(err.contains("warning: 1536 pixel(s)"), "{err}");
 }

@@ -1,6 +1,7 @@
 //! Bounded, seeded fuzzing of everything scotopia reads (issue 22): scenes
 //! (XML), meshes (OBJ, PLY, Mitsuba's serialized), spectra and reradiation
-//! matrices (CSV), images (EXR) and checkpoints are mutated
+//! matrices (CSV), images (EXR), checkpoints, photometric files (IES,
+//! EULUMDAT) and `measure`'s points files (issue 38) are mutated
 //! — bytes flipped, cut, repeated, extreme numbers and odd tokens spliced
 //! in — and fed to the command line in a child process each. Every run
 //! must end in success or a clean error: no panic, no death by a signal,
@@ -66,6 +67,11 @@ const TOKENS: &[&[u8]] = &[
     b"e",
     b"\n",
     b" ",
+    b"\r",
+    b"\xef\xbb\xbf",
+    b"TILT=NONE",
+    b"IESNA:LM-63-2002",
+    b"1e-40",
 ];
 
 fn mutate(input: &[u8], rng: &mut Rng) -> Vec<u8> {
@@ -436,6 +442,86 @@ fn mutated_checkpoints_are_refused() {
         failures.len(),
         failures.join("\n")
     );
+}
+
+/// A small EULUMDAT file: one rotationally symmetric plane, three γ angles.
+fn small_ldt() -> Vec<u8> {
+    let mut l: Vec<&str> = vec![
+        "scotopia fuzz",
+        "1",
+        "1",
+        "1",
+        "0",
+        "3",
+        "90",
+        "r1",
+        "lamp",
+        "L-1",
+        "case.ldt",
+        "2026-12-03",
+        "100",
+        "100",
+        "50",
+        "50",
+        "0",
+        "0",
+        "0",
+        "0",
+        "0",
+        "100",
+        "80",
+        "1",
+        "0",
+        "1",
+        "1",
+        "LED",
+        "1000",
+        "3000 K",
+        "80",
+        "10",
+    ];
+    l.extend(["0,5"; 10]);
+    l.extend(["0", "0", "90", "180", "300", "100", "0"]);
+    (l.join("\r\n") + "\r\n").into_bytes()
+}
+
+#[test]
+fn mutated_photometric_files_load_or_fail_cleanly() {
+    let dir = out_dir("fuzz", "luminaire");
+    let ies = std::fs::read(scenes().join("lamps/street-type2.ies")).unwrap();
+    for (seed, name, bytes) in [(50, "case.ies", ies), (51, "case.ldt", small_ldt())] {
+        let lamp =
+            format!("<emitter type=\"ies\"><string name=\"filename\" value=\"{name}\"/></emitter>");
+        let render = tiny_scene(&dir, &format!("{name}.xml"), &lamp);
+        fuzz(seed, &bytes, &dir, name, render);
+    }
+}
+
+#[test]
+fn mutated_points_files_measure_or_fail_cleanly() {
+    let dir = out_dir("fuzz", "points");
+    let scene = dir.join("lamp.xml");
+    std::fs::write(
+        &scene,
+        r#"<scene version="3.0.0"><emitter type="point"><point name="position" x="0" y="2" z="0"/><spectrum name="intensity" value="400:1, 700:3"/></emitter></scene>"#,
+    )
+    .unwrap();
+    let points = b"# a grid\nx,y,z,nx,ny,nz\n0,0,0,0,1,0\n1,0,0,0,1,0\n0,0,1,0,2.5,0\n\n-1,0.5,-1,0.1,1,0.1\n";
+    let out = dir.join("out.csv");
+    fuzz(52, points, &dir, "case.csv", |p| {
+        [
+            "measure",
+            &s(&scene),
+            "--points",
+            &s(p),
+            "--spp",
+            "4",
+            "-o",
+            &s(&out),
+        ]
+        .map(String::from)
+        .to_vec()
+    });
 }
 
 /// The harness itself sees what it must: a panic message, an abort, a

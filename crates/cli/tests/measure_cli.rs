@@ -233,3 +233,109 @@ fn a_radiance_image_gives_a_mesopic_false_colour_map() {
     assert_eq!(code, 1);
     assert!(err.contains("luminance, mesopic or illuminance"), "{err}");
 }
+
+/// `scotopia measure` of a 400 cd point lamp 2 m above the origin, with
+/// `text` as the points file: (exit code, output CSV rows, stderr).
+fn measure_lamp(name: &str, text: &[u8]) -> (i32, Vec<Vec<f64>>, String) {
+    let dir = out_dir("measure", name);
+    let scene = dir.join("lamp.xml");
+    std::fs::write(
+        &scene,
+        r#"<scene version="3.0.0"><emitter type="point"><point name="position" x="0" y="2" z="0"/>
+          <spectrum name="intensity" type="d65"><float name="luminance" value="400"/></spectrum></emitter></scene>"#,
+    )
+    .unwrap();
+    let points = dir.join("points.csv");
+    std::fs::write(&points, text).unwrap();
+    let out = dir.join("out.csv");
+    let _ = std::fs::remove_file(&out);
+    let (code, _, err) = scotopia(&[
+        "measure",
+        scene.to_str().unwrap(),
+        "--points",
+        points.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--spp",
+        "16",
+    ]);
+    let rows = std::fs::read_to_string(&out)
+        .unwrap_or_default()
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    (code, rows, err)
+}
+
+#[test]
+fn points_files_are_read_as_written() {
+    // A BOM, a header known by its words, CR, CRLF or LF line endings: the
+    // same two points.
+    for (name, text) in [
+        ("lf", &b"x,y,z,nx,ny,nz\n0,0,0,0,1,0\n1,0,0,0,1,0\n"[..]),
+        ("bom", b"\xef\xbb\xbf0,0,0,0,1,0\n1,0,0,0,1,0\n"),
+        (
+            "bom-header",
+            b"\xef\xbb\xbf\"X\", \"Y\", \"Z\", NX, NY, NZ\r\n0,0,0,0,1,0\r\n1,0,0,0,1,0\r\n",
+        ),
+        ("cr", b"# grid\rx,y,z,nx,ny,nz\r0,0,0,0,1,0\r1,0,0,0,1,0\r"),
+    ] {
+        let (code, rows, err) = measure_lamp(name, text);
+        assert_eq!(code, 0, "{name}: {err}");
+        assert_eq!(rows.len(), 2, "{name}");
+        // 400 cd at 2 m: 100 lx (the noise is the wavelengths').
+        assert!((rows[0][6] - 100.0).abs() < 10.0, "{name}: {rows:?}");
+    }
+}
+
+#[test]
+fn a_row_that_does_not_parse_is_an_error_naming_its_line_even_first() {
+    for (text, line) in [
+        // A typo in the first row is not a header: the point is not lost.
+        (&b"0,0,O,0,1,0\n1,0,0,0,1,0\n"[..], ":1:"),
+        (
+            b"# grid\n\nx,y,z,nx,ny,nz\n0,0,0,0,1,0\nx,y,z,nx,ny,nz\n",
+            ":5:",
+        ),
+        (b"position,normal\n0,0,0,0,1,0\n", ":1:"),
+        (b"0,0,0,0,1,0\r1,0,0,0,1,O\r", ":2:"),
+        (b"0,0,0,0,1e39,0\n", ":1:"),
+    ] {
+        let (code, _, err) = measure_lamp("bad-row", text);
+        assert_eq!(code, 1, "{:?}: {err}", String::from_utf8_lossy(text));
+        assert!(err.contains(&format!("points.csv{line}")), "{err}");
+    }
+}
+
+#[test]
+fn a_very_large_normal_is_normalised_not_zero() {
+    let (code, rows, err) = measure_lamp(
+        "huge-normal",
+        b"0,0,0,3e38,3e38,3e38\n0,0,0,0,1e-40,0\n0,0,0,0,1,0\n",
+    );
+    assert_eq!(code, 0, "{err}");
+    // (1,1,1)/√3 sees the lamp at 54.7° from its normal: cos = 1/√3.
+    assert!((rows[0][6] - 100.0 / 3f64.sqrt()).abs() < 10.0, "{rows:?}");
+    // A subnormal normal is a normal too: 100 lx straight up.
+    assert!((rows[1][6] - 100.0).abs() < 10.0, "{rows:?}");
+}
+
+#[cfg(target_os = "linux")]
+#[test]
+fn an_endless_points_file_is_refused_at_its_size_limit() {
+    let dir = out_dir("measure", "dev-zero");
+    let (code, _, err) = scotopia(&[
+        "measure",
+        common::scenes().join("cornell-box.xml").to_str().unwrap(),
+        "--points",
+        "/dev/zero",
+        "-o",
+        dir.join("o.csv").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("/dev/zero") && err.contains("limit of 64 MiB"),
+        "{err}"
+    );
+}

@@ -621,3 +621,64 @@ fn a_file_of_many_planes_reads_in_linear_logarithmic_time() {
     assert_eq!(p.c_deg.len(), 4 * (n - 1) + 1);
     assert_eq!(p.intensity(45.0, 123.456), 3.0);
 }
+
+#[test]
+fn eulumdat_with_ies_words_in_its_text_lines_is_eulumdat() {
+    // A company starting "IES", and "TILT=" in the luminaire's name, lamp
+    // type and file name: free text, not structure.
+    let good = ldt_of(4, Symmetry::Quadrant, &[(1, 1000.0)], 1.0);
+    let want = parse_luminaire(&good, "lamp.ldt").unwrap();
+    let lines: Vec<&str> = good.split("\r\n").collect();
+    for (k, text) in [
+        (0, "IES Lighting Ltd"),
+        (0, "IESNA member luminaires"),
+        (0, "IES:catalogue 2026"),
+        (8, "TILT=NONE street lantern"),
+        (10, "TILT=INCLUDE.ldt"),
+        (27, "TILT=0"),
+    ] {
+        let mut l = lines.clone();
+        l[k] = text;
+        let p = parse_luminaire(&l.join("\r\n"), "lamp.ldt")
+            .unwrap_or_else(|e| panic!("line {}: {text}: {e}", k + 1));
+        assert_eq!(p.format, Format::Eulumdat, "{text}");
+        assert_eq!(p.intensity(30.0, 45.0), want.intensity(30.0, 45.0));
+    }
+    // A broken one is still reported as EULUMDAT (line 24's factor).
+    let mut l = lines.clone();
+    l[0] = "IES Lighting Ltd";
+    l[23] = "-1";
+    let e = parse_luminaire(&l.join("\r\n"), "lamp.ldt").unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("lamp.ldt:24: the conversion factor"),
+        "{e}"
+    );
+}
+
+#[test]
+fn cr_lf_and_crlf_line_endings_all_read() {
+    let ldt = ldt_of(2, Symmetry::AboutC0C180, &[(1, 1000.0)], 1.0);
+    let ies = ies_of(
+        "IESNA:LM-63-2002",
+        &range(0.0, 180.0, 15.0),
+        Symmetry::AboutC0C180,
+    );
+    for (text, format) in [(ldt, Format::Eulumdat), (ies, Format::Ies { year: 2002 })] {
+        let lf = text.replace("\r\n", "\n");
+        let want = parse_luminaire(&lf, "lamp").unwrap();
+        for ending in ["\r", "\r\n"] {
+            let p = parse_luminaire(&lf.replace('\n', ending), "lamp")
+                .unwrap_or_else(|e| panic!("{ending:?}: {e}"));
+            assert_eq!(p.format, format);
+            assert_eq!(p.intensity(30.0, 45.0), want.intensity(30.0, 45.0));
+            assert_eq!(p.c_deg, want.c_deg);
+        }
+        // Errors name the same line whatever the endings.
+        let broken = lf.replacen("\n1\n", "\nx\n", 1);
+        if let Err(e) = parse_luminaire(&broken, "lamp") {
+            let cr = parse_luminaire(&broken.replace('\n', "\r"), "lamp").unwrap_err();
+            assert_eq!(cr.line, e.line);
+        }
+    }
+}

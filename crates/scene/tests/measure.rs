@@ -459,3 +459,34 @@ fn an_ies_lamp_in_a_black_enclosure_delivers_the_files_flux_to_its_walls() {
         "walls receive {flux} ± {se} lm, the file emits {file} lm"
     );
 }
+
+#[test]
+fn a_lamp_whose_candela_are_all_tiny_is_refused_like_an_all_zero_one() {
+    let dir = std::env::temp_dir().join(format!("scotopia-tiny-lamp-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for (name, value) in [("zero", "0"), ("tiny", "1e-40"), ("faint", "1e-20")] {
+        let lamp = dir.join(format!("{name}.ies"));
+        let values = format!("{value} ").repeat(15);
+        std::fs::write(
+            &lamp,
+            IES.lines().take(7).collect::<Vec<_>>().join("\n") + "\n" + &values + "\n",
+        )
+        .unwrap();
+        let xml = dir.join(format!("{name}.xml"));
+        std::fs::write(
+            &xml,
+            format!(
+                r#"<scene version="3.0.0"><sensor type="perspective"><film type="hdrfilm"><integer name="width" value="4"/><integer name="height" value="4"/></film></sensor>
+<emitter type="ies"><string name="filename" value="{}"/></emitter></scene>"#,
+                lamp.display()
+            ),
+        )
+        .unwrap();
+        let e = match load_scene(&xml, &Parameters::new()) {
+            Ok(_) => panic!("{name}: a {value} cd lamp was accepted"),
+            Err(e) => e.to_string(),
+        };
+        assert!(e.contains("the luminaire emits nothing"), "{name}: {e}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -10,7 +10,7 @@
 
 use rayon::prelude::*;
 
-use crate::screen::{left_out, LeftOut, LeftOutCount};
+use crate::screen::{left_out, LeftOut, LeftOutCount, ABSURD_LUMINANCE};
 
 /// Jensen et al. 2001: s = 0 at log₁₀ L ≤ −2, 1 at log₁₀ L ≥ 0.6, and the
 /// smoothstep 3t² − 2t³ of t = (log₁₀ L + 2) / 2.6 between. s = 1 is fully
@@ -137,7 +137,10 @@ pub enum Adaptation {
 }
 
 impl Adaptation {
-    /// Parses `global`, `local` or a positive luminance in cd/m².
+    /// Parses `global`, `local` or a luminance in cd/m² from
+    /// [`f32::MIN_POSITIVE`] (the pipeline works in f32: smaller is 0 or
+    /// subnormal there) to [`ABSURD_LUMINANCE`] (brighter than any scene a
+    /// person can look at; 1e39 would be ∞ in f32).
     pub fn parse(text: &str) -> Option<Self> {
         match text.to_ascii_lowercase().as_str() {
             "global" => Some(Adaptation::Global),
@@ -145,7 +148,7 @@ impl Adaptation {
             other => other
                 .parse::<f64>()
                 .ok()
-                .filter(|l| l.is_finite() && *l > 0.0)
+                .filter(|&l| (l as f32).is_normal() && l > 0.0 && l <= f64::from(ABSURD_LUMINANCE))
                 .map(Adaptation::Fixed),
         }
     }
@@ -162,13 +165,35 @@ pub struct ImageStatistics {
     pub sp_ratio: f64,
     /// Mean X, Y, Z, V′ of the pixels used.
     pub mean: [f64; 4],
-    /// Pixels left out of all of these (see [`crate::screen`]).
+    /// Pixels left out of all of these (see [`crate::screen`]), except
+    /// that absurd ones count in `log_average` at [`ABSURD_LUMINANCE`].
     pub left_out: LeftOutCount,
+    /// Pixels used whose luminance Y is negative (counted as black): not
+    /// an absolute X, Y, Z, V′ image, or a broken one.
+    pub negative: usize,
+}
+
+impl ImageStatistics {
+    /// A warning for the user when some pixels have negative luminance.
+    pub fn negative_note(&self) -> Option<String> {
+        (self.negative > 0).then(|| {
+            format!(
+                "{} pixel(s) have negative luminance (Y < 0), shown black: the input should be \
+                 absolute X, Y, Z, V′ (cd/m²), which is never negative",
+                self.negative
+            )
+        })
+    }
 }
 
 /// Statistics of pixels given as [X, Y, Z, V′], over the pixels that are
 /// finite and not absurd ([`crate::screen::left_out`]): the others count
-/// neither as black nor at all.
+/// neither as black nor at all; but an absurd pixel counts in the
+/// log-average (the adaptation) at [`ABSURD_LUMINANCE`], as it is shown
+/// (at the display's peak): one such pixel in N moves the log-average by
+/// a factor (10¹⁰/L)^(1/N) at most, while an image that is mostly absurd
+/// (a light level far too high) is reported photopic, as it looks, not
+/// adapted to its few dark pixels. No pixel counted: black (δ).
 pub fn image_statistics(pixels: &[[f32; 4]]) -> ImageStatistics {
     // In parallel over fixed blocks, each summed in order and the blocks'
     // sums added in order: the same figures on any number of threads.
@@ -178,15 +203,27 @@ pub fn image_statistics(pixels: &[[f32; 4]]) -> ImageStatistics {
         max,
         sum,
         left_out,
+        negative,
     } = block_sums(pixels, Sums::of);
     let n = used.max(1) as f64;
     ImageStatistics {
-        log_average: (log_sum / n).exp(),
+        log_average: log_mean(log_sum, used + left_out.absurd, left_out.absurd),
         maximum: max,
         sp_ratio: if sum[1] > 0.0 { sum[3] / sum[1] } else { 0.0 },
         mean: sum.map(|s| s / n),
         left_out,
+        negative,
     }
+}
+
+/// exp of the mean of the logs: `log_sum` over the pixels used, and
+/// `absurd` more at [`ABSURD_LUMINANCE`]; δ when there are none.
+fn log_mean(log_sum: f64, counted: usize, absurd: usize) -> f64 {
+    if counted == 0 {
+        return LOG_DELTA;
+    }
+    let absurd_log = (LOG_DELTA + f64::from(ABSURD_LUMINANCE)).ln();
+    ((log_sum + absurd as f64 * absurd_log) / counted as f64).exp()
 }
 
 /// [`image_statistics`]`(pixels).log_average` alone, the same number
@@ -195,15 +232,43 @@ pub fn image_statistics(pixels: &[[f32; 4]]) -> ImageStatistics {
 /// pipeline already has from before glare.
 pub fn log_average(pixels: &[[f32; 4]]) -> f64 {
     let s = block_sums(pixels, Sums::of_log);
-    (s.log_sum / s.used.max(1) as f64).exp()
+    log_mean(s.log_sum, s.used + s.left_out.absurd, s.left_out.absurd)
 }
 
-/// The pixels of `pixels` that [`log_average`] uses and the sum of their
-/// ln(δ + Y), for a caller that visits every pixel anyway (glare adds
-/// these up row by row): the log-average is exp(sum / count).
-pub fn log_sum_of(pixels: &[[f32; 4]]) -> (usize, f64) {
+/// The parts of [`log_average`] over some pixels, for a caller that
+/// visits every pixel anyway (glare adds these up row by row) and joins
+/// the parts with [`LogSum::add`].
+#[derive(Debug, Clone, Copy, Default)]
+pub struct LogSum {
+    used: usize,
+    absurd: usize,
+    log_sum: f64,
+}
+
+impl LogSum {
+    /// The parts of `a` and then `b`.
+    pub fn add(self, b: LogSum) -> LogSum {
+        LogSum {
+            used: self.used + b.used,
+            absurd: self.absurd + b.absurd,
+            log_sum: self.log_sum + b.log_sum,
+        }
+    }
+
+    /// The log-average of the pixels summed, as [`log_average`].
+    pub fn mean(&self) -> f64 {
+        log_mean(self.log_sum, self.used + self.absurd, self.absurd)
+    }
+}
+
+/// [`LogSum`] of `pixels`.
+pub fn log_sum_of(pixels: &[[f32; 4]]) -> LogSum {
     let s = Sums::of_log(pixels);
-    (s.used, s.log_sum)
+    LogSum {
+        used: s.used,
+        absurd: s.left_out.absurd,
+        log_sum: s.log_sum,
+    }
 }
 
 /// `of` over fixed blocks of `pixels` in parallel, the blocks' sums added
@@ -224,6 +289,8 @@ struct Sums {
     sum: [f64; 4],
     /// The pixels not used, by reason (counted in the same pass).
     left_out: LeftOutCount,
+    /// Pixels used with Y < 0.
+    negative: usize,
 }
 
 /// δ of the log-average: black pixels count as very dark, not as −∞.
@@ -264,6 +331,7 @@ impl Sums {
                     Some(LeftOut::NonFinite) => s.left_out.non_finite += 1,
                     Some(LeftOut::Absurd) => s.left_out.absurd += 1,
                     None => {
+                        s.negative += usize::from(p[1] < 0.0);
                         let y = (p[1] as f64).max(0.0);
                         (ys[i], used[i]) = (y, true);
                         s.used += 1;
@@ -279,16 +347,21 @@ impl Sums {
         s
     }
 
-    /// Only `used` and `log_sum`, as [`Sums::of`] computes them.
+    /// Only `used`, `log_sum` and the absurd count, as [`Sums::of`]
+    /// computes them.
     fn of_log(pixels: &[[f32; 4]]) -> Self {
         let mut s = Sums::default();
         for chunk in pixels.chunks(LOG_CHUNK) {
             let mut ys = [0.0f64; LOG_CHUNK];
             let mut used = [false; LOG_CHUNK];
             for (i, p) in chunk.iter().enumerate() {
-                if left_out(p).is_none() {
-                    (ys[i], used[i]) = ((p[1] as f64).max(0.0), true);
-                    s.used += 1;
+                match left_out(p) {
+                    Some(LeftOut::Absurd) => s.left_out.absurd += 1,
+                    Some(LeftOut::NonFinite) => {}
+                    None => {
+                        (ys[i], used[i]) = ((p[1] as f64).max(0.0), true);
+                        s.used += 1;
+                    }
                 }
             }
             s.log_sum += log_sum(&ys[..chunk.len()], &used);
@@ -306,6 +379,7 @@ impl Sums {
                 non_finite: self.left_out.non_finite + b.left_out.non_finite,
                 absurd: self.left_out.absurd + b.left_out.absurd,
             },
+            negative: self.negative + b.negative,
         }
     }
 }

@@ -39,13 +39,23 @@ impl PngOptions {
 }
 
 /// The display's peak luminance: `given`, or 100 cd/m² (1000 for HDR);
-/// it must lie in (0, 10 000] cd/m², PQ's range.
+/// it must lie in (0, 10 000] cd/m², PQ's range, and be a normal f32 (the
+/// pipeline divides by it in f32: 1e-300 would be 0 there, a black image).
 pub fn display_peak(given: Option<f64>, hdr: bool) -> Result<f64, String> {
     let peak = given.unwrap_or(if hdr { 1000.0 } else { 100.0 });
-    if peak.is_finite() && peak > 0.0 && peak <= 10_000.0 {
+    if peak.is_finite() && peak > 0.0 && peak <= 10_000.0 && (peak as f32).is_normal() {
         Ok(peak)
     } else {
-        Err(format!("display-peak {peak}: must be in (0, 10000] cd/m²"))
+        // 1e-300 as itself, not as 300 digits.
+        let shown = if peak != 0.0 && !(1e-4..1e6).contains(&peak.abs()) {
+            format!("{peak:e}")
+        } else {
+            peak.to_string()
+        };
+        Err(format!(
+            "display-peak {shown}: must be in (0, 10000] cd/m² and at least {:e} (single precision)",
+            f32::MIN_POSITIVE
+        ))
     }
 }
 

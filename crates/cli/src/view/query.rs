@@ -75,11 +75,9 @@ impl Settings {
             "false-colour" => View::FalseColour,
             v => bail!("--view {v}: use seen, stages or false-colour"),
         };
-        let k = self.scale;
-        if !(k.is_finite() && k > 0.0 && (k as f32).is_normal()) {
-            bail!("--scale {k}: must be a positive factor");
-        }
-        Ok((view, k as f32))
+        // Checked in f32, where the pixels are multiplied by it.
+        let k = crate::numbers::light_scale(self.scale).map_err(anyhow::Error::msg)?;
+        Ok((view, k))
     }
 }
 
@@ -242,8 +240,11 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("--hdr maybe"), "{e}");
-        let (_, s) = merge(&defaults(), "scale=-1", &[]).unwrap();
-        assert!(s.view().is_err());
+        for scale in ["-1", "1e38", "1e-300", "0"] {
+            let (_, s) = merge(&defaults(), &format!("scale={scale}"), &[]).unwrap();
+            let e = s.view().unwrap_err().to_string();
+            assert!(e.starts_with("--scale "), "{scale}: {e}");
+        }
         let (_, s) = merge(&defaults(), "view=sideways", &[]).unwrap();
         assert!(s
             .view()

@@ -9,9 +9,11 @@ use crate::spectrum::Tabulated;
 use crate::{LAMBDA_MAX, LAMBDA_MIN};
 
 mod limited;
+mod lines;
 mod matrix;
 
 pub use limited::{read_limited, read_text_limited, MIB};
+pub use lines::lines;
 pub use matrix::{parse_matrix, read_matrix_file, Matrix};
 
 /// The largest spectrum or matrix file read: tabulated data is a few
@@ -22,7 +24,7 @@ pub const DATA_FILE_LIMIT: u64 = 64 * MIB;
 /// The non-empty lines of `text` with their 1-based numbers, split into
 /// fields (commas, semicolons, tabs or spaces), `#` comments removed.
 fn rows(text: &str) -> impl Iterator<Item = (usize, Vec<&str>)> {
-    text.lines().enumerate().filter_map(|(index, raw)| {
+    lines(text).enumerate().filter_map(|(index, raw)| {
         let content = raw.split('#').next().unwrap_or("").trim();
         (!content.is_empty()).then(|| {
             let fields = content
@@ -214,6 +216,23 @@ mod tests {
         assert!(message("400,1,2\n").starts_with("lamp.csv:1: expected 2 fields"));
         assert!(message("wavelength,value\n400\n").starts_with("lamp.csv:2: expected 2 fields"));
         assert!(message("0.4,1\n0.5,1\n").contains("must be in nm"));
+    }
+
+    #[test]
+    fn cr_crlf_and_lf_line_endings_read_alike() {
+        let lf = parse_spectrum("wavelength,value\n400,1\n500,2\n", "x", false).unwrap();
+        for text in [
+            "wavelength,value\r400,1\r500,2\r",
+            "wavelength,value\r\n400,1\r\n500,2\r\n",
+        ] {
+            let s = parse_spectrum(text, "x", false).unwrap();
+            assert_eq!(
+                (s.eval(400.0), s.eval(500.0)),
+                (lf.eval(400.0), lf.eval(500.0))
+            );
+        }
+        // Line numbers count CR-only lines too.
+        assert!(message("400,1\r500,abc\r").starts_with("lamp.csv:2: 'abc'"));
     }
 
     #[test]

@@ -100,7 +100,7 @@ fn measure_k<const K: usize>(
     let finite = |v: Vec3| v.x.is_finite() && v.y.is_finite() && v.z.is_finite();
     if let Some(i) = receivers
         .iter()
-        .position(|r| !finite(r.p) || !finite(r.n) || r.n.length_squared() <= 0.0)
+        .position(|r| !finite(r.p) || !finite(r.n) || r.n.abs().max_component() == 0.0)
     {
         return Err(RenderError::Receiver(i));
     }
@@ -118,6 +118,17 @@ fn measure_k<const K: usize>(
             m
         })
         .collect())
+}
+
+/// `n` (finite, not zero) at unit length: scaled by its largest component
+/// first, so that a normal of any finite size works (3e38 in each
+/// component has a length beyond f32, and would normalise to 0: 0 lx; a
+/// subnormal one, 1e-40, would give NaN).
+pub fn unit_normal(n: Vec3) -> Vec3 {
+    let m = n.abs().max_component();
+    // Divided component by component: `Vec3 / f32` multiplies by 1/m,
+    // which is ∞ for a subnormal m (1e-40).
+    Vec3::new(n.x / m, n.y / m, n.z / m).normalize()
 }
 
 impl Renderer<'_> {
@@ -202,7 +213,7 @@ impl Renderer<'_> {
         spp: u32,
         cancel: &AtomicBool,
     ) -> Measured {
-        let n = r.n.normalize();
+        let n = unit_normal(r.n);
         let mut sampler = Sampler::new(seed);
         let (mut sum, mut sum2) = ([0.0f64; 2], [0.0f64; 2]);
         let mut samples = 0u32;
@@ -277,4 +288,19 @@ pub(super) fn white() -> Bsdf {
     Bsdf::Diffuse(Diffuse {
         reflectance: Texture::Constant(Spectrum::Constant(1.0)),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{unit_normal, Vec3};
+
+    #[test]
+    fn a_normal_of_any_finite_size_normalises() {
+        // 1e-40 is subnormal; 3e38 (×√3) overflows a plain length.
+        for k in [1e-40f32, 1e-30, 1.0, 1e30, 3e38] {
+            let n = unit_normal(Vec3::new(k, k, k));
+            assert!((n.length() - 1.0).abs() < 1e-6, "{k}: {n:?}");
+            assert!((n.x - 1.0 / 3f32.sqrt()).abs() < 1e-6, "{k}: {n:?}");
+        }
+    }
 }

@@ -22,6 +22,12 @@ use crate::mitsuba::{resolve, Node, Props, SceneError, Usage};
 const ROWS: usize = 360;
 const COLUMNS: usize = 720;
 
+/// The least total flux a photometric file may give, lm: a millionth of
+/// the faintest indicator LED's (~1 mlm). A file under it lights nothing
+/// anyone could see, and its candela may be subnormal in f32, where the
+/// renderer works.
+const MIN_LUMENS: f64 = 1e-9;
+
 /// The default spectral distribution's colour temperature, K.
 const DEFAULT_KELVIN: f32 = 4000.0;
 
@@ -31,6 +37,16 @@ pub fn build_ies(p: &Props, node: &Node) -> Result<GoniometricLight, SceneError>
         .ok_or_else(|| node.error("an ies emitter needs a 'filename' (an IES or EULUMDAT file)"))?;
     let photometry =
         read_luminaire(resolve(&node.dir, file)).map_err(|e| node.error(e.to_string()))?;
+    // A file whose candela are all tiny (1e-40: subnormal in f32) is a
+    // ~0 lm lamp that renders black, as an all-zero one would: refused
+    // alike, with its flux.
+    let flux = photometry.total_flux_lm();
+    if flux.is_nan() || flux < MIN_LUMENS {
+        return Err(node.error(format!(
+            "{file}: the luminaire emits nothing (its candela give {flux:e} lm, under \
+             {MIN_LUMENS:e} lm: a unit mistake or a broken export?)"
+        )));
+    }
     let spectrum = match p.spectrum("spectrum", Usage::Emission)? {
         Some(s) => s,
         None => Spectrum::blackbody(DEFAULT_KELVIN).map_err(|e| node.error(e.to_string()))?,

@@ -28,11 +28,16 @@ use super::{check_angles, error, LuminaireError, Tokens, MAX_ANGLES};
 
 /// An IES file: its first line is an LM-63 header, or some line is `TILT=…`.
 pub(super) fn is_ies(lines: &[&str]) -> bool {
+    has_header(lines) || tilt_line(lines).is_some()
+}
+
+/// The first line is an LM-63 header (`IESNA…`, `IES:…`).
+pub(super) fn has_header(lines: &[&str]) -> bool {
     let first = lines
         .first()
         .map(|l| l.trim_start().to_ascii_uppercase())
         .unwrap_or_default();
-    first.starts_with("IESNA") || first.starts_with("IES:") || tilt_line(lines).is_some()
+    first.starts_with("IESNA") || first.starts_with("IES:")
 }
 
 /// The index of the `TILT=` line and what follows the `=`.

@@ -62,27 +62,35 @@ pub fn read_luminaire(path: impl AsRef<Path>) -> Result<Photometry, LuminaireErr
 }
 
 /// Parses the text of an IES LM-63 or EULUMDAT file; `source` names it in
-/// errors. IES: a first line `IESNA…`/`IES:LM-63…`, or a `TILT=` line
-/// (1986 files have free text before it); otherwise EULUMDAT, recognised by
-/// its type and symmetry indicators on lines 2 and 3.
+/// errors. Lines may end in LF, CRLF or CR alone.
+///
+/// The format is decided by structure, not by words in free text (a
+/// EULUMDAT company called "IES Ltd" or a luminaire named "TILT=0°" is
+/// still EULUMDAT): EULUMDAT has its type and symmetry indicators as whole
+/// numbers on lines 2 and 3, where an IES file has keyword lines or its
+/// `TILT=` line; IES has an `IESNA…`/`IES:LM-63…` first line or a `TILT=`
+/// line (1986 files have free text before it). A file that looks like
+/// both is read as EULUMDAT, and as IES only if that fails and IES
+/// succeeds; the error reported is that of the format its first line
+/// claims (an LM-63 header: IES), else EULUMDAT's.
 pub fn parse_luminaire(text: &str, source: &str) -> Result<Photometry, LuminaireError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let lines: Vec<&str> = text
-        .split('\n')
-        .map(|l| l.strip_suffix('\r').unwrap_or(l))
-        .collect();
-    if ies::is_ies(&lines) {
-        return ies::parse(&lines, source);
+    let lines: Vec<&str> = scotopia_color::io::lines(text).collect();
+    match (ies::is_ies(&lines), eulumdat::is_eulumdat(&lines)) {
+        (true, false) => ies::parse(&lines, source),
+        (_, true) => eulumdat::parse(&lines, source).or_else(|ldt| {
+            if !ies::is_ies(&lines) {
+                return Err(ldt);
+            }
+            ies::parse(&lines, source).map_err(|e| if ies::has_header(&lines) { e } else { ldt })
+        }),
+        (false, false) => Err(error(
+            source,
+            1,
+            "not a photometric file: no IESNA/IES:LM-63 header or TILT= line (IES LM-63), \
+             and lines 2–3 are not EULUMDAT's type indicator (0–3) and symmetry indicator (0–4)",
+        )),
     }
-    if eulumdat::is_eulumdat(&lines) {
-        return eulumdat::parse(&lines, source);
-    }
-    Err(error(
-        source,
-        1,
-        "not a photometric file: no IESNA/IES:LM-63 header or TILT= line (IES LM-63), \
-         and lines 2–3 are not EULUMDAT's type indicator (0–3) and symmetry indicator (0–4)",
-    ))
 }
 
 /// Text from bytes: UTF-8 where valid, else Latin-1 (EULUMDAT files from

@@ -223,7 +223,7 @@ pub fn apply_glare(
     // central share.
     let up = Bilinear::new((cw, ch), (width, height));
     let scale = 1.0 / (f * f) as f32;
-    let veils: Vec<(f64, f64, (usize, f64))> = pixels
+    let veils: Vec<(f64, f64, crate::mode::LogSum)> = pixels
         .par_chunks_mut(width)
         .enumerate()
         .map_init(
@@ -266,12 +266,10 @@ pub fn apply_glare(
         applied: true,
         veil_centre: veils.iter().map(|v| v.1).sum(),
         veil_mean: veils.iter().map(|v| v.0).sum::<f64>() / n,
-        log_average: {
-            let (used, sum) = veils
-                .iter()
-                .fold((0, 0.0), |(u, s), v| (u + v.2 .0, s + v.2 .1));
-            (sum / used.max(1) as f64).exp()
-        },
+        log_average: veils
+            .iter()
+            .fold(crate::mode::LogSum::default(), |a, v| a.add(v.2))
+            .mean(),
     }
 }
 

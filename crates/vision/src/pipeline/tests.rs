@@ -181,3 +181,53 @@ fn one_absurd_pixel_does_not_blacken_the_rest() {
     assert_eq!(b.rgb[100], [1.0; 3]);
     assert_eq!(b.report.statistics.left_out.absurd, 2);
 }
+
+#[test]
+fn an_image_beyond_any_scene_is_reported_as_it_looks() {
+    // The viewer at scale=1e20: every lit pixel above 1e10 cd/m² (shown at
+    // the display's peak, white), the black ones still black. It used to
+    // be adapted to the black pixels alone and called scotopic.
+    let mut px = scene(20.0 * 1e20, 1.0);
+    for p in px.iter_mut().take(W * H / 4) {
+        *p = [0.0; 4];
+    }
+    let out = display(&px, W, H, &DisplayParams::default());
+    assert_eq!(out.report.state.mode.name(), "photopic");
+    assert!(out.rgb[W * H - 1] == [1.0; 3]);
+    // Every pixel absurd: photopic; every pixel not finite: black and
+    // adapted to black (scotopic), not to 1 cd/m².
+    let all = display(&[[1e30f32; 4]; W * H], W, H, &DisplayParams::default());
+    assert_eq!(all.report.state.mode.name(), "photopic");
+    let nan = display(&[[f32::NAN; 4]; W * H], W, H, &DisplayParams::default());
+    assert_eq!(nan.report.state.mode.name(), "scotopic");
+    assert!(nan.rgb.iter().all(|c| *c == [0.0; 3]));
+}
+
+#[test]
+fn negative_luminance_is_counted_for_a_warning() {
+    let mut px = scene(20.0, 1.0);
+    px[3] = [-1.0, -2.0, -1.0, -3.0];
+    px[4] = [1.0, -0.5, 1.0, 1.0];
+    let out = display(&px, W, H, &DisplayParams::default());
+    assert_eq!(out.report.statistics.negative, 2);
+    let note = out.report.statistics.negative_note().unwrap();
+    assert!(
+        note.contains("2 pixel(s) have negative luminance"),
+        "{note}"
+    );
+    let clean = display(&scene(20.0, 1.0), W, H, &DisplayParams::default());
+    assert_eq!(clean.report.statistics.negative_note(), None);
+}
+
+#[test]
+fn luminances_that_are_0_or_infinite_in_f32_are_refused() {
+    use crate::output::display_peak;
+    assert!(display_peak(Some(1e-300), false).is_err());
+    assert!(display_peak(Some(1e-40), false).is_err());
+    assert_eq!(display_peak(Some(1e-30), false), Ok(1e-30));
+    for bad in ["1e39", "1e11", "1e-300", "1e-40", "0", "-1", "inf", "nan"] {
+        assert_eq!(Adaptation::parse(bad), None, "{bad}");
+    }
+    assert_eq!(Adaptation::parse("1e10"), Some(Adaptation::Fixed(1e10)));
+    assert_eq!(Adaptation::parse("0.001"), Some(Adaptation::Fixed(0.001)));
+}
