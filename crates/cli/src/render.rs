@@ -504,6 +504,18 @@ fn check_outputs(args: &Args, inputs: &[PathBuf]) -> Result<()> {
         }
     }
     if args.checkpoint.is_some() || args.resume {
+        // The checkpoint goes beside -o: beside /dev/null or a FIFO it
+        // would be a stray file among devices, and it could not be
+        // matched to the film it belongs to.
+        if let Ok(m) = std::fs::metadata(&args.output) {
+            if !m.is_file() {
+                bail!(
+                    "-o {} is {}: --checkpoint and --resume keep OUT.ckpt beside a file; give -o a file",
+                    args.output.display(),
+                    scotopia_image::output_file::describe(&m)
+                );
+            }
+        }
         outputs.push(("the checkpoint", &ckpt));
     }
     let inputs: Vec<(&str, &Path)> = inputs

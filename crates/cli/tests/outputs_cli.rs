@@ -165,6 +165,10 @@ fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
             &["-o refl.spd", "a file the scene reads"],
         ),
         (
+            &["view", "a.exr", "-o", "./a.exr", "--port", "0"],
+            &["-o ./a.exr", "the input (a.exr)"],
+        ),
+        (
             &["spectrum", "--file", "refl.spd", "--plot", "./refl.spd"],
             &["--plot ./refl.spd", "the --file spectrum (refl.spd)"],
         ),
@@ -276,6 +280,17 @@ fn a_character_device_output_is_written_through_and_stays_a_device() {
     assert_eq!(code, 0, "{err}");
     let t = std::fs::symlink_metadata(&device).unwrap().file_type();
     assert!(t.is_char_device(), "{d} was replaced");
+    // A checkpoint beside a device would be a stray file among devices.
+    let (code, err) = run_in(&dir, &["render", "s.xml", "-o", d, "--checkpoint", "1"]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("a character device") && err.contains("give -o a file"),
+        "{err}"
+    );
+    assert!(
+        !Path::new(&format!("{d}.ckpt")).exists(),
+        "{d}.ckpt was made"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -237,7 +237,7 @@ pub fn log_average(pixels: &[[f32; 4]]) -> f64 {
 
 /// The parts of [`log_average`] over some pixels, for a caller that
 /// visits every pixel anyway (glare adds these up row by row) and joins
-/// the parts with [`LogSum::add`].
+/// the parts with [`LogSum::join`].
 #[derive(Debug, Clone, Copy, Default)]
 pub struct LogSum {
     used: usize,
@@ -247,7 +247,7 @@ pub struct LogSum {
 
 impl LogSum {
     /// The parts of `a` and then `b`.
-    pub fn add(self, b: LogSum) -> LogSum {
+    pub fn join(self, b: LogSum) -> LogSum {
         LogSum {
             used: self.used + b.used,
             absurd: self.absurd + b.absurd,

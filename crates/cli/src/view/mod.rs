@@ -140,6 +140,7 @@ pub fn start(args: Args, cancel: Arc<AtomicBool>) -> Result<Viewing> {
             output.display()
         );
     }
+    check_saves(&output, std::slice::from_ref(&input))?;
     let name = input.display().to_string();
     // The page is told file names, no folders.
     let page_name = respond::file_name(&input);
@@ -173,6 +174,7 @@ pub fn start(args: Args, cancel: Arc<AtomicBool>) -> Result<Viewing> {
     }
 
     let prepared = args.setup.prepare(None)?;
+    check_saves(&output, &prepared.files)?;
     let scene = &prepared.scene;
     let (w, h) = (scene.camera.width as usize, scene.camera.height as usize);
     scotopia_vision::pipeline::check_size(w, h).with_context(|| name.clone())?;
@@ -284,6 +286,27 @@ fn serve(args: &Args, live: Arc<Live>) -> Result<(String, server::Serving)> {
         }
     }
     Ok((url, serving))
+}
+
+/// Refuses a save path (the EXR at `output` and the PNG beside it) that
+/// is one of `inputs` (the input first, then the files a scene reads):
+/// saving would destroy it.
+fn check_saves(output: &Path, inputs: &[PathBuf]) -> Result<()> {
+    let png = output.with_extension("png");
+    let inputs: Vec<(&str, &Path)> = inputs
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let what = if i == 0 {
+                "the input"
+            } else {
+                "a file the scene reads"
+            };
+            (what, p.as_path())
+        })
+        .collect();
+    let outputs = [("-o", output), ("the PNG saved beside -o", png.as_path())];
+    scotopia_image::check_outputs(&inputs, &outputs).map_err(anyhow::Error::msg)
 }
 
 fn default_output(input: &Path, is_image: bool) -> PathBuf {

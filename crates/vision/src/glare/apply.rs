@@ -268,7 +268,7 @@ pub fn apply_glare(
         veil_mean: veils.iter().map(|v| v.0).sum::<f64>() / n,
         log_average: veils
             .iter()
-            .fold(crate::mode::LogSum::default(), |a, v| a.add(v.2))
+            .fold(crate::mode::LogSum::default(), |a, v| a.join(v.2))
             .mean(),
     }
 }
