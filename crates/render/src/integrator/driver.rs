@@ -1,0 +1,352 @@
+//! The pass driver: runs passes of samples over the film until the
+//! samples or the time asked for are done or the render is cancelled,
+//! saving checkpoints and showing the film to an observer on the way.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use crate::camera::Projection;
+use crate::film::{Bands, Checkpoint, Film};
+use crate::scene::{IntegratorKind, Scene};
+
+use super::{Quantity, RenderError, RenderOptions, Renderer};
+
+/// A finished (or interrupted) render.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rendered {
+    pub film: Film,
+    /// Samples per pixel completed on every pixel.
+    pub spp: u32,
+    /// Samples whose estimate was NaN or infinite, dropped.
+    pub nonfinite: u64,
+    /// Light-tracing contributions (bdpt's t = 1 splats) that were NaN or
+    /// infinite, dropped; counted apart because a camera sample makes any
+    /// number of them.
+    pub nonfinite_splats: u64,
+    /// Rays traced (camera, continuation and shadow rays).
+    pub rays: u64,
+    /// Samples (kept ones) whose cluster of several wavelengths collapsed
+    /// to one at a dispersive refraction.
+    pub collapsed: u64,
+    pub elapsed: Duration,
+    /// Stopped by `cancel` rather than by `spp` or time.
+    pub cancelled: bool,
+    /// The transport that rendered it: the options' or the scene's, or the
+    /// path tracer for an irradiancemeter.
+    pub integrator: IntegratorKind,
+    /// What the pixels hold: `RenderOptions::quantity`, or illuminance
+    /// when the scene's sensor is an irradiancemeter.
+    pub quantity: Quantity,
+}
+
+/// What a render has done so far (or did): for an image's metadata and
+/// for observers.
+#[derive(Debug, Clone, Copy)]
+pub struct RunFacts {
+    pub spp: u32,
+    pub rays: u64,
+    pub elapsed: Duration,
+    pub cancelled: bool,
+    pub integrator: IntegratorKind,
+    pub quantity: Quantity,
+}
+
+impl Rendered {
+    /// Its [`RunFacts`].
+    pub fn facts(&self) -> RunFacts {
+        RunFacts {
+            spp: self.spp,
+            rays: self.rays,
+            elapsed: self.elapsed,
+            cancelled: self.cancelled,
+            integrator: self.integrator,
+            quantity: self.quantity,
+        }
+    }
+
+    /// The share of kept samples whose cluster collapsed (0 with one
+    /// wavelength per path, where there is nothing to collapse).
+    pub fn collapsed_fraction(&self) -> f64 {
+        let kept = self.spp as u64 * self.film.width as u64 * self.film.height as u64;
+        let kept = kept.saturating_sub(self.nonfinite);
+        if kept == 0 {
+            0.0
+        } else {
+            self.collapsed as f64 / kept as f64
+        }
+    }
+}
+
+/// What a pass counted.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct PassCounts {
+    /// Samples whose estimate was not finite, dropped.
+    pub(super) dropped: u64,
+    /// Light-tracing splats that were not finite, dropped.
+    pub(super) dropped_splats: u64,
+    pub(super) rays: u64,
+    /// Samples whose whole cluster collapsed at a dispersive refraction.
+    pub(super) collapsed: u64,
+}
+
+/// Checkpoints of a long render (`render_resumable`).
+pub struct Checkpointing<'a> {
+    /// The fingerprint of the scene and options, stored in each checkpoint.
+    pub key: u64,
+    /// A checkpoint of this same render to continue from.
+    pub resume: Option<Checkpoint>,
+    /// How often `save` is called (at the first pass boundary after).
+    pub every: Duration,
+    /// Stores a checkpoint; called at pass boundaries and at the end
+    /// (complete, interrupted or out of time).
+    pub save: &'a (dyn Fn(&Checkpoint) -> Result<(), String> + Sync),
+}
+
+/// Samples per pixel of the pass that starts after `done`: 1, 1, 2, 4, 8,
+/// then 16. A function of `done` alone, so that a resumed render passes
+/// the same boundaries as an uninterrupted one (light-tracing splats are
+/// added at pass ends, and the order of additions fixes the bits).
+fn pass_size(done: u32) -> u32 {
+    match done {
+        0 => 1,
+        d => (1 << (31 - d.leading_zeros())).min(16),
+    }
+}
+
+/// Renders `scene`. `progress(done, total)` is called after each pass
+/// (samples per pixel); setting `cancel` stops after the current pass.
+pub fn render(
+    scene: &Scene,
+    options: &RenderOptions,
+    cancel: &AtomicBool,
+    progress: &(dyn Fn(u32, u32) + Sync),
+) -> Result<Rendered, RenderError> {
+    render_resumable(scene, options, cancel, progress, None)
+}
+
+/// `render`, saving checkpoints and continuing from one: a render resumed
+/// from a checkpoint ends bit-identical to the uninterrupted render of the
+/// same scene, options and samples per pixel.
+pub fn render_resumable(
+    scene: &Scene,
+    options: &RenderOptions,
+    cancel: &AtomicBool,
+    progress: &(dyn Fn(u32, u32) + Sync),
+    checkpoints: Option<Checkpointing>,
+) -> Result<Rendered, RenderError> {
+    render_observed(scene, options, cancel, progress, checkpoints, None)
+}
+
+/// Looks at the film while a render runs (a live viewer, tev): `see(film,
+/// facts)` is called at the first pass boundary after every `every` and once
+/// at the end, on the rendering thread, so it should copy what it needs
+/// and return.
+pub struct Observer<'a> {
+    pub every: Duration,
+    pub see: &'a (dyn Fn(&Film, &RunFacts) + Sync),
+}
+
+/// `render_resumable`, showing the film to `observer` as it converges.
+pub fn render_observed(
+    scene: &Scene,
+    options: &RenderOptions,
+    cancel: &AtomicBool,
+    progress: &(dyn Fn(u32, u32) + Sync),
+    checkpoints: Option<Checkpointing>,
+    observer: Option<Observer>,
+) -> Result<Rendered, RenderError> {
+    let hooks = (progress, checkpoints, observer);
+    match options.cluster {
+        1 => render_k::<1>(scene, options, cancel, hooks),
+        2 => render_k::<2>(scene, options, cancel, hooks),
+        4 => render_k::<4>(scene, options, cancel, hooks),
+        8 => render_k::<8>(scene, options, cancel, hooks),
+        16 => render_k::<16>(scene, options, cancel, hooks),
+        k => Err(RenderError::Cluster(k)),
+    }
+}
+
+/// What a render reports to as it goes: progress, checkpoints, an observer.
+type Hooks<'a, 'b> = (
+    &'a (dyn Fn(u32, u32) + Sync),
+    Option<Checkpointing<'b>>,
+    Option<Observer<'b>>,
+);
+
+fn render_k<const K: usize>(
+    scene: &Scene,
+    options: &RenderOptions,
+    cancel: &AtomicBool,
+    (progress, mut checkpoints, observer): Hooks,
+) -> Result<Rendered, RenderError> {
+    // A time limit alone renders until the time is spent.
+    let total = match (&options.shard, options.spp, options.time_limit) {
+        (Some(shard), _, _) => shard.samples.end,
+        (None, Some(n), _) => n,
+        (None, None, Some(_)) => u32::MAX,
+        (None, None, None) => scene.samples_per_pixel,
+    };
+    if total == 0 {
+        return Err(RenderError::Spp);
+    }
+    let start = Instant::now();
+    // An irradiancemeter is measured by the path tracer's receiver, in lx.
+    let (integrator, quantity) = match scene.meter {
+        Some(_) => (IntegratorKind::Path, Quantity::Illuminance),
+        None => (
+            options.integrator.unwrap_or(scene.integrator.kind),
+            options.quantity,
+        ),
+    };
+    if integrator == IntegratorKind::Bdpt && scene.camera.projection != Projection::Perspective {
+        return Err(RenderError::BdptProjection);
+    }
+    let mut renderer = Renderer::with_integrator(scene, options.strategy, integrator);
+    if let Some([s, t]) = options.only_strategy {
+        if integrator != IntegratorKind::Bdpt || t == 0 || s + t < 2 {
+            return Err(RenderError::Strategy(s, t));
+        }
+        renderer.only_strategy = Some([s, t]);
+    }
+    renderer.tracer = options.tracer;
+    renderer.quantity = quantity;
+    let first = match &options.shard {
+        Some(shard) => {
+            if shard.samples.is_empty() {
+                return Err(RenderError::Spp);
+            }
+            if let Some(rows) = &shard.rows {
+                renderer.rows = rows.clone();
+            }
+            shard.samples.start
+        }
+        None => 0,
+    };
+    let bands = match options.bands {
+        Some(n) if (1..=471).contains(&n) => Some(Bands(n)),
+        Some(_) => return Err(RenderError::Bands),
+        None => None,
+    };
+    let (width, height) = (scene.camera.width, scene.camera.height);
+    let mut state = match checkpoints.as_mut().and_then(|c| c.resume.take()) {
+        Some(c) => {
+            let key = checkpoints.as_ref().map_or(0, |c| c.key);
+            if c.key != key {
+                return Err(RenderError::Checkpoint(
+                    "the checkpoint was saved by a render of another scene, with other options, or before a file the scene reads was edited"
+                        .into(),
+                ));
+            }
+            if (c.film.width, c.film.height, c.film.bands) != (width, height, bands) {
+                return Err(RenderError::Checkpoint(format!(
+                    "the checkpoint's film is {}×{}, the render's {width}×{height} (or its bands differ)",
+                    c.film.width, c.film.height
+                )));
+            }
+            if c.done > total {
+                return Err(RenderError::Checkpoint(format!(
+                    "the checkpoint holds {} spp, more than the {total} asked for",
+                    c.done
+                )));
+            }
+            c
+        }
+        None => {
+            let mut film = Film::try_new(width, height, bands)
+                .map_err(|e| RenderError::TooLarge(Box::new(e)))?;
+            if options.shard.is_some() {
+                film.keep_moments();
+            }
+            Checkpoint {
+                key: checkpoints.as_ref().map_or(0, |c| c.key),
+                done: first,
+                counts: [0; 4],
+                film,
+            }
+        }
+    };
+    let resumed_at = state.done;
+    let mut cancelled = false;
+    let mut last_save = Instant::now();
+    let mut last_seen = Instant::now();
+    // Passes grow from 1 spp so that progress, time limits and Ctrl-C are
+    // honoured early, to at most 16 spp per pass.
+    while state.done < total {
+        if cancel.load(Ordering::Relaxed) {
+            cancelled = true;
+            break;
+        }
+        let done = state.done;
+        let mut count = pass_size(done).min(total - done);
+        if let Some(limit) = options.time_limit {
+            // Only as many samples as the time left should allow, judged by
+            // the rate so far, so a time limit is met rather than overrun
+            // by a whole pass (and is spent, not left half unused).
+            let elapsed = start.elapsed();
+            if elapsed >= limit {
+                break;
+            }
+            if done > resumed_at {
+                let per_spp = elapsed.as_secs_f64() / (done - resumed_at) as f64;
+                let fits = ((limit - elapsed).as_secs_f64() / per_spp) as u32;
+                if fits == 0 {
+                    break;
+                }
+                count = count.min(fits);
+            }
+        }
+        let c = renderer.pass::<K>(options.seed, &mut state.film, done, count);
+        let n = &mut state.counts;
+        n[0] += c.dropped;
+        n[1] += c.dropped_splats;
+        n[2] += c.rays;
+        n[3] += c.collapsed;
+        state.done += count;
+        progress(state.done, total);
+        if let Some(cp) = &checkpoints {
+            if state.done < total && last_save.elapsed() >= cp.every {
+                (cp.save)(&state).map_err(RenderError::Checkpoint)?;
+                last_save = Instant::now();
+            }
+        }
+        if let Some(o) = &observer {
+            if state.done < total && last_seen.elapsed() >= o.every {
+                let facts = RunFacts {
+                    spp: state.done,
+                    rays: state.counts[2],
+                    elapsed: start.elapsed(),
+                    cancelled: false,
+                    integrator,
+                    quantity,
+                };
+                (o.see)(&state.film, &facts);
+                last_seen = Instant::now();
+            }
+        }
+    }
+    if let Some(cp) = &checkpoints {
+        (cp.save)(&state).map_err(RenderError::Checkpoint)?;
+    }
+    let Checkpoint {
+        done,
+        counts: [dropped, dropped_splats, rays, collapsed],
+        film,
+        ..
+    } = state;
+    let rendered = Rendered {
+        film,
+        spp: done,
+        nonfinite: dropped,
+        nonfinite_splats: dropped_splats,
+        rays,
+        collapsed,
+        elapsed: start.elapsed(),
+        cancelled,
+        integrator,
+        quantity,
+    };
+    if let Some(o) = &observer {
+        (o.see)(&rendered.film, &rendered.facts());
+    }
+    Ok(rendered)
+}
