@@ -41,8 +41,12 @@ CALLS = {
 def run_and_interrupt(tmp_path, call):
     out, ckpt = tmp_path / "film.exr", tmp_path / "film.ckpt"
     code = textwrap.dedent(f"""
-        import json, sys, time
+        import json, signal, sys, time
         import scotopia
+        # As at a terminal: a shell that starts a job in the background
+        # (make under nohup, CI runners) passes SIGINT on as ignored, and
+        # Python then installs no KeyboardInterrupt handler of its own.
+        signal.signal(signal.SIGINT, signal.default_int_handler)
         CORNELL, OUT, CKPT = {CORNELL!r}, {str(out)!r}, {str(ckpt)!r}
         print("started", flush=True)
         t = time.monotonic()
