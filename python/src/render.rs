@@ -14,7 +14,7 @@ use pyo3::types::PyDict;
 use scotopia_image::Meta;
 use scotopia_render::film::Checkpoint;
 use scotopia_render::integrator::{
-    render_resumable, time_limit, Checkpointing, Quantity, RenderError, RenderOptions, Shard,
+    render_with, time_limit, Checkpointing, Hooks, Quantity, RenderError, RenderOptions, Shard,
     Tracer,
 };
 use scotopia_render::output::{
@@ -137,7 +137,11 @@ fn render<'py>(
     // the outputs are written, then KeyboardInterrupt raised.
     let cancel = AtomicBool::new(false);
     let (rendered, interrupted) = crate::interrupt::interruptible(py, &cancel, || {
-        render_resumable(&scene, &options, &cancel, &|_, _| {}, checkpoints)
+        let hooks = Hooks {
+            checkpoints,
+            ..Hooks::new(&cancel)
+        };
+        render_with(&scene, &options, hooks)
     });
     let rendered = rendered.map_err(|e| match e {
         RenderError::TooLarge(_) => PyMemoryError::new_err(e.to_string()),
@@ -272,7 +276,7 @@ fn render_shard<'py>(
     // Ctrl-C: the shard is incomplete, so nothing of it is returned.
     let cancel = AtomicBool::new(false);
     let (rendered, interrupted) = crate::interrupt::interruptible(py, &cancel, || {
-        render_resumable(&scene, &options, &cancel, &|_, _| {}, None)
+        render_with(&scene, &options, Hooks::new(&cancel))
     });
     if let Some(e) = interrupted {
         return Err(e);

@@ -11,7 +11,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use scotopia_image::{preview_srgb8, write_png_rgb8};
 use scotopia_render::film::{Checkpoint, Film};
 use scotopia_render::integrator::{
-    render_observed, Checkpointing, Observer, Quantity, RenderError, RenderOptions, RunFacts,
+    render_with, Checkpointing, Hooks, Observer, Quantity, RenderError, RenderOptions, RunFacts,
     Tracer, CLUSTER_SIZES,
 };
 use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_pixels};
@@ -363,7 +363,15 @@ pub fn run(args: Args) -> Result<()> {
     };
     let saving = checkpoints.is_some();
     let rendered = pool
-        .install(|| render_observed(&scene, &options, &cancel, &progress, checkpoints, observer))
+        .install(|| {
+            let hooks = Hooks {
+                progress: Some(&progress),
+                checkpoints,
+                observer,
+                ..Hooks::new(&cancel)
+            };
+            render_with(&scene, &options, hooks)
+        })
         .map_err(|e| match e {
             RenderError::Checkpoint(m) if !m.contains(&*ckpt_path.to_string_lossy()) => {
                 anyhow::anyhow!("{}: {m}", ckpt_path.display())

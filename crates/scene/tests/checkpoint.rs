@@ -10,7 +10,7 @@ use std::time::Duration;
 
 use scotopia_render::film::Checkpoint;
 use scotopia_render::integrator::{
-    render, render_observed, render_resumable, Checkpointing, Observer, RenderOptions, RunFacts,
+    render, render_with, Checkpointing, Hooks, Observer, RenderOptions, RunFacts,
 };
 use scotopia_render::scene::IntegratorKind;
 use scotopia_scene::load_scene;
@@ -53,17 +53,19 @@ fn a_resumed_render_is_bit_identical_to_an_uninterrupted_one() {
                 cancel.store(true, Ordering::Relaxed);
             }
         };
-        let first = render_resumable(
+        let first = render_with(
             &scene,
             &opts,
-            &cancel,
-            &stop,
-            Some(Checkpointing {
-                key: 42,
-                resume: None,
-                every: Duration::ZERO,
-                save: &save,
-            }),
+            Hooks {
+                progress: Some(&stop),
+                checkpoints: Some(Checkpointing {
+                    key: 42,
+                    resume: None,
+                    every: Duration::ZERO,
+                    save: &save,
+                }),
+                ..Hooks::new(&cancel)
+            },
         )
         .unwrap();
         assert!(
@@ -75,17 +77,18 @@ fn a_resumed_render_is_bit_identical_to_an_uninterrupted_one() {
 
         let saved = Checkpoint::read(&file).unwrap();
         assert_eq!(saved.done, 16);
-        let resumed = render_resumable(
+        let resumed = render_with(
             &scene,
             &opts,
-            &AtomicBool::new(false),
-            &|_, _| {},
-            Some(Checkpointing {
-                key: 42,
-                resume: Some(saved.clone()),
-                every: Duration::from_secs(3600),
-                save: &|_| Ok(()),
-            }),
+            Hooks {
+                checkpoints: Some(Checkpointing {
+                    key: 42,
+                    resume: Some(saved.clone()),
+                    every: Duration::from_secs(3600),
+                    save: &|_| Ok(()),
+                }),
+                ..Hooks::new(&AtomicBool::new(false))
+            },
         )
         .unwrap();
         assert_eq!(resumed.spp, 40);
@@ -99,17 +102,18 @@ fn a_resumed_render_is_bit_identical_to_an_uninterrupted_one() {
         );
 
         // Another scene or options: refused.
-        let e = render_resumable(
+        let e = render_with(
             &scene,
             &opts,
-            &AtomicBool::new(false),
-            &|_, _| {},
-            Some(Checkpointing {
-                key: 43,
-                resume: Some(saved),
-                every: Duration::ZERO,
-                save: &|_| Ok(()),
-            }),
+            Hooks {
+                checkpoints: Some(Checkpointing {
+                    key: 43,
+                    resume: Some(saved),
+                    every: Duration::ZERO,
+                    save: &|_| Ok(()),
+                }),
+                ..Hooks::new(&AtomicBool::new(false))
+            },
         )
         .unwrap_err();
         assert!(e.to_string().contains("another scene"), "{e}");
@@ -138,15 +142,12 @@ fn an_observer_sees_the_film_grow_and_its_last_look_is_the_result() {
         every: Duration::ZERO,
         see: &see,
     };
-    let rendered = render_observed(
-        &scene,
-        &opts,
-        &AtomicBool::new(false),
-        &|_, _| {},
-        None,
-        Some(observer),
-    )
-    .unwrap();
+    let cancel = AtomicBool::new(false);
+    let hooks = Hooks {
+        observer: Some(observer),
+        ..Hooks::new(&cancel)
+    };
+    let rendered = render_with(&scene, &opts, hooks).unwrap();
     let seen = seen.into_inner().unwrap();
     // Every pass boundary (1, 2, 4, 8, 16, 32 spp) and the end (40).
     let spps: Vec<u32> = seen.iter().map(|(s, _)| *s).collect();

@@ -190,17 +190,26 @@ fn the_wavefront_tracer_renders_the_street_as_the_scalar_one_does() {
         ..LoadOptions::default()
     };
     let s = load_scene_with(&scenes().join("ies-street.xml"), &Parameters::new(), &load).unwrap();
-    for quantity in [Quantity::Radiance, Quantity::Illuminance] {
-        let image = |tracer: Tracer| {
-            let o = RenderOptions {
-                spp: Some(3),
-                seed: 7,
-                tracer,
-                quantity,
-                ..RenderOptions::default()
-            };
-            render(&s, &o, &AtomicBool::new(false), &|_, _| {}).unwrap()
+    let render_with = |tracer: Tracer, quantity: Quantity| {
+        let o = RenderOptions {
+            spp: Some(3),
+            seed: 7,
+            tracer,
+            quantity,
+            ..RenderOptions::default()
         };
+        render(&s, &o, &AtomicBool::new(false), &|_, _| {})
+    };
+    // Illuminance is the scalar path tracer's receivers: the wavefront
+    // tracer says it cannot, rather than quietly handing over.
+    let e = render_with(Tracer::Wavefront, Quantity::Illuminance).unwrap_err();
+    assert!(
+        e.to_string().contains("illuminance") && e.to_string().contains("scalar"),
+        "{e}"
+    );
+    {
+        let quantity = Quantity::Radiance;
+        let image = |tracer: Tracer| render_with(tracer, quantity).unwrap();
         let (scalar, wavefront) = (image(Tracer::Scalar), image(Tracer::Wavefront));
         assert!(scalar.rays > 0);
         // (Not assert_eq: the films' Debug text would flood the report.)

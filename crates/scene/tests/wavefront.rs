@@ -85,3 +85,59 @@ fn every_bundled_scene_renders_the_scalar_tracers_image() {
         }
     }
 }
+
+/// What the wavefront tracer does not run (media, the bidirectional
+/// tracer, illuminance) is an error naming it, never a quiet hand-over to
+/// the scalar tracer; a lone bidirectional strategy asked of the path
+/// tracer is an error too.
+#[test]
+fn unsupported_combinations_are_errors_that_say_so() {
+    use scotopia_render::integrator::{Quantity, RenderError};
+    use scotopia_render::scene::IntegratorKind;
+    let wavefront = RenderOptions {
+        spp: Some(1),
+        tracer: Tracer::Wavefront,
+        ..RenderOptions::default()
+    };
+    let cases = [
+        ("foggy-street.xml", wavefront.clone(), "participating media"),
+        (
+            "cornell-box.xml",
+            RenderOptions {
+                integrator: Some(IntegratorKind::Bdpt),
+                ..wavefront.clone()
+            },
+            "bidirectional",
+        ),
+        (
+            "cornell-box.xml",
+            RenderOptions {
+                quantity: Quantity::Illuminance,
+                ..wavefront.clone()
+            },
+            "illuminance",
+        ),
+    ];
+    for (name, o, words) in cases {
+        let e = render(&scene(name), &o, &AtomicBool::new(false), &|_, _| {}).unwrap_err();
+        assert!(matches!(e, RenderError::Wavefront(_)), "{name}: {e}");
+        let text = e.to_string();
+        assert!(
+            text.contains(words) && text.contains("scalar"),
+            "{name}: {text}"
+        );
+    }
+    let path_alone = RenderOptions {
+        spp: Some(1),
+        integrator: Some(IntegratorKind::Path),
+        only_strategy: Some([1, 1]),
+        ..RenderOptions::default()
+    };
+    let e = render(
+        &scene("cornell-box.xml"),
+        &path_alone,
+        &AtomicBool::new(false),
+        &|_, _| {},
+    );
+    assert_eq!(e.unwrap_err(), RenderError::Strategy(1, 1));
+}

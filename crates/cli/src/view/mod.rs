@@ -20,7 +20,7 @@ use anyhow::{bail, Context, Result};
 
 use scotopia_image::{read_xyzv, Meta, RgbInput, XyzvImage};
 use scotopia_render::film::Film;
-use scotopia_render::integrator::{render_observed, Observer, RunFacts};
+use scotopia_render::integrator::{render_with, Hooks, Observer, RunFacts};
 use scotopia_render::output::{render_metadata, write_xyzv_exr};
 
 use crate::render::{cancel_on_interrupt, progress_bar, Prepared, Setup};
@@ -230,8 +230,14 @@ fn render_live(
         pool,
         ..
     } = &prepared;
-    let rendered =
-        pool.install(|| render_observed(scene, options, cancel, &progress, None, Some(observer)))?;
+    let rendered = pool.install(|| {
+        let hooks = Hooks {
+            progress: Some(&progress),
+            observer: Some(observer),
+            ..Hooks::new(cancel)
+        };
+        render_with(scene, options, hooks)
+    })?;
     bar.finish_and_clear();
     let meta = render_metadata(scene, options, &rendered.facts(), name);
     write_xyzv_exr(output, &rendered, &meta)?;

@@ -5,7 +5,6 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use crate::camera::Projection;
 use crate::film::{Bands, Checkpoint, Film};
 use crate::scene::{IntegratorKind, Scene};
 
@@ -89,7 +88,7 @@ pub(super) struct PassCounts {
     pub(super) collapsed: u64,
 }
 
-/// Checkpoints of a long render (`render_resumable`).
+/// Checkpoints of a long render ([`Hooks::checkpoints`]).
 pub struct Checkpointing<'a> {
     /// The fingerprint of the scene and options, stored in each checkpoint.
     pub key: u64,
@@ -121,20 +120,11 @@ pub fn render(
     cancel: &AtomicBool,
     progress: &(dyn Fn(u32, u32) + Sync),
 ) -> Result<Rendered, RenderError> {
-    render_resumable(scene, options, cancel, progress, None)
-}
-
-/// `render`, saving checkpoints and continuing from one: a render resumed
-/// from a checkpoint ends bit-identical to the uninterrupted render of the
-/// same scene, options and samples per pixel.
-pub fn render_resumable(
-    scene: &Scene,
-    options: &RenderOptions,
-    cancel: &AtomicBool,
-    progress: &(dyn Fn(u32, u32) + Sync),
-    checkpoints: Option<Checkpointing>,
-) -> Result<Rendered, RenderError> {
-    render_observed(scene, options, cancel, progress, checkpoints, None)
+    let hooks = Hooks {
+        progress: Some(progress),
+        ..Hooks::new(cancel)
+    };
+    render_with(scene, options, hooks)
 }
 
 /// Looks at the film while a render runs (a live viewer, tev): `see(film,
@@ -146,39 +136,60 @@ pub struct Observer<'a> {
     pub see: &'a (dyn Fn(&Film, &RunFacts) + Sync),
 }
 
-/// `render_resumable`, showing the film to `observer` as it converges.
-pub fn render_observed(
+/// What a render answers to and reports to as it goes.
+pub struct Hooks<'a> {
+    /// Setting it stops the render after the current pass.
+    pub cancel: &'a AtomicBool,
+    /// Called after each pass with (samples per pixel done, asked for).
+    pub progress: Option<&'a (dyn Fn(u32, u32) + Sync)>,
+    /// Checkpoints to save, and one to continue from: a render resumed
+    /// from a checkpoint ends bit-identical to the uninterrupted render
+    /// of the same scene, options and samples per pixel.
+    pub checkpoints: Option<Checkpointing<'a>>,
+    /// Shown the film as it converges.
+    pub observer: Option<Observer<'a>>,
+}
+
+impl<'a> Hooks<'a> {
+    /// Only `cancel`: no progress, checkpoints or observer.
+    pub fn new(cancel: &'a AtomicBool) -> Self {
+        Self {
+            cancel,
+            progress: None,
+            checkpoints: None,
+            observer: None,
+        }
+    }
+}
+
+/// Renders `scene` with the `hooks` given: [`render`] with checkpoints and
+/// an observer.
+pub fn render_with(
     scene: &Scene,
     options: &RenderOptions,
-    cancel: &AtomicBool,
-    progress: &(dyn Fn(u32, u32) + Sync),
-    checkpoints: Option<Checkpointing>,
-    observer: Option<Observer>,
+    hooks: Hooks,
 ) -> Result<Rendered, RenderError> {
-    let hooks = (progress, checkpoints, observer);
     match options.cluster {
-        1 => render_k::<1>(scene, options, cancel, hooks),
-        2 => render_k::<2>(scene, options, cancel, hooks),
-        4 => render_k::<4>(scene, options, cancel, hooks),
-        8 => render_k::<8>(scene, options, cancel, hooks),
-        16 => render_k::<16>(scene, options, cancel, hooks),
+        1 => render_k::<1>(scene, options, hooks),
+        2 => render_k::<2>(scene, options, hooks),
+        4 => render_k::<4>(scene, options, hooks),
+        8 => render_k::<8>(scene, options, hooks),
+        16 => render_k::<16>(scene, options, hooks),
         k => Err(RenderError::Cluster(k)),
     }
 }
 
-/// What a render reports to as it goes: progress, checkpoints, an observer.
-type Hooks<'a, 'b> = (
-    &'a (dyn Fn(u32, u32) + Sync),
-    Option<Checkpointing<'b>>,
-    Option<Observer<'b>>,
-);
-
 fn render_k<const K: usize>(
     scene: &Scene,
     options: &RenderOptions,
-    cancel: &AtomicBool,
-    (progress, mut checkpoints, observer): Hooks,
+    hooks: Hooks,
 ) -> Result<Rendered, RenderError> {
+    let Hooks {
+        cancel,
+        progress,
+        mut checkpoints,
+        observer,
+    } = hooks;
     // A time limit alone renders until the time is spent.
     let total = match (&options.shard, options.spp, options.time_limit) {
         (Some(shard), _, _) => shard.samples.end,
@@ -190,26 +201,8 @@ fn render_k<const K: usize>(
         return Err(RenderError::Spp);
     }
     let start = Instant::now();
-    // An irradiancemeter is measured by the path tracer's receiver, in lx.
-    let (integrator, quantity) = match scene.meter {
-        Some(_) => (IntegratorKind::Path, Quantity::Illuminance),
-        None => (
-            options.integrator.unwrap_or(scene.integrator.kind),
-            options.quantity,
-        ),
-    };
-    if integrator == IntegratorKind::Bdpt && scene.camera.projection != Projection::Perspective {
-        return Err(RenderError::BdptProjection);
-    }
-    let mut renderer = Renderer::with_integrator(scene, options.strategy, integrator);
-    if let Some([s, t]) = options.only_strategy {
-        if integrator != IntegratorKind::Bdpt || t == 0 || s + t < 2 {
-            return Err(RenderError::Strategy(s, t));
-        }
-        renderer.only_strategy = Some([s, t]);
-    }
-    renderer.tracer = options.tracer;
-    renderer.quantity = quantity;
+    let mut renderer = Renderer::new(scene, options)?;
+    let (integrator, quantity) = (renderer.kind, renderer.quantity);
     let first = match &options.shard {
         Some(shard) => {
             if shard.samples.is_empty() {
@@ -302,7 +295,9 @@ fn render_k<const K: usize>(
         n[2] += c.rays;
         n[3] += c.collapsed;
         state.done += count;
-        progress(state.done, total);
+        if let Some(progress) = progress {
+            progress(state.done, total);
+        }
         if let Some(cp) = &checkpoints {
             if state.done < total && last_save.elapsed() >= cp.every {
                 (cp.save)(&state).map_err(RenderError::Checkpoint)?;

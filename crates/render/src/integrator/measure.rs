@@ -104,7 +104,7 @@ fn measure_k<const K: usize>(
     {
         return Err(RenderError::Receiver(i));
     }
-    let renderer = Renderer::with_integrator(scene, options.strategy, IntegratorKind::Path);
+    let renderer = Renderer::shared(scene, options.strategy, IntegratorKind::Path);
     let done = AtomicUsize::new(0);
     Ok(receivers
         .par_iter()

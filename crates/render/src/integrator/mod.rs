@@ -11,13 +11,12 @@ mod options;
 mod path;
 mod reflectors;
 mod renderer;
+mod select;
 mod volume;
 mod wavefront;
 
 pub use bdpt::Splat;
-pub use driver::{
-    render, render_observed, render_resumable, Checkpointing, Observer, Rendered, RunFacts,
-};
+pub use driver::{render, render_with, Checkpointing, Hooks, Observer, Rendered, RunFacts};
 pub use light_choice::LightChoice;
 pub use measure::{measure, Measured, Receiver};
 pub use options::{
@@ -27,3 +26,4 @@ pub use options::{
 pub use path::CameraSample;
 pub use reflectors::Reflectors;
 pub use renderer::Renderer;
+pub use select::{Bidirectional, Integrator};

@@ -134,6 +134,8 @@ pub enum RenderError {
     Bands,
     #[error("strategy s={0}, t={1} does not exist (t ≥ 1, s + t ≥ 2) or needs --integrator bdpt")]
     Strategy(usize, usize),
+    #[error("the wavefront tracer runs the path tracer between surfaces only, not {0}: render with the scalar tracer")]
+    Wavefront(&'static str),
     #[error("the bidirectional tracer needs a perspective or thin-lens camera (an orthographic camera cannot be reached from a light); render with path")]
     BdptProjection,
     #[error("{0}")]

@@ -16,8 +16,10 @@ use crate::scene::{IntegratorKind, Scene};
 use crate::wavelength::{WavelengthSampler, WavelengthStrategy};
 
 use super::driver::PassCounts;
+use super::select::{traces_media, Bidirectional, Choice, Integrator, Run};
 use super::{
-    bdpt, equiangular, measure, wavefront, LightChoice, Quantity, Reflectors, Splat, Tracer,
+    bdpt, equiangular, measure, wavefront, CameraSample, LightChoice, Quantity, Reflectors,
+    RenderError, RenderOptions, Splat, Tracer,
 };
 
 /// The bounding spheres of the shapes (outside shape groups) whose BSDF
@@ -85,11 +87,12 @@ pub struct Renderer<'a> {
     /// The shapes light subpaths from infinity are aimed at.
     pub(super) casters: Vec<Caster>,
     pub(super) infinite: Vec<usize>,
-    pub integrator: IntegratorKind,
-    /// Bidirectional: the lights' spectra, to choose a light by cluster.
-    pub(super) light_spectra: Option<bdpt::LightSpectra>,
-    pub(super) only_strategy: Option<[usize; 2]>,
-    pub(super) tracer: Tracer,
+    /// The integrator that runs, with its own state.
+    pub integrator: Integrator,
+    /// The integrator as an image's metadata reports it (the options' or
+    /// the scene's; the path tracer for an irradiance meter), and what
+    /// the pixels hold.
+    pub(super) kind: IntegratorKind,
     pub(super) quantity: Quantity,
     /// The film rows a pass renders (a shard's; all by default).
     pub(super) rows: std::ops::Range<u32>,
@@ -106,15 +109,34 @@ pub struct Renderer<'a> {
 }
 
 impl<'a> Renderer<'a> {
-    /// The scene's integrator with `strategy`.
-    pub fn new(scene: &'a Scene, strategy: WavelengthStrategy) -> Self {
-        Self::with_integrator(scene, strategy, scene.integrator.kind)
+    /// The integrator `options` ask of `scene`, built with its state, or
+    /// why it cannot run.
+    pub fn new(scene: &'a Scene, options: &RenderOptions) -> Result<Self, RenderError> {
+        let choice = Choice::new(scene, options)?;
+        let mut r = Self::shared(scene, options.strategy, choice.kind);
+        r.quantity = choice.quantity;
+        r.integrator = match choice.run {
+            Run::Path(tracer) => Integrator::Path(tracer),
+            Run::VolPath => Integrator::VolPath,
+            Run::Illuminance => Integrator::Illuminance,
+            Run::Meter => Integrator::Meter,
+            Run::Bdpt(only) => {
+                let p = (0..scene.lights.len())
+                    .map(|i| r.light_choice.probability(i))
+                    .collect();
+                let spectra = bdpt::LightSpectra::new(&scene.lights, p);
+                Integrator::Bdpt(Box::new(Bidirectional { spectra, only }))
+            }
+        };
+        Ok(r)
     }
 
-    pub fn with_integrator(
+    /// The state every integrator shares, for `kind`'s wavelengths; the
+    /// virtual receivers of `measure` use it as it is.
+    pub(super) fn shared(
         scene: &'a Scene,
         strategy: WavelengthStrategy,
-        integrator: IntegratorKind,
+        kind: IntegratorKind,
     ) -> Self {
         let bounds = scene.geometry.bounds();
         let (center, radius) = if bounds.is_empty() {
@@ -139,7 +161,7 @@ impl<'a> Renderer<'a> {
         // The path tracer draws some wavelengths from fluorescent
         // emission; the bidirectional tracer reaches them by re-emission
         // on its light subpaths and draws from the lights alone.
-        let fluorescent: Vec<_> = match integrator {
+        let fluorescent: Vec<_> = match kind {
             IntegratorKind::Path => scene
                 .materials
                 .iter()
@@ -148,12 +170,6 @@ impl<'a> Renderer<'a> {
             IntegratorKind::Bdpt => Vec::new(),
         };
         let light_choice = Distribution1D::new(power.clone());
-        let light_spectra = (integrator == IntegratorKind::Bdpt).then(|| {
-            let p = (0..scene.lights.len())
-                .map(|i| light_choice.probability(i))
-                .collect();
-            bdpt::LightSpectra::new(&scene.lights, p)
-        });
         let nee_choice = LightChoice::new(&scene.lights, &power, &extent);
         let reflectors = Reflectors::new(
             &scene.materials,
@@ -163,8 +179,7 @@ impl<'a> Renderer<'a> {
             &power,
             &extent,
         );
-        let volumetric = scene.integrator.media
-            && (!scene.media.is_empty() || scene.materials.iter().any(|m| m.may_pass()));
+        let volumetric = traces_media(scene);
         let targets = if volumetric {
             equiangular::Targets::new(
                 (0..scene.lights.len())
@@ -183,11 +198,9 @@ impl<'a> Renderer<'a> {
             reflectors,
             wavelengths: WavelengthSampler::new(strategy, &scene.lights, &power, &fluorescent),
             light_choice,
-            integrator,
-            light_spectra,
-            only_strategy: None,
-            tracer: Tracer::default(),
-            quantity: Quantity::default(),
+            integrator: Integrator::Path(Tracer::Scalar),
+            kind,
+            quantity: Quantity::Radiance,
             rows: 0..u32::MAX,
             white: measure::white(),
             targets,
@@ -284,10 +297,7 @@ impl<'a> Renderer<'a> {
                 let mut counts = PassCounts::default();
                 let mut scratch = bdpt::Scratch::<K>::default();
                 let mut splats = Vec::new();
-                let mut batch = (self.integrator == IntegratorKind::Path
-                    && self.tracer == Tracer::Wavefront
-                    && !self.volumetric
-                    && self.quantity == Quantity::Radiance)
+                let mut batch = matches!(self.integrator, Integrator::Path(Tracer::Wavefront))
                     .then(|| {
                         let work = wavefront::RowWork {
                             seed,
@@ -301,29 +311,15 @@ impl<'a> Renderer<'a> {
                 for (x, px) in row.iter_mut().enumerate() {
                     for i in first..first + count {
                         let pixel = [x as u32, y as u32];
-                        let sample = match (&mut batch, self.integrator) {
-                            (Some(done), _) => done.next().flatten(),
-                            _ if self.scene.meter.is_some() => {
-                                self.sample_meter::<K>(&mut sampler, pixel, i, &mut counts.rays)
-                            }
-                            _ if self.quantity == Quantity::Illuminance => self
-                                .sample_illuminance::<K>(&mut sampler, pixel, i, &mut counts.rays),
-                            (None, IntegratorKind::Path) => {
-                                self.sample_pixel::<K>(&mut sampler, pixel, i, &mut counts.rays)
-                            }
-                            (None, IntegratorKind::Bdpt) => {
-                                let mut c = bdpt::SampleCounts::default();
-                                let s = self.sample_pixel_bdpt::<K>(
-                                    &mut sampler,
-                                    pixel,
-                                    i,
-                                    &mut scratch,
-                                    &mut splats,
-                                    &mut c,
-                                );
-                                counts.rays += c.rays;
-                                counts.dropped_splats += c.dropped_splats;
-                                s
+                        let sample = match &mut batch {
+                            Some(done) => done.next().flatten(),
+                            None => {
+                                let to = Scratchpad {
+                                    scratch: &mut scratch,
+                                    splats: &mut splats,
+                                    counts: &mut counts,
+                                };
+                                self.estimate::<K>(&mut sampler, pixel, i, to)
                             }
                         };
                         match sample {
@@ -361,4 +357,33 @@ impl<'a> Renderer<'a> {
         }
         total
     }
+
+    /// One camera sample of `pixel` by the integrator that runs (the
+    /// wavefront tracer's come a row at a time, `wavefront::trace_row`).
+    fn estimate<const K: usize>(
+        &self,
+        sampler: &mut Sampler,
+        pixel: [u32; 2],
+        index: u32,
+        to: Scratchpad<'_, K>,
+    ) -> Option<CameraSample<K>> {
+        match &self.integrator {
+            Integrator::Meter => self.sample_meter::<K>(sampler, pixel, index, &mut to.counts.rays),
+            Integrator::Illuminance => {
+                self.sample_illuminance::<K>(sampler, pixel, index, &mut to.counts.rays)
+            }
+            Integrator::Path(_) | Integrator::VolPath => {
+                self.sample_pixel::<K>(sampler, pixel, index, &mut to.counts.rays)
+            }
+            Integrator::Bdpt(b) => self.sample_pixel_bdpt::<K>(b, sampler, pixel, index, to),
+        }
+    }
+}
+
+/// Where a row's samples keep their work: the bidirectional tracer's
+/// subpaths and light-tracing splats, and the pass's counts.
+pub(super) struct Scratchpad<'a, const K: usize> {
+    pub scratch: &'a mut bdpt::Scratch<K>,
+    pub splats: &'a mut Vec<Splat<K>>,
+    pub counts: &'a mut PassCounts,
 }

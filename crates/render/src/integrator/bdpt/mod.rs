@@ -23,6 +23,8 @@ mod walk;
 use scotopia_color::photometry::estimate_xyzv;
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
+use super::renderer::Scratchpad;
+use super::select::Bidirectional;
 use super::{CameraSample, Renderer};
 use crate::sampling::sobol::Sampler;
 pub(crate) use clusters::LightSpectra;
@@ -47,14 +49,6 @@ pub struct Scratch<const K: usize> {
     choice: LightChoice,
 }
 
-/// What one bidirectional sample counted besides its estimate.
-#[derive(Debug, Default, Clone, Copy)]
-pub struct SampleCounts {
-    pub rays: u64,
-    /// Light-tracing contributions dropped as not finite.
-    pub dropped_splats: u64,
-}
-
 impl Renderer<'_> {
     pub(super) fn has_infinite_lights(&self) -> bool {
         !self.infinite.is_empty()
@@ -63,21 +57,22 @@ impl Renderer<'_> {
     /// One bidirectional sample of `pixel`: the camera-side estimate (or
     /// `None` when not finite) and, pushed on `splats`, the light-tracing
     /// contributions to whichever pixels they reach.
-    pub(crate) fn sample_pixel_bdpt<const K: usize>(
+    pub(super) fn sample_pixel_bdpt<const K: usize>(
         &self,
+        bidirectional: &Bidirectional,
         sampler: &mut Sampler,
         pixel: [u32; 2],
         index: u32,
-        scratch: &mut Scratch<K>,
-        splats: &mut Vec<Splat<K>>,
-        counts: &mut SampleCounts,
+        to: Scratchpad<'_, K>,
     ) -> Option<CameraSample<K>> {
+        let Scratchpad {
+            scratch,
+            splats,
+            counts,
+        } = to;
         let (film, lens, first, u_runs) = self.start_sample::<K>(sampler, pixel, index);
         let u_rotate = sampler.get_1d();
-        let Some(spectra) = &self.light_spectra else {
-            return None;
-        };
-        scratch.choice.update(spectra, &first);
+        scratch.choice.update(&bidirectional.spectra, &first);
 
         // The subpaths: Mitsuba's max_depth counts segments, so a camera
         // subpath has at most max_depth + 1 vertices and a light subpath
@@ -119,7 +114,7 @@ impl Renderer<'_> {
             wl: &wl,
             lanes: &lanes,
             choice: &scratch.choice,
-            unweighted: self.only_strategy.is_some(),
+            unweighted: bidirectional.only.is_some(),
         };
         let mut radiance = SampledSpectrum::<K>::splat(0.0);
         for t in 1..=sub.camera.len() {
@@ -131,7 +126,7 @@ impl Renderer<'_> {
                 if s == 0 && t < 2 {
                     continue;
                 }
-                if self.only_strategy.is_some_and(|o| o != [s, t]) {
+                if bidirectional.only.is_some_and(|o| o != [s, t]) {
                     continue;
                 }
                 // s = 1 with t ≥ 2 samples its own light point; otherwise
