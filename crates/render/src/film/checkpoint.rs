@@ -39,9 +39,47 @@ pub struct Checkpoint {
     /// seed, options): a checkpoint resumes only the render it came from.
     pub key: u64,
     pub done: u32,
-    /// Dropped non-finite samples, dropped splats, rays, collapsed clusters.
-    pub counts: [u64; 4],
+    pub counts: SampleCounts,
     pub film: Film,
+}
+
+/// What a render's samples counted besides their sums: what a pass adds
+/// up and a checkpoint keeps.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct SampleCounts {
+    /// Samples whose estimate was not finite, dropped.
+    pub dropped: u64,
+    /// Light-tracing splats that were not finite, dropped.
+    pub dropped_splats: u64,
+    /// Rays traced (camera, continuation and shadow rays).
+    pub rays: u64,
+    /// Samples whose whole cluster collapsed at a dispersive refraction.
+    pub collapsed: u64,
+}
+
+impl std::ops::AddAssign for SampleCounts {
+    fn add_assign(&mut self, b: SampleCounts) {
+        self.dropped += b.dropped;
+        self.dropped_splats += b.dropped_splats;
+        self.rays += b.rays;
+        self.collapsed += b.collapsed;
+    }
+}
+
+impl SampleCounts {
+    /// In the checkpoint's order.
+    fn to_array(self) -> [u64; 4] {
+        [self.dropped, self.dropped_splats, self.rays, self.collapsed]
+    }
+
+    fn from_array([dropped, dropped_splats, rays, collapsed]: [u64; 4]) -> Self {
+        SampleCounts {
+            dropped,
+            dropped_splats,
+            rays,
+            collapsed,
+        }
+    }
 }
 
 /// A file the render depends on and the hash of its content, kept in the
@@ -82,7 +120,7 @@ impl Checkpoint {
         w.write_all(&f.width.to_le_bytes())?;
         w.write_all(&f.height.to_le_bytes())?;
         w.write_all(&(f.bands.map_or(0, |b| b.0) as u32).to_le_bytes())?;
-        for c in self.counts {
+        for c in self.counts.to_array() {
             w.write_all(&c.to_le_bytes())?;
         }
         w.write_all(&(sources.len() as u32).to_le_bytes())?;
@@ -203,7 +241,7 @@ impl Checkpoint {
         let c = Self {
             key,
             done,
-            counts,
+            counts: SampleCounts::from_array(counts),
             film,
         };
         c.check().map_err(|e| bad(&e))?;
@@ -229,10 +267,10 @@ impl Checkpoint {
             }
             missing += (self.done - p.samples) as u64;
         }
-        if missing != self.counts[0] {
+        if missing != self.counts.dropped {
             return Err(format!(
                 "{missing} samples are missing from the pixels, where {} were dropped",
-                self.counts[0]
+                self.counts.dropped
             ));
         }
         if f.spectral.iter().any(|v| !v.is_finite()) {

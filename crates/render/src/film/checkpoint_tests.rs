@@ -15,7 +15,12 @@ fn sample() -> Checkpoint {
     Checkpoint {
         key: 0xdead_beef_1234,
         done: 3,
-        counts: [1, 2, 3, 4],
+        counts: SampleCounts {
+            dropped: 1,
+            dropped_splats: 2,
+            rays: 3,
+            collapsed: 4,
+        },
         film,
     }
 }
@@ -140,7 +145,7 @@ fn checkpoints_whose_numbers_disagree_are_refused() {
     c.done = 2;
     refused(c, "more than the 2 done");
     let mut c = sample();
-    c.counts[0] = 0;
+    c.counts.dropped = 0;
     refused(c, "1 samples are missing");
     let mut c = sample();
     c.film.pixels[4].xyzv[2] = f64::NAN;

@@ -8,7 +8,7 @@ mod spectral;
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
-pub use checkpoint::{fingerprint, Checkpoint, Source};
+pub use checkpoint::{fingerprint, Checkpoint, SampleCounts, Source};
 pub use filter::FilterSampler;
 pub use spectral::Bands;
 

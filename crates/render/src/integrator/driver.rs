@@ -5,7 +5,7 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use crate::film::{Bands, Checkpoint, Film};
+use crate::film::{Bands, Checkpoint, Film, SampleCounts};
 use crate::scene::{IntegratorKind, Scene};
 
 use super::{Quantity, RenderError, RenderOptions, Renderer};
@@ -74,18 +74,6 @@ impl Rendered {
             self.collapsed as f64 / kept as f64
         }
     }
-}
-
-/// What a pass counted.
-#[derive(Debug, Clone, Copy, Default)]
-pub(super) struct PassCounts {
-    /// Samples whose estimate was not finite, dropped.
-    pub(super) dropped: u64,
-    /// Light-tracing splats that were not finite, dropped.
-    pub(super) dropped_splats: u64,
-    pub(super) rays: u64,
-    /// Samples whose whole cluster collapsed at a dispersive refraction.
-    pub(super) collapsed: u64,
 }
 
 /// Checkpoints of a long render ([`Hooks::checkpoints`]).
@@ -253,7 +241,7 @@ fn render_k<const K: usize>(
             Checkpoint {
                 key: checkpoints.as_ref().map_or(0, |c| c.key),
                 done: first,
-                counts: [0; 4],
+                counts: SampleCounts::default(),
                 film,
             }
         }
@@ -289,11 +277,7 @@ fn render_k<const K: usize>(
             }
         }
         let c = renderer.pass::<K>(options.seed, &mut state.film, done, count);
-        let n = &mut state.counts;
-        n[0] += c.dropped;
-        n[1] += c.dropped_splats;
-        n[2] += c.rays;
-        n[3] += c.collapsed;
+        state.counts += c;
         state.done += count;
         if let Some(progress) = progress {
             progress(state.done, total);
@@ -308,7 +292,7 @@ fn render_k<const K: usize>(
             if state.done < total && last_seen.elapsed() >= o.every {
                 let facts = RunFacts {
                     spp: state.done,
-                    rays: state.counts[2],
+                    rays: state.counts.rays,
                     elapsed: start.elapsed(),
                     cancelled: false,
                     integrator,
@@ -324,7 +308,13 @@ fn render_k<const K: usize>(
     }
     let Checkpoint {
         done,
-        counts: [dropped, dropped_splats, rays, collapsed],
+        counts:
+            SampleCounts {
+                dropped,
+                dropped_splats,
+                rays,
+                collapsed,
+            },
         film,
         ..
     } = state;

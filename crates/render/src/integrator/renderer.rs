@@ -6,7 +6,7 @@ use rayon::prelude::*;
 use scotopia_color::SampledWavelengths;
 
 use crate::accel::Aabb;
-use crate::film::{Film, FilterSampler};
+use crate::film::{Film, FilterSampler, SampleCounts};
 use crate::geometry::Shape;
 use crate::light::{Caster, Light, SceneExtent};
 use crate::math::Vec3;
@@ -15,7 +15,6 @@ use crate::sampling::sobol::Sampler;
 use crate::scene::{IntegratorKind, Scene};
 use crate::wavelength::{WavelengthSampler, WavelengthStrategy};
 
-use super::driver::PassCounts;
 use super::select::{traces_media, Bidirectional, Choice, Integrator, Run};
 use super::{
     bdpt, equiangular, measure, wavefront, CameraSample, LightChoice, Quantity, Reflectors,
@@ -277,13 +276,13 @@ impl<'a> Renderer<'a> {
         film: &mut Film,
         first: u32,
         count: u32,
-    ) -> PassCounts {
+    ) -> SampleCounts {
         let width = film.width as usize;
         let stride = film.row_stride();
         let moment_stride = film.moment_stride();
         let moments_kept = film.kept_moments().is_some();
         let bands = film.bands;
-        let rows: Vec<(PassCounts, Vec<Splat<K>>)> = film
+        let rows: Vec<(SampleCounts, Vec<Splat<K>>)> = film
             .pixels
             .par_chunks_mut(width)
             .zip(film.spectral.par_chunks_mut(stride))
@@ -291,10 +290,10 @@ impl<'a> Renderer<'a> {
             .enumerate()
             .map(|(y, ((row, spectral), moments))| {
                 if !self.rows.contains(&(y as u32)) {
-                    return (PassCounts::default(), Vec::new());
+                    return (SampleCounts::default(), Vec::new());
                 }
                 let mut sampler = Sampler::new(seed);
-                let mut counts = PassCounts::default();
+                let mut counts = SampleCounts::default();
                 let mut scratch = bdpt::Scratch::<K>::default();
                 let mut splats = Vec::new();
                 let mut batch = matches!(self.integrator, Integrator::Path(Tracer::Wavefront))
@@ -345,12 +344,9 @@ impl<'a> Renderer<'a> {
             .collect();
         // Light-tracing splats land on any pixel: added after the pass, row
         // by row in order, so the sums do not depend on the threads.
-        let mut total = PassCounts::default();
+        let mut total = SampleCounts::default();
         for (c, splats) in rows {
-            total.dropped += c.dropped;
-            total.dropped_splats += c.dropped_splats;
-            total.rays += c.rays;
-            total.collapsed += c.collapsed;
+            total += c;
             for sp in &splats {
                 film.splat(&self.filter, sp.raster, sp.xyzv, &sp.radiance, &sp.wl);
             }
@@ -385,5 +381,5 @@ impl<'a> Renderer<'a> {
 pub(super) struct Scratchpad<'a, const K: usize> {
     pub scratch: &'a mut bdpt::Scratch<K>,
     pub splats: &'a mut Vec<Splat<K>>,
-    pub counts: &'a mut PassCounts,
+    pub counts: &'a mut SampleCounts,
 }
