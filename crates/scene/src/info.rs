@@ -51,7 +51,7 @@ impl Serialize for MediumInfo {
         } else {
             "sigma_t_550"
         };
-        let mut map = serializer.serialize_map(Some(7))?;
+        let mut map = serializer.serialize_map(Some(6))?;
         map.serialize_entry("type", self.kind)?;
         map.serialize_entry(sigma_t, &self.sigma_t)?;
         map.serialize_entry("albedo_550", &self.albedo)?;

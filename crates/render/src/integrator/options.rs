@@ -339,7 +339,8 @@ mod text_tests {
         T: FromStr<Err = OptionError> + fmt::Display + PartialEq + fmt::Debug,
     {
         for v in values {
-            assert_eq!(v.to_string().parse::<T>(), Ok(v), "{v}");
+            let text = v.to_string();
+            assert_eq!(text.parse::<T>(), Ok(v), "{text}");
         }
     }
 
