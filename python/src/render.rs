@@ -4,7 +4,6 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
-use std::time::Duration;
 
 use numpy::ndarray::{Array2, Array3};
 use numpy::{IntoPyArray, PyArray3};
