@@ -40,12 +40,10 @@ fn measure<'py>(
     reflectance: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let err = |e: String| PyValueError::new_err(e);
-    if !(0.0..=1.0).contains(&reflectance) {
-        return Err(err(format!(
-            "reflectance {reflectance}: give a value from 0 to 1"
-        )));
-    }
+    let reflectance = scotopia_vision::mode::reflectance(reflectance)
+        .map_err(|e| err(format!("reflectance {e}")))?;
     let strategy = crate::render::wavelength_strategy(wavelengths)?;
+    let cluster = crate::render::cluster_size(cluster)?;
     let a = points.as_array();
     if a.ncols() != 6 || a.nrows() == 0 {
         return Err(err(format!(
@@ -74,7 +72,7 @@ fn measure<'py>(
         spp,
         seed,
         strategy,
-        cluster,
+        cluster: cluster.get(),
         ..RenderOptions::default()
     };
     // Ctrl-C stops the measurement (nothing is returned, as the CLI

@@ -4,7 +4,6 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
-use std::time::Duration;
 
 use numpy::ndarray::{Array2, Array3};
 use numpy::{IntoPyArray, PyArray3};
@@ -14,8 +13,8 @@ use pyo3::types::PyDict;
 use scotopia_image::Meta;
 use scotopia_render::film::Checkpoint;
 use scotopia_render::integrator::{
-    render_with, time_limit, Checkpointing, Hooks, Quantity, RenderError, RenderOptions, Shard,
-    Tracer,
+    checkpoint_interval, render_with, time_limit, Checkpointing, ClusterSize, Hooks, Quantity,
+    RenderError, RenderOptions, Shard, Tracer,
 };
 use scotopia_render::output::{
     render_metadata, write_spectral_exr, write_xyzv_exr, write_xyzv_pixels,
@@ -68,17 +67,13 @@ fn render<'py>(
     quantity: &str,
 ) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
     let err = |e: String| PyValueError::new_err(e);
-    let (strategy, integrator, tracer, quantity) =
-        named_options(wavelengths, integrator, tracer, quantity)?;
+    let named = Named::parse(wavelengths, cluster, integrator, tracer, quantity)?;
     let time_limit = match time {
         Some(t) => Some(time_limit(t).map_err(|e| err(format!("time {e}")))?),
         None => None,
     };
-    if !(checkpoint_every.is_finite() && (0.0..=1e9).contains(&checkpoint_every)) {
-        return Err(err(format!(
-            "checkpoint_every {checkpoint_every}: give 0 to 1e9 seconds"
-        )));
-    }
+    let checkpoint_every =
+        checkpoint_interval(checkpoint_every).map_err(|e| err(format!("checkpoint_every {e}")))?;
     if resume && checkpoint.is_none() {
         return Err(err(
             "resume=True needs checkpoint, the file to resume from (and to save to)".into(),
@@ -93,14 +88,8 @@ fn render<'py>(
         spp,
         time_limit,
         seed,
-        strategy,
-        cluster,
         bands: spectral.is_some().then_some(bands),
-        integrator,
-        only_strategy: None,
-        tracer,
-        quantity,
-        shard: None,
+        ..named.options()
     };
     if let Some(file) = &checkpoint {
         Checkpoint::check_path(file).map_err(err)?;
@@ -130,7 +119,7 @@ fn render<'py>(
     let checkpoints = checkpoint.as_ref().map(|_| Checkpointing {
         key: key.key,
         resume: resume_from,
-        every: Duration::from_secs_f64(checkpoint_every),
+        every: checkpoint_every,
         save: &save,
     });
     // Ctrl-C ends the render at its pass boundary (the checkpoint saved);
@@ -172,31 +161,58 @@ fn render<'py>(
     Ok((image.into_pyarray(py), d))
 }
 
-/// The options given by name, checked: wavelength strategy, integrator,
-/// tracer, quantity.
-fn named_options(
-    wavelengths: &str,
-    integrator: Option<&str>,
-    tracer: &str,
-    quantity: &str,
-) -> PyResult<(WavelengthStrategy, Option<IntegratorKind>, Tracer, Quantity)> {
-    let err = |e: String| PyValueError::new_err(e);
-    let strategy = wavelength_strategy(wavelengths)?;
-    let integrator = match integrator {
-        Some(name) => Some(
-            IntegratorKind::from_name(name)
-                .ok_or_else(|| err(format!("integrator '{name}': use path or bdpt")))?,
-        ),
-        None => None,
-    };
-    let tracer = Tracer::from_name(tracer)
-        .ok_or_else(|| err(format!("tracer '{tracer}': use wavefront or scalar")))?;
-    let quantity = Quantity::from_name(quantity).ok_or_else(|| {
-        err(format!(
-            "quantity '{quantity}': use radiance or illuminance"
-        ))
-    })?;
-    Ok((strategy, integrator, tracer, quantity))
+/// The options `render` and `render_shard` take by name, parsed by the
+/// library (a wrong one is a ValueError with its message).
+struct Named {
+    strategy: WavelengthStrategy,
+    cluster: ClusterSize,
+    integrator: Option<IntegratorKind>,
+    tracer: Tracer,
+    quantity: Quantity,
+}
+
+impl Named {
+    fn parse(
+        wavelengths: &str,
+        cluster: usize,
+        integrator: Option<&str>,
+        tracer: &str,
+        quantity: &str,
+    ) -> PyResult<Self> {
+        Ok(Self {
+            strategy: wavelength_strategy(wavelengths)?,
+            cluster: cluster_size(cluster)?,
+            integrator: integrator.map(parsed).transpose()?,
+            tracer: parsed(tracer)?,
+            quantity: parsed(quantity)?,
+        })
+    }
+
+    /// Render options with these, the others at their defaults.
+    fn options(&self) -> RenderOptions {
+        RenderOptions {
+            strategy: self.strategy,
+            cluster: self.cluster.get(),
+            integrator: self.integrator,
+            tracer: self.tracer,
+            quantity: self.quantity,
+            ..RenderOptions::default()
+        }
+    }
+}
+
+/// An option's text as the library reads it; its error a ValueError.
+fn parsed<T: std::str::FromStr>(text: &str) -> PyResult<T>
+where
+    T::Err: std::fmt::Display,
+{
+    text.parse()
+        .map_err(|e: T::Err| PyValueError::new_err(e.to_string()))
+}
+
+/// `cluster`, checked by the library.
+pub(crate) fn cluster_size(k: usize) -> PyResult<ClusterSize> {
+    ClusterSize::try_from(k).map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
 /// The metadata as a dict.
@@ -241,8 +257,7 @@ fn render_shard<'py>(
     quantity: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let err = |e: String| PyValueError::new_err(e);
-    let (strategy, integrator, tracer, quantity) =
-        named_options(wavelengths, integrator, tracer, quantity)?;
+    let named = Named::parse(wavelengths, cluster, integrator, tracer, quantity)?;
     if samples.0 >= samples.1 {
         return Err(err(format!(
             "samples ({}, {}): give sample indices i0 < i1",
@@ -262,16 +277,11 @@ fn render_shard<'py>(
     }
     let options = RenderOptions {
         seed,
-        strategy,
-        cluster,
-        integrator,
-        tracer,
-        quantity,
         shard: Some(Shard {
             samples: samples.0..samples.1,
             rows: Some(rows.0..rows.1),
         }),
-        ..RenderOptions::default()
+        ..named.options()
     };
     // Ctrl-C: the shard is incomplete, so nothing of it is returned.
     let cancel = AtomicBool::new(false);
@@ -388,9 +398,7 @@ fn write_exr(
 /// (`SCOTOPIA_SIMD`) and the wavelength strategy's name.
 pub(crate) fn wavelength_strategy(name: &str) -> PyResult<WavelengthStrategy> {
     scotopia_render::simd::Level::init().map_err(|e| PyValueError::new_err(e.to_string()))?;
-    WavelengthStrategy::from_name(name).ok_or_else(|| {
-        PyValueError::new_err(format!("wavelengths '{name}': use swc, hero or single"))
-    })
+    parsed(name)
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

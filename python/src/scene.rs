@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyBool, PyDict, PyList, PyString};
 use scotopia_scene::{load_scene_with, LoadOptions, Resolution, SceneInfo};
 
 /// `res` as load options: an int width (keeping the film's aspect), a
@@ -46,62 +46,39 @@ fn scene_info<'py>(
     let options = load_options(res.as_ref())?;
     let scene = load_scene_with(&path, &params.unwrap_or_default(), &options)
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
-    let i = SceneInfo::of(&scene);
-    let d = PyDict::new(py);
-    d.set_item("shapes", i.shapes)?;
-    d.set_item("triangles", i.triangles)?;
-    d.set_item("instances", i.instances)?;
-    d.set_item("materials", i.materials)?;
-    d.set_item("emitters", i.emitters)?;
-    let camera = PyDict::new(py);
-    camera.set_item("fov_degrees", [i.fov_degrees.0, i.fov_degrees.1])?;
-    camera.set_item("thin_lens", i.thin_lens)?;
-    camera.set_item("irradiancemeter_shape", i.meter_shape)?;
-    d.set_item("camera", camera)?;
-    let film = PyDict::new(py);
-    film.set_item("width", i.width)?;
-    film.set_item("height", i.height)?;
-    film.set_item("filter", &i.filter)?;
-    d.set_item("film", film)?;
-    d.set_item("samples_per_pixel", i.samples_per_pixel)?;
-    d.set_item("max_depth", i.max_depth)?;
-    let lights = PyList::empty(py);
-    for l in &i.lights {
-        let ld = PyDict::new(py);
-        ld.set_item("type", l.kind)?;
-        ld.set_item("watts", l.power.watts)?;
-        ld.set_item("lumens", l.power.lumens)?;
-        lights.append(ld)?;
-    }
-    d.set_item("lights", lights)?;
-    let media = PyList::empty(py);
-    for m in &i.media {
-        let md = PyDict::new(py);
-        md.set_item("type", m.kind)?;
-        // A heterogeneous medium's σ_t is its largest, not at 550 nm.
-        let key = if m.kind == "heterogeneous" {
-            "sigma_t_max"
-        } else {
-            "sigma_t_550"
-        };
-        md.set_item(key, m.sigma_t)?;
-        md.set_item("albedo_550", m.albedo)?;
-        md.set_item("g", m.g)?;
-        md.set_item("optical_thickness", m.optical_thickness)?;
-        let grids = PyList::empty(py);
-        for g in &m.grids {
-            let gd = PyDict::new(py);
-            gd.set_item("parameter", g.parameter)?;
-            gd.set_item("cells", g.cells.to_vec())?;
-            gd.set_item("channels", g.channels)?;
-            grids.append(gd)?;
+    // Through a `Value`, as the CLI prints it: the same keys and numbers.
+    let info = serde_json::to_value(SceneInfo::of(&scene))
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    Ok(python_value(py, &info)?.cast_into::<PyDict>()?)
+}
+
+/// A JSON value as the Python object `json.loads` would make of it.
+fn python_value<'py>(py: Python<'py>, v: &serde_json::Value) -> PyResult<Bound<'py, PyAny>> {
+    use serde_json::Value;
+    Ok(match v {
+        Value::Null => py.None().into_bound(py),
+        Value::Bool(b) => PyBool::new(py, *b).to_owned().into_any(),
+        Value::Number(n) => match (n.as_u64(), n.as_i64()) {
+            (Some(u), _) => u.into_pyobject(py)?.into_any(),
+            (None, Some(i)) => i.into_pyobject(py)?.into_any(),
+            _ => n.as_f64().unwrap_or(f64::NAN).into_pyobject(py)?.into_any(),
+        },
+        Value::String(t) => PyString::new(py, t).into_any(),
+        Value::Array(items) => {
+            let list = PyList::empty(py);
+            for item in items {
+                list.append(python_value(py, item)?)?;
+            }
+            list.into_any()
         }
-        md.set_item("grids", grids)?;
-        media.append(md)?;
-    }
-    d.set_item("media", media)?;
-    d.set_item("warnings", &i.warnings)?;
-    Ok(d)
+        Value::Object(entries) => {
+            let dict = PyDict::new(py);
+            for (k, item) in entries {
+                dict.set_item(k, python_value(py, item)?)?;
+            }
+            dict.into_any()
+        }
+    })
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -4,7 +4,6 @@ use std::fmt::Write;
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use serde_json::json;
 
 use scotopia_scene::mitsuba::Parameters;
 use scotopia_scene::{load_scene_with, LoadOptions, Resolution, SceneInfo};
@@ -19,7 +18,7 @@ pub struct Args {
     /// Override the film size: W (keeping the film's aspect) or WxH. The
     /// field of view along the film's fov_axis stays, as in Mitsuba.
     #[arg(long, value_name = "W|WxH")]
-    res: Option<String>,
+    res: Option<Resolution>,
     /// Print JSON instead of text.
     #[arg(long)]
     json: bool,
@@ -39,41 +38,20 @@ pub fn parameters(define: &[String]) -> Result<Parameters> {
 }
 
 /// `--res` as load options.
-pub fn load_options(res: Option<&str>) -> Result<LoadOptions> {
-    let resolution = match res {
-        Some(r) => Some(Resolution::parse(r).map_err(|e| anyhow::anyhow!("--res: {e}"))?),
-        None => None,
-    };
-    Ok(LoadOptions {
+pub fn load_options(resolution: Option<Resolution>) -> LoadOptions {
+    LoadOptions {
         resolution,
         ..LoadOptions::default()
-    })
+    }
 }
 
 pub fn run(args: Args) -> Result<()> {
-    let options = load_options(args.res.as_deref())?;
+    let options = load_options(args.res);
     let scene = load_scene_with(&args.scene, &parameters(&args.define)?, &options)?;
     let i = SceneInfo::of(&scene);
     let text = if args.json {
-        let v = json!({
-            "shapes": i.shapes,
-            "triangles": i.triangles,
-            "instances": i.instances,
-            "materials": i.materials,
-            "emitters": i.emitters,
-            "camera": {
-                "fov_degrees": [i.fov_degrees.0, i.fov_degrees.1],
-                "thin_lens": i.thin_lens,
-                "irradiancemeter_shape": i.meter_shape,
-            },
-            "film": {"width": i.width, "height": i.height, "filter": i.filter},
-            "samples_per_pixel": i.samples_per_pixel,
-            "max_depth": i.max_depth,
-            "lights": i.lights.iter().map(|l| json!({"type": l.kind, "watts": l.power.watts, "lumens": l.power.lumens})).collect::<Vec<_>>(),
-            "media": i.media.iter().map(|m| json!({"type": m.kind, (if m.kind == "heterogeneous" { "sigma_t_max" } else { "sigma_t_550" }): m.sigma_t, "albedo_550": m.albedo, "g": m.g, "optical_thickness": m.optical_thickness, "grids": m.grids.iter().map(|g| json!({"parameter": g.parameter, "cells": g.cells, "channels": g.channels})).collect::<Vec<_>>()})).collect::<Vec<_>>(),
-            "warnings": i.warnings,
-        });
-        format!("{v}\n")
+        // Through a `Value`, which widens f32 to f64 as the fields are.
+        format!("{}\n", serde_json::to_value(&i)?)
     } else {
         let mut o = String::new();
         writeln!(o, "{}", args.scene.display())?;
@@ -83,7 +61,8 @@ pub fn run(args: Args) -> Result<()> {
         }
         writeln!(o, "  materials   {}", i.materials)?;
         writeln!(o, "  emitters    {}", i.emitters)?;
-        match i.meter_shape {
+        let (camera, film) = (&i.camera, &i.film);
+        match camera.meter_shape {
             Some(shape) => writeln!(
                 o,
                 "  sensor      irradiancemeter on shape {shape}: its average illuminance, lx"
@@ -91,19 +70,19 @@ pub fn run(args: Args) -> Result<()> {
             None => writeln!(
                 o,
                 "  camera      {}, fov {:.2}° × {:.2}°",
-                if i.thin_lens {
+                if camera.thin_lens {
                     "thin lens"
                 } else {
                     "perspective"
                 },
-                i.fov_degrees.0,
-                i.fov_degrees.1
+                camera.fov_degrees[0],
+                camera.fov_degrees[1]
             )?,
         }
         writeln!(
             o,
             "  film        {}×{}, {} filter, {} spp",
-            i.width, i.height, i.filter, i.samples_per_pixel
+            film.width, film.height, film.filter, i.samples_per_pixel
         )?;
         writeln!(
             o,
@@ -118,7 +97,7 @@ pub fn run(args: Args) -> Result<()> {
             writeln!(
                 o,
                 "  light {k}     {}: {:.4e} W, {:.4e} lm",
-                l.kind, l.power.watts, l.power.lumens
+                l.kind, l.watts, l.lumens
             )?;
         }
         for (k, m) in i.media.iter().enumerate() {

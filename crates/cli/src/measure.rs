@@ -8,13 +8,14 @@ use std::sync::atomic::Ordering;
 use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use scotopia_render::integrator::{measure, Receiver, RenderOptions};
+use scotopia_render::integrator::{measure, ClusterSize, Receiver, RenderOptions};
 use scotopia_render::math::Vec3;
+use scotopia_render::wavelength::WavelengthStrategy;
 use scotopia_scene::{load_scene_tracked, LoadOptions};
 use scotopia_vision::mode::Mesopic;
 
 use crate::info::{load_options, parameters};
-use crate::render::{cancel_on_interrupt, sampling_options};
+use crate::render::{cancel_on_interrupt, simd_level};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -54,10 +55,10 @@ pub struct Args {
     seed: u32,
     /// How paths choose wavelengths: swc, hero or single.
     #[arg(long, default_value = "swc", value_name = "swc|hero|single")]
-    wavelengths: String,
+    wavelengths: WavelengthStrategy,
     /// Wavelengths per path: 1, 2, 4, 8 or 16.
-    #[arg(long, default_value_t = 4, value_name = "K")]
-    cluster: usize,
+    #[arg(long, default_value = "4", value_name = "K")]
+    cluster: ClusterSize,
 }
 
 /// The largest points file read: a calculation grid of a million points
@@ -159,15 +160,15 @@ fn is_header(fields: &[&str]) -> bool {
 pub const HEADER: &str = "x,y,z,nx,ny,nz,E_lx,E_lx_se,Es_lx,Es_lx_se,SP,L_cdm2,m,Lmes_cdm2\n";
 
 fn reflectance(text: &str) -> Result<f64, String> {
-    text.trim()
+    let rho = text
+        .trim()
         .parse::<f64>()
-        .ok()
-        .filter(|r| (0.0..=1.0).contains(r))
-        .ok_or_else(|| format!("'{text}': give a reflectance from 0 to 1"))
+        .map_err(|_| format!("'{text}': give a reflectance from 0 to 1"))?;
+    scotopia_vision::mode::reflectance(rho)
 }
 
 pub fn run(args: Args) -> Result<()> {
-    let strategy = sampling_options(&args.wavelengths, args.cluster)?;
+    simd_level()?;
     if args.spp == Some(0) {
         bail!("--spp must be positive");
     }
@@ -180,7 +181,7 @@ pub fn run(args: Args) -> Result<()> {
     let receivers = read_points(&args.points)?;
     let load = LoadOptions {
         sensor_optional: true,
-        ..load_options(None)?
+        ..load_options(None)
     };
     let (scene, files) = load_scene_tracked(&args.scene, &parameters(&args.define)?, &load)?;
     let read: Vec<(&str, &Path)> = files
@@ -194,8 +195,8 @@ pub fn run(args: Args) -> Result<()> {
     let options = RenderOptions {
         spp: args.spp,
         seed: args.seed,
-        strategy,
-        cluster: args.cluster,
+        strategy: args.wavelengths,
+        cluster: args.cluster.get(),
         ..RenderOptions::default()
     };
     let cancel = cancel_on_interrupt()?;

@@ -49,14 +49,14 @@ pub fn render(args: &Args, address: &str) -> Result<()> {
         .arg("-o")
         .arg(&args.output)
         .args(["--seed", &s.seed.to_string()])
-        .args(["--wavelengths", &s.wavelengths])
+        .args(["--wavelengths", &s.wavelengths.to_string()])
         .args(["--cluster", &s.cluster.to_string()])
-        .args(["--tracer", &s.tracer])
-        .args(["--quantity", &s.quantity]);
+        .args(["--tracer", &s.tracer.to_string()])
+        .args(["--quantity", &s.quantity.to_string()]);
     let optional = [
         ("--spp", s.spp.map(|n| n.to_string())),
-        ("--integrator", s.integrator.clone()),
-        ("--res", s.res.clone()),
+        ("--integrator", s.integrator.map(|k| k.to_string())),
+        ("--res", s.res.map(|r| r.to_string())),
         ("--shards", args.shards.map(|n| n.to_string())),
         (
             "--address",

@@ -11,15 +11,15 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use scotopia_image::{preview_srgb8, write_png_rgb8};
 use scotopia_render::film::{Checkpoint, Film};
 use scotopia_render::integrator::{
-    render_with, Checkpointing, Hooks, Observer, Quantity, RenderError, RenderOptions, RunFacts,
-    Tracer, CLUSTER_SIZES,
+    checkpoint_interval, render_with, BdptStrategy, Checkpointing, ClusterSize, Hooks, Observer,
+    Quantity, RenderError, RenderOptions, RunFacts, Tracer,
 };
 use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_pixels};
 use scotopia_render::scene::IntegratorKind;
 use scotopia_render::scene::Scene;
 use scotopia_render::wavelength::WavelengthStrategy;
 use scotopia_scene::mitsuba::Parameters;
-use scotopia_scene::{checkpoint_key, load_scene_tracked, LoadOptions};
+use scotopia_scene::{checkpoint_key, load_scene_tracked, LoadOptions, Resolution};
 
 use scotopia_vision::output::PngOptions;
 use scotopia_vision::DisplayParams;
@@ -100,7 +100,7 @@ pub struct Setup {
     /// Override the film size: W (keeping the film's aspect) or WxH. The
     /// field of view along the film's fov_axis stays, as in Mitsuba.
     #[arg(long, value_name = "W|WxH")]
-    pub(crate) res: Option<String>,
+    pub(crate) res: Option<Resolution>,
     /// Samples per pixel (default: the scene's sampler).
     #[arg(long)]
     pub spp: Option<u32>,
@@ -116,31 +116,31 @@ pub struct Setup {
     /// How paths choose wavelengths: swc (stratified clusters from the
     /// lights' spectra), hero (rotated hero wavelengths), single.
     #[arg(long, default_value = "swc", value_name = "swc|hero|single")]
-    pub(crate) wavelengths: String,
+    pub(crate) wavelengths: WavelengthStrategy,
     /// Light transport: path (unidirectional, next-event estimation) or
     /// bdpt (bidirectional, every strategy weighted by MIS: for caustics,
     /// lamps in fixtures, light through small openings). Default: the
     /// scene's <integrator>.
     #[arg(long, value_name = "path|bdpt")]
-    pub(crate) integrator: Option<String>,
+    pub(crate) integrator: Option<IntegratorKind>,
     /// Bidirectional only: render strategy S,T alone without MIS (S light
     /// and T camera vertices; T=1 is light tracing), to inspect it.
     #[arg(long, value_name = "S,T")]
-    pub(crate) bdpt_strategy: Option<String>,
+    pub(crate) bdpt_strategy: Option<BdptStrategy>,
     /// The path integrator's form: scalar (one path at a time, the
     /// reference, today the faster) or wavefront (batches of paths, stage
     /// by stage). Both give the same image, bit for bit.
     #[arg(long, default_value = "scalar", value_name = "scalar|wavefront")]
-    pub(crate) tracer: String,
+    pub(crate) tracer: Tracer,
     /// Wavelengths per path: 1, 2, 4, 8 or 16.
-    #[arg(long, default_value_t = 4, value_name = "K")]
-    pub(crate) cluster: usize,
+    #[arg(long, default_value = "4", value_name = "K")]
+    pub(crate) cluster: ClusterSize,
     /// What each pixel holds: radiance (X, Y, Z in cd/m², V′) or
     /// illuminance (Y in lx, V′ in scotopic lx) at the first surface the
     /// pixel sees, on its side facing the camera — by the path tracer,
     /// whatever the scene's integrator; zero where no surface is seen.
     #[arg(long, default_value = "radiance", value_name = "radiance|illuminance")]
-    pub(crate) quantity: String,
+    pub(crate) quantity: Quantity,
 }
 
 /// A scene loaded and its render options checked, ready to render.
@@ -160,34 +160,11 @@ impl Setup {
     /// Checks the options, loads the scene (printing its warnings) and
     /// starts the worker threads. `bands`: the spectral image's, if any.
     pub fn prepare(&self, bands: Option<usize>) -> Result<Prepared> {
-        let strategy = sampling_options(&self.wavelengths, self.cluster)?;
-        let integrator = match &self.integrator {
-            Some(name) => Some(
-                IntegratorKind::from_name(name)
-                    .with_context(|| format!("--integrator {name}: use path or bdpt"))?,
-            ),
-            None => None,
-        };
-        let tracer = Tracer::from_name(&self.tracer)
-            .with_context(|| format!("--tracer {}: use wavefront or scalar", self.tracer))?;
-        let quantity = Quantity::from_name(&self.quantity).with_context(|| {
-            format!("--quantity {}: use radiance or illuminance", self.quantity)
-        })?;
-        let only_strategy = match &self.bdpt_strategy {
-            Some(text) => {
-                let parsed: Option<Vec<usize>> =
-                    text.split(',').map(|v| v.trim().parse().ok()).collect();
-                match parsed.as_deref() {
-                    Some(&[s, t]) => Some([s, t]),
-                    _ => bail!("--bdpt-strategy {text}: give two counts S,T, e.g. 2,1"),
-                }
-            }
-            None => None,
-        };
+        simd_level()?;
         if self.spp == Some(0) {
             bail!("--spp must be positive");
         }
-        let load = load_options(self.res.as_deref())?;
+        let load = load_options(self.res);
         let params = parameters(&self.define)?;
         let (scene, files) = load_scene_tracked(&self.scene, &params, &load)?;
         for w in &scene.warnings {
@@ -197,13 +174,13 @@ impl Setup {
             spp: self.spp,
             time_limit: self.time,
             seed: self.seed,
-            strategy,
-            cluster: self.cluster,
+            strategy: self.wavelengths,
+            cluster: self.cluster.get(),
             bands,
-            integrator,
-            only_strategy,
-            tracer,
-            quantity,
+            integrator: self.integrator,
+            only_strategy: self.bdpt_strategy.map(BdptStrategy::pair),
+            tracer: self.tracer,
+            quantity: self.quantity,
             shard: None,
         };
         let total = options.spp.unwrap_or(if self.time.is_some() {
@@ -228,15 +205,10 @@ impl Setup {
 }
 
 /// What `render` and `measure` check before loading anything: the SIMD
-/// level (`SCOTOPIA_SIMD`), `--wavelengths` and `--cluster`.
-pub fn sampling_options(wavelengths: &str, cluster: usize) -> Result<WavelengthStrategy> {
+/// level (`SCOTOPIA_SIMD`); clap has checked the options' text.
+pub fn simd_level() -> Result<()> {
     scotopia_render::simd::Level::init().map_err(anyhow::Error::msg)?;
-    let strategy = WavelengthStrategy::from_name(wavelengths)
-        .with_context(|| format!("--wavelengths {wavelengths}: use swc, hero or single"))?;
-    if !CLUSTER_SIZES.contains(&cluster) {
-        bail!("--cluster {cluster}: use one of 1, 2, 4, 8, 16");
-    }
-    Ok(strategy)
+    Ok(())
 }
 
 /// A flag that Ctrl-C or SIGTERM sets: long work stops at its next
@@ -314,8 +286,7 @@ pub fn run(args: Args) -> Result<()> {
     };
     let ckpt_path = checkpoint_path(&args.output);
     let every = match args.checkpoint {
-        Some(t) if t.is_finite() && (0.0..=1e9).contains(&t) => Some(Duration::from_secs_f64(t)),
-        Some(t) => bail!("--checkpoint {t}: give 0 to 1e9 seconds"),
+        Some(t) => Some(checkpoint_interval(t).map_err(|e| anyhow::anyhow!("--checkpoint {e}"))?),
         None => None,
     };
     // A FIFO or device where the checkpoint goes is an error now, not at

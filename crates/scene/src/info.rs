@@ -1,18 +1,28 @@
-//! What a loaded scene holds, for `scotopia info`.
+//! What a loaded scene holds: `scotopia info` prints it (as text, or
+//! serialised as JSON) and Python's `scene_info` returns it serialised as
+//! a dict, so both show the same keys.
+
+use serde::ser::{SerializeMap, Serializer};
+use serde::Serialize;
 
 use scotopia_color::{SampledWavelengths, LAMBDA_MAX, LAMBDA_MIN};
-use scotopia_render::light::{Light, Power, SceneExtent};
+use scotopia_render::light::{Light, SceneExtent};
 use scotopia_render::medium::{Field, Medium, Phase};
 use scotopia_render::scene::{Filter, Scene};
 
 /// One light's kind and power.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct LightInfo {
+    #[serde(rename = "type")]
     pub kind: &'static str,
-    pub power: Power,
+    /// Radiant power, W.
+    pub watts: f64,
+    /// Luminous flux, lm.
+    pub lumens: f64,
 }
 
-/// One participating medium, at 550 nm.
+/// One participating medium, at 550 nm. Serialised with its extinction
+/// named for what it is: `sigma_t_550` or (heterogeneous) `sigma_t_max`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MediumInfo {
     pub kind: &'static str,
@@ -33,8 +43,27 @@ pub struct MediumInfo {
     pub grids: Vec<GridInfo>,
 }
 
+impl Serialize for MediumInfo {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        // A heterogeneous medium's σ_t is its largest, not at 550 nm.
+        let sigma_t = if self.kind == "heterogeneous" {
+            "sigma_t_max"
+        } else {
+            "sigma_t_550"
+        };
+        let mut map = serializer.serialize_map(Some(6))?;
+        map.serialize_entry("type", self.kind)?;
+        map.serialize_entry(sigma_t, &self.sigma_t)?;
+        map.serialize_entry("albedo_550", &self.albedo)?;
+        map.serialize_entry("g", &self.g)?;
+        map.serialize_entry("optical_thickness", &self.optical_thickness)?;
+        map.serialize_entry("grids", &self.grids)?;
+        map.end()
+    }
+}
+
 /// One voxel grid of a medium.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct GridInfo {
     /// What it gives: `sigma_t` or `albedo`.
     pub parameter: &'static str,
@@ -42,8 +71,28 @@ pub struct GridInfo {
     pub channels: usize,
 }
 
-/// A summary of a scene.
-#[derive(Debug, Clone, PartialEq)]
+/// The sensor.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CameraInfo {
+    /// Horizontal and vertical.
+    pub fov_degrees: [f32; 2],
+    pub thin_lens: bool,
+    /// The shape an irradiancemeter measures over, if that is the sensor.
+    #[serde(rename = "irradiancemeter_shape")]
+    pub meter_shape: Option<u32>,
+}
+
+/// The film.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FilmInfo {
+    pub width: u32,
+    pub height: u32,
+    /// The reconstruction filter, e.g. `box` or `gaussian (stddev 0.5)`.
+    pub filter: String,
+}
+
+/// A summary of a scene; its fields serialise in this order.
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SceneInfo {
     /// Shapes outside shape groups, then those of the groups (each once).
     pub shapes: usize,
@@ -53,14 +102,10 @@ pub struct SceneInfo {
     pub instances: usize,
     pub materials: usize,
     pub emitters: usize,
-    pub width: u32,
-    pub height: u32,
-    pub fov_degrees: (f32, f32),
-    pub thin_lens: bool,
-    /// The shape an irradiancemeter measures over, if that is the sensor.
-    pub meter_shape: Option<u32>,
+    pub camera: CameraInfo,
+    pub film: FilmInfo,
     pub samples_per_pixel: u32,
-    pub filter: String,
+    /// Longest path; −1 is unlimited.
     pub max_depth: i32,
     pub lights: Vec<LightInfo>,
     pub media: Vec<MediumInfo>,
@@ -84,20 +129,25 @@ impl SceneInfo {
         let lights = scene
             .lights
             .iter()
-            .map(|l| LightInfo {
-                kind: match l {
-                    Light::Point(_) => "point",
-                    Light::Spot(_) => "spot",
-                    Light::Projector(_) => "projector",
-                    Light::Goniometric(_) => "ies",
-                    Light::Directional(_) => "directional",
-                    Light::Area(_) => "area",
-                    Light::Constant(_) => "constant",
-                    Light::EnvMap(_) => "envmap",
-                },
-                power: l.power(&extent),
+            .map(|l| {
+                let power = l.power(&extent);
+                LightInfo {
+                    kind: match l {
+                        Light::Point(_) => "point",
+                        Light::Spot(_) => "spot",
+                        Light::Projector(_) => "projector",
+                        Light::Goniometric(_) => "ies",
+                        Light::Directional(_) => "directional",
+                        Light::Area(_) => "area",
+                        Light::Constant(_) => "constant",
+                        Light::EnvMap(_) => "envmap",
+                    },
+                    watts: power.watts,
+                    lumens: power.lumens,
+                }
             })
             .collect();
+        let fov = scene.camera.fov_degrees();
         Self {
             shapes: scene.geometry.shapes.len()
                 + scene
@@ -110,16 +160,20 @@ impl SceneInfo {
             instances: scene.geometry.instances().len(),
             materials: scene.materials.len(),
             emitters: scene.lights.len(),
-            width: scene.camera.width,
-            height: scene.camera.height,
-            fov_degrees: scene.camera.fov_degrees(),
-            thin_lens: scene.camera.aperture_radius > 0.0,
-            meter_shape: scene.meter.as_ref().map(|m| m.shape),
-            samples_per_pixel: scene.samples_per_pixel,
-            filter: match scene.filter {
-                Filter::Box => "box".into(),
-                Filter::Gaussian { stddev } => format!("gaussian (stddev {stddev})"),
+            camera: CameraInfo {
+                fov_degrees: fov.into(),
+                thin_lens: scene.camera.aperture_radius > 0.0,
+                meter_shape: scene.meter.as_ref().map(|m| m.shape),
             },
+            film: FilmInfo {
+                width: scene.camera.width,
+                height: scene.camera.height,
+                filter: match scene.filter {
+                    Filter::Box => "box".into(),
+                    Filter::Gaussian { stddev } => format!("gaussian (stddev {stddev})"),
+                },
+            },
+            samples_per_pixel: scene.samples_per_pixel,
             max_depth: scene.integrator.max_depth,
             lights,
             media: scene

@@ -16,4 +16,4 @@ pub use build::{
     bsdf_from_xml, load_scene, load_scene_tracked, load_scene_with, LoadOptions, Resolution,
 };
 pub use checkpoint_key::{checkpoint_key, CheckpointKey};
-pub use info::{GridInfo, LightInfo, MediumInfo, SceneInfo};
+pub use info::{CameraInfo, FilmInfo, GridInfo, LightInfo, MediumInfo, SceneInfo};

@@ -96,6 +96,16 @@ impl Mesopic {
     }
 }
 
+/// A diffuse reflectance for `Mesopic::of_surface`, or why it is none:
+/// it must lie in [0, 1].
+pub fn reflectance(rho: f64) -> Result<f64, String> {
+    if (0.0..=1.0).contains(&rho) {
+        Ok(rho)
+    } else {
+        Err(format!("{rho}: give a reflectance from 0 to 1"))
+    }
+}
+
 /// The visual mode's name, by CIE 191's range.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum VisualMode {
@@ -447,6 +457,17 @@ mod tests {
             );
             // Between L_p and L_s.
             assert!((l - lp) * (l - sp * lp) <= 0.0, "{lp} {sp}: {l}");
+        }
+    }
+
+    #[test]
+    fn a_reflectance_lies_in_0_to_1() {
+        assert_eq!(reflectance(0.1), Ok(0.1));
+        for bad in [-0.1, 1.5, f64::NAN, f64::INFINITY] {
+            assert!(
+                reflectance(bad).unwrap_err().contains("from 0 to 1"),
+                "{bad}"
+            );
         }
     }
 

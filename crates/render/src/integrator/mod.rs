@@ -20,8 +20,8 @@ pub use driver::{render, render_with, Checkpointing, Hooks, Observer, Rendered, 
 pub use light_choice::LightChoice;
 pub use measure::{measure, Measured, Receiver};
 pub use options::{
-    time_limit, Quantity, RenderError, RenderOptions, Shard, Tracer, CLUSTER_SIZES,
-    MAX_TIME_LIMIT_SECONDS,
+    checkpoint_interval, time_limit, BdptStrategy, ClusterSize, OptionError, Quantity, RenderError,
+    RenderOptions, Shard, Tracer, CLUSTER_SIZES, MAX_TIME_LIMIT_SECONDS,
 };
 pub use path::CameraSample;
 pub use reflectors::Reflectors;

@@ -1,6 +1,11 @@
 //! What a render is asked for beyond the scene: the options, their
-//! errors and the time limit.
+//! errors and the time limit. Each option a user names in text parses
+//! from it (`FromStr`) and prints back to the same text (`Display`), and
+//! is checked here, so that the CLI and Python only pass strings through
+//! and report the errors.
 
+use std::fmt;
+use std::str::FromStr;
 use std::time::Duration;
 
 use crate::scene::IntegratorKind;
@@ -103,6 +108,14 @@ impl Tracer {
             _ => None,
         }
     }
+
+    /// Its name, as `from_name` reads it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Wavefront => "wavefront",
+            Self::Scalar => "scalar",
+        }
+    }
 }
 
 impl Default for RenderOptions {
@@ -120,6 +133,146 @@ impl Default for RenderOptions {
             quantity: Quantity::default(),
             shard: None,
         }
+    }
+}
+
+/// Wavelengths per path, one of `CLUSTER_SIZES`: the renderer is
+/// compiled for those alone.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct ClusterSize(usize);
+
+impl ClusterSize {
+    pub fn get(self) -> usize {
+        self.0
+    }
+}
+
+impl Default for ClusterSize {
+    fn default() -> Self {
+        Self(4)
+    }
+}
+
+impl TryFrom<usize> for ClusterSize {
+    type Error = OptionError;
+
+    fn try_from(k: usize) -> Result<Self, OptionError> {
+        if CLUSTER_SIZES.contains(&k) {
+            Ok(Self(k))
+        } else {
+            Err(OptionError::Cluster(k.to_string()))
+        }
+    }
+}
+
+/// A bidirectional strategy rendered alone (`--bdpt-strategy S,T`): S
+/// light and T camera vertices. T = 1 is light tracing; a path needs two
+/// vertices, so T ≥ 1 and S + T ≥ 2.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct BdptStrategy {
+    pub s: usize,
+    pub t: usize,
+}
+
+impl BdptStrategy {
+    pub fn new(s: usize, t: usize) -> Result<Self, OptionError> {
+        if t >= 1 && s + t >= 2 {
+            Ok(Self { s, t })
+        } else {
+            Err(OptionError::Strategy(s, t))
+        }
+    }
+
+    /// As `RenderOptions::only_strategy` holds it.
+    pub fn pair(self) -> [usize; 2] {
+        [self.s, self.t]
+    }
+}
+
+/// Why the text of an option is none of its values: the message users
+/// see (the CLI names the flag before it).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum OptionError {
+    #[error("'{given}' is not {what}: use {choices}")]
+    Name {
+        what: &'static str,
+        given: String,
+        choices: &'static str,
+    },
+    #[error("cluster size {0} is not supported (use one of 1, 2, 4, 8, 16)")]
+    Cluster(String),
+    #[error("'{0}': give two counts S,T, e.g. 2,1")]
+    StrategyText(String),
+    #[error("strategy s={0}, t={1} does not exist (t ≥ 1, s + t ≥ 2)")]
+    Strategy(usize, usize),
+}
+
+/// `FromStr` and `Display` of an option named by a word: `name` prints
+/// it, `from_name` reads it, `what` and `choices` explain a wrong one.
+macro_rules! named_option {
+    ($type:ty, $what:literal, $choices:literal) => {
+        impl FromStr for $type {
+            type Err = OptionError;
+
+            fn from_str(text: &str) -> Result<Self, OptionError> {
+                <$type>::from_name(text).ok_or_else(|| OptionError::Name {
+                    what: $what,
+                    given: text.to_string(),
+                    choices: $choices,
+                })
+            }
+        }
+
+        impl fmt::Display for $type {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str(self.name())
+            }
+        }
+    };
+}
+
+named_option!(Quantity, "a quantity", "radiance or illuminance");
+named_option!(Tracer, "a tracer", "wavefront or scalar");
+named_option!(
+    WavelengthStrategy,
+    "a wavelength strategy",
+    "swc, hero or single"
+);
+named_option!(IntegratorKind, "an integrator", "path or bdpt");
+
+impl FromStr for ClusterSize {
+    type Err = OptionError;
+
+    fn from_str(text: &str) -> Result<Self, OptionError> {
+        let k = text
+            .trim()
+            .parse::<usize>()
+            .map_err(|_| OptionError::Cluster(format!("'{text}'")))?;
+        Self::try_from(k)
+    }
+}
+
+impl fmt::Display for ClusterSize {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.0)
+    }
+}
+
+impl FromStr for BdptStrategy {
+    type Err = OptionError;
+
+    /// `S,T`, spaces allowed around either count.
+    fn from_str(text: &str) -> Result<Self, OptionError> {
+        let bad = || OptionError::StrategyText(text.to_string());
+        let (s, t) = text.split_once(',').ok_or_else(bad)?;
+        let count = |v: &str| v.trim().parse::<usize>().map_err(|_| bad());
+        Self::new(count(s)?, count(t)?)
+    }
+}
+
+impl fmt::Display for BdptStrategy {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{},{}", self.s, self.t)
     }
 }
 
@@ -165,9 +318,93 @@ pub fn time_limit(seconds: f64) -> Result<Duration, String> {
     Duration::try_from_secs_f64(seconds).map_err(|e| format!("{seconds}: {e}"))
 }
 
+/// The longest interval between checkpoints accepted, seconds.
+pub const MAX_CHECKPOINT_SECONDS: f64 = 1e9;
+
+/// An interval between checkpoints of `seconds` (0: at every pass), or
+/// why it cannot be one.
+pub fn checkpoint_interval(seconds: f64) -> Result<Duration, String> {
+    if seconds.is_finite() && (0.0..=MAX_CHECKPOINT_SECONDS).contains(&seconds) {
+        Ok(Duration::from_secs_f64(seconds))
+    } else {
+        Err(format!("{seconds}: give 0 to 1e9 seconds"))
+    }
+}
+
+#[cfg(test)]
+mod text_tests {
+    use super::*;
+
+    /// Every value prints to text that parses back to it.
+    fn round_trips<T>(values: impl IntoIterator<Item = T>)
+    where
+        T: FromStr<Err = OptionError> + fmt::Display + PartialEq + fmt::Debug,
+    {
+        for v in values {
+            let text = v.to_string();
+            assert_eq!(text.parse::<T>(), Ok(v), "{text}");
+        }
+    }
+
+    #[test]
+    fn every_option_prints_to_the_text_it_reads() {
+        round_trips([Quantity::Radiance, Quantity::Illuminance]);
+        round_trips([Tracer::Wavefront, Tracer::Scalar]);
+        round_trips(WavelengthStrategy::ALL);
+        round_trips(IntegratorKind::ALL);
+        round_trips(CLUSTER_SIZES.map(|k| ClusterSize::try_from(k).unwrap()));
+        round_trips([[0, 2], [1, 1], [2, 1], [3, 4]].map(|[s, t]| BdptStrategy { s, t }));
+        assert_eq!(Quantity::default().to_string(), "radiance");
+        assert_eq!(Tracer::default().to_string(), "scalar");
+        assert_eq!(ClusterSize::default().to_string(), "4");
+        assert_eq!(" 2, 1".parse(), Ok(BdptStrategy { s: 2, t: 1 }));
+    }
+
+    #[test]
+    fn wrong_values_say_what_to_use() {
+        let e = |r: Result<(), OptionError>| r.unwrap_err().to_string();
+        assert_eq!(
+            e("light".parse::<IntegratorKind>().map(drop)),
+            "'light' is not an integrator: use path or bdpt"
+        );
+        assert!(
+            e("rgb".parse::<WavelengthStrategy>().map(drop)).contains("use swc, hero or single")
+        );
+        assert!(e("gpu".parse::<Tracer>().map(drop)).contains("use wavefront or scalar"));
+        assert!(e("lux".parse::<Quantity>().map(drop)).contains("use radiance or illuminance"));
+        for bad in ["3", "0", "32", "four", "-4"] {
+            let m = e(bad.parse::<ClusterSize>().map(drop));
+            assert!(m.contains("use one of 1, 2, 4, 8, 16"), "{bad}: {m}");
+        }
+        assert!(e(ClusterSize::try_from(3).map(drop)).starts_with("cluster size 3 "));
+        for bad in ["2", "2,1,0", "a,b", "-1,2", ""] {
+            let m = e(bad.parse::<BdptStrategy>().map(drop));
+            assert!(m.contains("give two counts S,T"), "{bad}: {m}");
+        }
+        for bad in ["0,0", "1,0", "2,0", "0,1"] {
+            let m = e(bad.parse::<BdptStrategy>().map(drop));
+            assert!(m.contains("does not exist"), "{bad}: {m}");
+        }
+    }
+}
+
 #[cfg(test)]
 mod time_limit_tests {
     use super::*;
+
+    #[test]
+    fn checkpoint_intervals_out_of_range_are_errors_not_panics() {
+        assert_eq!(checkpoint_interval(0.0), Ok(Duration::ZERO));
+        assert_eq!(checkpoint_interval(60.0), Ok(Duration::from_secs(60)));
+        for t in [-1.0, 2e9, f64::NAN, f64::INFINITY] {
+            assert!(
+                checkpoint_interval(t)
+                    .unwrap_err()
+                    .contains("give 0 to 1e9"),
+                "{t}"
+            );
+        }
+    }
 
     #[test]
     fn time_limits_out_of_range_are_errors_not_panics() {

@@ -287,3 +287,39 @@ impl Resolution {
         (self.width, h)
     }
 }
+
+impl std::str::FromStr for Resolution {
+    type Err = String;
+
+    fn from_str(text: &str) -> Result<Self, String> {
+        Self::parse(text)
+    }
+}
+
+/// `W` or `WxH`, as `parse` reads it.
+impl std::fmt::Display for Resolution {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.height {
+            Some(h) => write!(f, "{}x{h}", self.width),
+            None => write!(f, "{}", self.width),
+        }
+    }
+}
+
+#[cfg(test)]
+mod resolution_tests {
+    use super::Resolution;
+
+    #[test]
+    fn a_resolution_prints_to_the_text_it_reads() {
+        for text in ["640", "640x480", "1x65536"] {
+            let r: Resolution = text.parse().unwrap();
+            assert_eq!(r.to_string(), text);
+        }
+        assert_eq!("20X10".parse::<Resolution>().unwrap().to_string(), "20x10");
+        for bad in ["0", "x", "640x", "65537", "-3", "wide"] {
+            let e = bad.parse::<Resolution>().unwrap_err();
+            assert!(e.contains("give W or WxH"), "{bad}: {e}");
+        }
+    }
+}
