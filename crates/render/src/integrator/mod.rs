@@ -3,6 +3,7 @@
 //! driver (`driver.rs`).
 
 mod bdpt;
+mod direct;
 mod driver;
 mod equiangular;
 mod light_choice;

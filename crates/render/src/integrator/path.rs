@@ -7,11 +7,12 @@
 use scotopia_color::photometry::estimate_xyzv;
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
+use super::direct::{power_heuristic, spawn, DirectSample};
 use super::Renderer;
 use crate::bsdf::{Bsdf, ShadingPoint, Transport};
 use crate::geometry::Hit;
-use crate::light::{Light, LightSample};
-use crate::math::{offset_ray_origin, Frame, Ray, Vec3};
+use crate::light::Light;
+use crate::math::{Frame, Ray, Vec3};
 use crate::sampling::sobol::Sampler;
 use crate::sampling::splitmix::SplitMix;
 
@@ -24,46 +25,6 @@ pub struct CameraSample<const K: usize> {
     /// refraction collapsed them to one.
     pub collapsed: bool,
 }
-
-/// The power heuristic's weight of a strategy with density `a` against `b`.
-#[inline]
-pub(super) fn power_heuristic(a: f32, b: f32) -> f32 {
-    let (a2, b2) = (a * a, b * b);
-    if a2 + b2 > 0.0 && a2.is_finite() {
-        a2 / (a2 + b2)
-    } else if a.is_infinite() {
-        1.0
-    } else {
-        0.0
-    }
-}
-
-/// A ray leaving `p` (geometric normal `n`) in direction `d`.
-#[inline]
-/// `unit`: the scene's [`crate::accel::Aggregate::offset_unit`].
-pub(super) fn spawn(p: Vec3, n: Vec3, d: Vec3, unit: f32) -> Ray {
-    let side = if d.dot(n) >= 0.0 { n } else { -n };
-    Ray::new(offset_ray_origin(p, side, unit), d)
-}
-
-/// The ray that tests whether light sample `ls` reaches `p`. It starts
-/// at the offset origin and stops just short of the light's point as seen
-/// from there: measured from `p` instead, a grazing ray would reach the
-/// light's own surface before its end and count as shadowed.
-pub(super) fn shadow_ray<const K: usize>(p: Vec3, n: Vec3, ls: &LightSample<K>, unit: f32) -> Ray {
-    let mut ray = spawn(p, n, ls.wi, unit);
-    if ls.distance.is_finite() {
-        let to = p + ls.wi * ls.distance;
-        let d = to - ray.o;
-        let dist = d.length();
-        ray.d = d / dist;
-        ray.t_max = dist * (1.0 - SHADOW_EPSILON);
-    }
-    ray
-}
-
-/// Relative margin a shadow ray stops short of the light's surface.
-const SHADOW_EPSILON: f32 = 1e-4;
 
 /// One path in flight: everything the next bounce needs. The scalar
 /// tracer keeps one on its stack; the wavefront tracer keeps a batch.
@@ -346,22 +307,20 @@ impl Renderer<'_> {
         // squared distance (`light_choice`).
         let mut shadow = None;
         if !bsdf.is_delta() {
-            if let Some((i, p_choice)) = self.nee_choice.sample(p, u_light) {
-                let light = &scene.lights[i];
-                if let Some(ls) = light.sample_li(&self.extent(), &now, p, u_select, [u_l0, u_l1]) {
-                    let wo = frame.to_local(ls.wi);
-                    let f = bsdf.eval(&now, at, wi, wo, Transport::Radiance);
-                    if ls.pdf > 0.0 && !f.is_zero() && !ls.radiance.is_zero() {
-                        let ray = shadow_ray(p, ng, &ls, scene.geometry.offset_unit());
-                        let p_light = p_choice * ls.pdf;
-                        let w = if ls.delta {
-                            1.0
-                        } else {
-                            let p_bsdf = bsdf.pdf_at(&now, at, wi, wo);
-                            power_heuristic(p_light, self.reflectors.pdf(bsdf, p, ls.wi, p_bsdf))
-                        };
-                        shadow = Some((ray, path.beta * f * ls.radiance * (w / p_light)));
-                    }
+            let light = self.nee_choice.sample(p, u_light).and_then(|choice| {
+                self.sample_direct(choice, &now, (p, Some(ng)), u_select, [u_l0, u_l1])
+            });
+            if let Some(DirectSample { ls, ray, pdf }) = light {
+                let wo = frame.to_local(ls.wi);
+                let f = bsdf.eval(&now, at, wi, wo, Transport::Radiance);
+                if !f.is_zero() {
+                    let w = if ls.delta {
+                        1.0
+                    } else {
+                        let p_bsdf = bsdf.pdf_at(&now, at, wi, wo);
+                        power_heuristic(pdf, self.reflectors.pdf(bsdf, p, ls.wi, p_bsdf))
+                    };
+                    shadow = Some((ray, path.beta * f * ls.radiance * (w / pdf)));
                 }
             }
         }

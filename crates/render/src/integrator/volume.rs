@@ -19,7 +19,8 @@
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
-use super::path::{shadow_ray, Bounce, PathState};
+use super::direct::DirectSample;
+use super::path::{Bounce, PathState};
 use super::Renderer;
 use crate::bsdf::ShadingPoint;
 use crate::math::{Ray, Vec3};
@@ -148,17 +149,15 @@ impl Renderer<'_> {
         mis: Mis,
     ) -> Option<(Ray, SampledSpectrum<K>)> {
         let wi = -path.ray.d;
-        let (i, p_choice) = self.nee_choice.sample(p, u_light)?;
-        let light = &self.scene.lights[i];
-        let ls = light.sample_li(&self.extent(), &path.now, p, u_select, [u_l0, u_l1])?;
+        let choice = self.nee_choice.sample(p, u_light)?;
+        let DirectSample { ls, ray, pdf } =
+            self.sample_direct(choice, &path.now, (p, None), u_select, [u_l0, u_l1])?;
         let f = phase.eval(wi, ls.wi);
-        if !(ls.pdf > 0.0 && f > 0.0) || ls.radiance.is_zero() {
+        if f.is_nan() || f <= 0.0 {
             return None;
         }
-        let ray = shadow_ray(p, ls.wi, &ls, self.scene.geometry.offset_unit());
-        let p_light = p_choice * ls.pdf;
-        let w = mis.light_weight(p_light, f, ls.delta);
-        (w > 0.0).then(|| (ray, beta * ls.radiance * (f * w / p_light)))
+        let w = mis.light_weight(pdf, f, ls.delta);
+        (w > 0.0).then(|| (ray, beta * ls.radiance * (f * w / pdf)))
     }
 
     /// A scattering event in a medium at `p` (phase function `phase`),
@@ -270,7 +269,7 @@ impl Renderer<'_> {
                 medium = sides.target(ray.d, ng);
             }
             let d = ray.d;
-            ray = super::path::spawn(surface.p, ng, d, geometry.offset_unit());
+            ray = super::direct::spawn(surface.p, ng, d, geometry.offset_unit());
             if finite {
                 let left = (end - ray.o).dot(d);
                 if left <= 0.0 {

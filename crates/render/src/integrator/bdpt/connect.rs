@@ -11,7 +11,7 @@ use super::clusters::{Lanes, LightChoice};
 use super::mis::{self, Connection};
 use super::vertex::{Kind, Vertex};
 use crate::bsdf::{Bsdf, Transport};
-use crate::integrator::path::shadow_ray;
+use crate::integrator::direct::DirectSample;
 use crate::integrator::Renderer;
 use crate::light::Light;
 use crate::math::{offset_ray_origin, Ray, Vec3};
@@ -258,24 +258,21 @@ impl Renderer<'_> {
             }
             let (i, q) = sub.choice.sample(u_choice)?;
             let lt = &self.scene.lights[i];
-            let ls = lt.sample_li(&self.extent(), wl, z.p, u_select, [u0, u1])?;
-            if ls.pdf.is_nan() || ls.pdf <= 0.0 || ls.radiance.is_zero() {
-                return None;
-            }
+            // No surface at a medium vertex: the ray leaves along the
+            // light's direction.
+            let n = z.on_surface().then_some(z.ng);
+            let DirectSample { ls, ray, pdf } =
+                self.sample_direct((i, q), wl, (z.p, n), u_select, [u0, u1])?;
             let (f, rho) = self.scatter_f(z, wl, ls.wi, Transport::Radiance);
             let f = f * rho;
             if f.is_zero() {
                 return None;
             }
-            // No surface at a medium vertex: the "normal" only sets the
-            // offset's side.
-            let n = if z.on_surface() { z.ng } else { ls.wi };
-            let ray = shadow_ray(z.p, n, &ls, self.scene.geometry.offset_unit());
             let tr = self.pass_segment(ray, self.medium_towards(z, ls.wi), wl, rng, rays);
             if tr.is_zero() {
                 return None;
             }
-            l = z.beta * f * tr * ls.radiance * (1.0 / (q * ls.pdf)) * initial_only(&mut min_s);
+            l = z.beta * f * tr * ls.radiance * (1.0 / pdf) * initial_only(&mut min_s);
             // The sampled light point, as a vertex.
             let at_infinity = !ls.distance.is_finite();
             let mut y0 = Vertex::new(

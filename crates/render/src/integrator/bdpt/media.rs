@@ -44,7 +44,7 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::vertex::{Kind, Vertex};
 use crate::bsdf::Transport;
-use crate::integrator::path::spawn;
+use crate::integrator::direct::spawn;
 use crate::integrator::Renderer;
 use crate::light::Light;
 use crate::math::{Ray, Vec3};

@@ -8,7 +8,7 @@ use super::clusters::LightChoice;
 use super::media::take_event;
 use super::vertex::{Kind, Vertex, MAX_VERTICES};
 use crate::bsdf::Transport;
-use crate::integrator::path::spawn;
+use crate::integrator::direct::spawn;
 use crate::integrator::Renderer;
 use crate::math::{Ray, Vec3};
 use crate::sampling::sobol::Sampler;
