@@ -51,7 +51,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Spectrum(args) => spectrum::run(args),
         Command::Info(args) => info::run(args),
-        Command::Render(args) => render::run(*args),
+        Command::Render(args) => scotopia_cli::run_render(*args),
         Command::Display(args) => display::run(args),
         Command::Measure(args) => measure::run(args),
         Command::View(args) => view::run(*args),
