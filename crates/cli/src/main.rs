@@ -15,8 +15,9 @@ use clap::{Parser, Subcommand};
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 /// scotopia: a spectral renderer that shows what a human eye would see.
+/// Verbs: spectrum, info, render, display, measure and view.
 #[derive(Parser)]
-#[command(name = "scotopia", version, about, long_about = None)]
+#[command(name = "scotopia", version, long_about = None)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
