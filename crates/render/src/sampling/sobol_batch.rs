@@ -154,7 +154,7 @@ fn set_points<W: Wide>(s: W, keys: W::u32s, index: W::u32s, set: u32) -> [W::f32
     out
 }
 
-/// Wellons's lowbias32 per lane (`mix` in sobol.rs).
+/// Wellons's lowbias32 per lane (`mix` in sobol_point.rs).
 #[inline(always)]
 pub(super) fn mix<W: Wide>(s: W, mut x: W::u32s) -> W::u32s {
     x = s.xor_u32s(x, s.shr_u32s::<16>(x));
@@ -164,7 +164,7 @@ pub(super) fn mix<W: Wide>(s: W, mut x: W::u32s) -> W::u32s {
     s.xor_u32s(x, s.shr_u32s::<16>(x))
 }
 
-/// The Laine–Karras permutation per lane (`laine_karras` in sobol.rs).
+/// The Laine–Karras permutation per lane (`laine_karras` in sobol_point.rs).
 #[inline(always)]
 pub(super) fn laine_karras<W: Wide>(s: W, x: W::u32s, seed: W::u32s) -> W::u32s {
     let mut x = s.add_u32s(x, seed);
@@ -175,7 +175,7 @@ pub(super) fn laine_karras<W: Wide>(s: W, x: W::u32s, seed: W::u32s) -> W::u32s 
 }
 
 /// The four reversed Sobol coordinates of reversed indices `x`
-/// (`sobol_reversed` in sobol.rs).
+/// (`sobol_reversed` in sobol_point.rs).
 #[inline(always)]
 fn sobol_reversed<W: Wide>(s: W, x: W::u32s) -> [W::u32s; 4] {
     let [d1, d2, d3] = match W::LANES {
@@ -242,7 +242,7 @@ fn rotl<W: Wide, const R: i32, const L: i32>(s: W, x: W::u32s) -> W::u32s {
     s.or_u32s(s.shl_u32s::<R>(x), s.shr_u32s::<L>(x))
 }
 
-/// One word's round of `hash` (sobol.rs) per lane.
+/// One word's round of `hash` (sobol_point.rs) per lane.
 #[inline(always)]
 fn hash_round<W: Wide>(s: W, h: W::u32s, w: W::u32s) -> W::u32s {
     let k = s.mul_u32s(w, s.splat_u32s(murmur::C1));
@@ -254,7 +254,7 @@ fn hash_round<W: Wide>(s: W, h: W::u32s, w: W::u32s) -> W::u32s {
     )
 }
 
-/// `hash(&[seed, x, y])` (sobol.rs) per lane.
+/// `hash(&[seed, x, y])` (sobol_point.rs) per lane.
 #[inline(always)]
 fn hash3<W: Wide>(s: W, seed: u32, x: W::u32s, y: W::u32s) -> W::u32s {
     // The first word is the same in every lane: hashed once, in scalar.

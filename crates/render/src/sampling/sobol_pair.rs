@@ -73,13 +73,13 @@ impl Kernel for Pair {
     }
 }
 
-/// `mix` (sobol.rs) per lane.
+/// `mix` (sobol_point.rs) per lane.
 #[inline(always)]
 fn mix_wide<W: Wide>(s: W, x: W::u32s) -> W::u32s {
     super::sobol_batch::mix(s, x)
 }
 
-/// `laine_karras` (sobol.rs) per lane.
+/// `laine_karras` (sobol_point.rs) per lane.
 #[inline(always)]
 fn lk<W: Wide>(s: W, x: W::u32s, seed: W::u32s) -> W::u32s {
     super::sobol_batch::laine_karras(s, x, seed)
