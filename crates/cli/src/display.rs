@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Context, Result};
 
 use scotopia_color::RgbSpace;
-use scotopia_image::{read_xyzv, write_png_rgb8, RgbInput};
+use scotopia_image::{read_xyzv, write_png_rgb8, RgbInput, XyzvImage};
 use scotopia_vision::acuity::degrees_per_pixel;
 use scotopia_vision::mode::Adaptation;
 use scotopia_vision::output::{
@@ -241,7 +241,7 @@ pub fn run(args: Args) -> Result<()> {
     scotopia_vision::pipeline::check_size(image.width, image.height)
         .with_context(|| args.input.display().to_string())?;
     if let Some(quantity) = &args.false_colour {
-        return crate::false_colour::run(&args, quantity, &image);
+        return write_false_colour(&args, quantity, &image);
     }
     let (params, png, notes) = args.vision.params(image.width, image.fov_horizontal)?;
     for note in notes {
@@ -300,6 +300,23 @@ impl PhaseClock {
             }
         }
     }
+}
+
+/// `--false-colour`: the map instead of what the eye sees.
+fn write_false_colour(args: &Args, quantity: &str, image: &XyzvImage) -> Result<()> {
+    let Some(out) = &args.output else {
+        bail!("--false-colour: give -o OUT.png");
+    };
+    let name = args.input.display().to_string();
+    let map = crate::false_colour::map(quantity, args.range.as_deref(), args.log, image, &name)?;
+    write_png_rgb8(out, map.width as u32, map.height as u32, &map.rgb)
+        .with_context(|| format!("{}: cannot write", out.display()))?;
+    eprintln!(
+        "scotopia: false colour of {quantity}, {} → {}",
+        map.legend,
+        out.display()
+    );
+    Ok(())
 }
 
 /// Says once, on stderr, which pixels the pipeline left out of its

@@ -1,29 +1,12 @@
 //! `scotopia display --false-colour`: a map of luminance, CIE 191 mesopic
 //! luminance or illuminance with a labelled scale bar, for reading levels
-//! off a picture. `scotopia view` shows the same map.
+//! off a picture. `scotopia view` shows the same map; `display` writes it
+//! (`display::write_false_colour`).
 
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 
-use scotopia_image::{write_png_rgb8, XyzvImage};
+use scotopia_image::XyzvImage;
 use scotopia_vision::false_colour::{false_colour, Mapped, Scale};
-
-use crate::display::Args;
-
-pub fn run(args: &Args, quantity: &str, image: &XyzvImage) -> Result<()> {
-    let Some(out) = &args.output else {
-        bail!("--false-colour: give -o OUT.png");
-    };
-    let name = args.input.display().to_string();
-    let map = map(quantity, args.range.as_deref(), args.log, image, &name)?;
-    write_png_rgb8(out, map.width as u32, map.height as u32, &map.rgb)
-        .with_context(|| format!("{}: cannot write", out.display()))?;
-    eprintln!(
-        "scotopia: false colour of {quantity}, {} → {}",
-        map.legend,
-        out.display()
-    );
-    Ok(())
-}
 
 /// A false-colour picture: 8-bit sRGB with its scale bar, and what its
 /// scale spans ("0 to 12.5 cd/m² (log)").

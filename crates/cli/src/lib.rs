@@ -13,6 +13,16 @@ pub mod spectrum;
 mod tev;
 pub mod view;
 
+/// `scotopia render`: here (`render::run`), or on a Ray cluster with
+/// `--ray` (`ray::render`, which reuses the local render's arguments and
+/// outputs, so it sits above `render`, not inside it).
+pub fn run_render(args: render::Args) -> anyhow::Result<()> {
+    match &args.ray {
+        Some(address) => ray::render(&args, address),
+        None => render::run(args),
+    }
+}
+
 /// Writes `text` to standard output; a closed pipe (`| head`) is not an error.
 pub fn print(text: &str) -> anyhow::Result<()> {
     use std::io::Write;

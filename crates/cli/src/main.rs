@@ -15,8 +15,9 @@ use clap::{Parser, Subcommand};
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 /// scotopia: a spectral renderer that shows what a human eye would see.
+/// Verbs: spectrum, info, render, display, measure and view.
 #[derive(Parser)]
-#[command(name = "scotopia", version, about, long_about = None)]
+#[command(name = "scotopia", version, long_about = None)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -51,7 +52,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Spectrum(args) => spectrum::run(args),
         Command::Info(args) => info::run(args),
-        Command::Render(args) => render::run(*args),
+        Command::Render(args) => scotopia_cli::run_render(*args),
         Command::Display(args) => display::run(args),
         Command::Measure(args) => measure::run(args),
         Command::View(args) => view::run(*args),

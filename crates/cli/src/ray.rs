@@ -22,9 +22,10 @@ use nix::unistd::Pid;
 
 use scotopia_image::{read_xyzv, RgbInput};
 
-use crate::render::{cancel_on_interrupt, write_pictures, Args};
+use crate::render::{cancel_on_interrupt, check_outputs, write_pictures, Args};
 
 pub fn render(args: &Args, address: &str) -> Result<()> {
+    check_outputs(args, std::slice::from_ref(&args.setup.scene))?;
     let s = &args.setup;
     for (given, flag) in [
         (s.time.is_some(), "--time"),

@@ -221,11 +221,10 @@ pub fn cancel_on_interrupt() -> Result<Arc<AtomicBool>> {
     Ok(cancel)
 }
 
+/// Renders here; `--ray` goes to `ray::render` instead (`crate::run_render`
+/// chooses).
 pub fn run(args: Args) -> Result<()> {
     check_outputs(&args, std::slice::from_ref(&args.setup.scene))?;
-    if let Some(address) = &args.ray {
-        return crate::ray::render(&args, address);
-    }
     let Prepared {
         scene,
         options,
@@ -470,7 +469,7 @@ pub(crate) fn write_pictures(
 
 /// Refuses outputs that are one of the run's `inputs` (the scene and the
 /// files it reads) or that name one file twice.
-fn check_outputs(args: &Args, inputs: &[PathBuf]) -> Result<()> {
+pub(crate) fn check_outputs(args: &Args, inputs: &[PathBuf]) -> Result<()> {
     let ckpt = checkpoint_path(&args.output);
     let mut outputs: Vec<(&str, &Path)> = vec![("-o", &args.output)];
     for (flag, path) in [

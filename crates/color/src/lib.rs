@@ -7,6 +7,7 @@
 
 pub mod cct;
 pub mod cie;
+pub mod colorimetry;
 pub mod error;
 pub mod io;
 pub mod photometry;
@@ -15,8 +16,9 @@ pub mod space;
 pub mod spectrum;
 pub mod upsample;
 
+pub use colorimetry::Colorimetry;
 pub use error::ColorError;
-pub use photometry::{Colorimetry, Xyzv};
+pub use photometry::Xyzv;
 pub use sampled::{SampledSpectrum, SampledWavelengths};
 pub use space::{Mat3, RgbColorSpace, RgbSpace};
 pub use spectrum::{Spectrum, Tabulated};

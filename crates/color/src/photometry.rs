@@ -1,7 +1,6 @@
 //! Absolute photometry: spectral radiance (W·sr⁻¹·m⁻²·nm⁻¹) to CIE X, Y, Z
 //! in cd/m² and scotopic V′ in scotopic cd/m².
 
-use crate::cct::{cct_from_xy, Cct};
 use crate::cie;
 use crate::sampled::{SampledSpectrum, SampledWavelengths};
 use crate::spectrum::Spectrum;
@@ -141,38 +140,6 @@ pub fn estimate_xyzv<const K: usize>(
         out[2] * K_M as f32,
         out[3] * K_M_SCOTOPIC as f32,
     ]
-}
-
-/// Everything `scotopia spectrum` reports about one spectrum.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Colorimetry {
-    /// Absolute X, Y, Z, V′ (the spectrum read as radiance in W·sr⁻¹·m⁻²·nm⁻¹;
-    /// a reflectance under an equal-energy illuminant of 1 W·sr⁻¹·m⁻²·nm⁻¹).
-    pub xyzv: Xyzv,
-    pub xy: Option<[f64; 2]>,
-    /// CCT and Duv; `None` when the chromaticity is farther than 0.05 from the
-    /// Planckian locus or outside 1000–100000 K, where CCT has no meaning.
-    pub cct: Option<Cct>,
-    pub sp_ratio: Option<f64>,
-    /// 360, 361, …, 830 nm.
-    pub wavelengths: Vec<u32>,
-    pub values: Vec<f32>,
-}
-
-impl Colorimetry {
-    pub fn of(s: &Spectrum) -> Self {
-        let xyzv = spectrum_to_xyzv(s);
-        let xy = xyzv.xy();
-        let cct = xy.and_then(cct_from_xy).filter(|c| c.duv.abs() <= 0.05);
-        Self {
-            xyzv,
-            xy,
-            cct,
-            sp_ratio: xyzv.sp_ratio(),
-            wavelengths: (LAMBDA_MIN as u32..=LAMBDA_MAX as u32).collect(),
-            values: s.on_grid(LAMBDA_MIN, LAMBDA_MAX, 1.0),
-        }
-    }
 }
 
 #[cfg(test)]

@@ -2,7 +2,6 @@
 //! pipeline, OpenEXR and PNG (8/16-bit, sRGB or PQ) writing (atomic),
 //! PNG/JPEG/EXR reading for textures, spectrum plots.
 
-mod exr_fast;
 pub mod exr_out;
 pub mod limits;
 pub mod output_file;

@@ -7,12 +7,8 @@ use crate::camera::{Camera, IrradianceMeter};
 use crate::light::Light;
 use crate::medium::{Medium, ShapeMedia};
 
-/// The film's reconstruction filter (Mitsuba's `rfilter`).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Filter {
-    Box,
-    Gaussian { stddev: f32 },
-}
+/// The film's filter, named here too: a scene file sets it.
+pub use crate::film::Filter;
 
 /// Which light transport algorithm renders the scene.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -1,6 +1,13 @@
-//! scotopia-scene: scene loading (the Mitsuba 3 XML loader arrives with the
-//! rest of issue 3) and the named material data scenes refer to: measured
-//! metal indices and dispersive glasses.
+//! scotopia-scene: reading scene files into a `scotopia_render::scene::Scene`.
+//! Parse, describe, build: `mitsuba` parses Mitsuba 3 XML into plain nodes
+//! that remember file and line; `build` makes the renderer's objects from
+//! them (one file per element type; `registry` records how far each
+//! Mitsuba plugin is followed). What a scene refers to is read here too:
+//! meshes (`mesh`: OBJ, PLY, Mitsuba's serialized), voxel grids (`volume`),
+//! photometric files (`luminaire`: IES, EULUMDAT) and named materials
+//! (`materials`: measured metals, dispersive glasses). `info` describes a
+//! loaded scene for `scotopia info`; `checkpoint_key` is the fingerprint a
+//! checkpoint is stamped with.
 
 mod build;
 mod checkpoint_key;

@@ -4,7 +4,7 @@
 //! SSE halves or a scalar loop), every level computing the same f32
 //! values in the same order, so every level visits the same children.
 
-use super::aabb::GAMMA3;
+use crate::math::GAMMA3;
 use crate::math::{Ray, Vec3};
 use crate::simd::{Lanes8, Scalar8, Wide};
 

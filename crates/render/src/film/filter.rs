@@ -6,7 +6,13 @@
 //! parallel renders are deterministic).
 
 use crate::sampling::distribution::Distribution1D;
-use crate::scene::Filter;
+
+/// The film's reconstruction filter (Mitsuba's `rfilter`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Filter {
+    Box,
+    Gaussian { stddev: f32 },
+}
 
 /// Bins of the tabulated Gaussian's inverse CDF (per axis).
 const GAUSSIAN_BINS: usize = 1024;

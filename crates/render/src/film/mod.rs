@@ -9,7 +9,7 @@ mod spectral;
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 pub use checkpoint::{fingerprint, Checkpoint, SampleCounts, Source};
-pub use filter::FilterSampler;
+pub use filter::{Filter, FilterSampler};
 pub use spectral::Bands;
 
 /// Accumulated estimates of one pixel.

@@ -5,8 +5,7 @@
 //! (φ/2π, z).
 
 use super::{GeometryError, SurfacePoint};
-use crate::accel::Aabb;
-use crate::math::{Frame, Ray, Transform, Vec3};
+use crate::math::{Aabb, Frame, Ray, Transform, Vec3};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Cylinder {

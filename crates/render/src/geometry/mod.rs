@@ -7,6 +7,7 @@ mod mesh;
 mod planar;
 mod sample;
 mod sphere;
+mod tex_point;
 mod triangle;
 
 pub use attribute::Attribute;
@@ -15,11 +16,10 @@ pub use mesh::TriangleMesh;
 pub use planar::{Planar, PlanarKind, PlaneTest};
 pub use sample::SurfacePoint;
 pub use sphere::Sphere;
+pub use tex_point::TexPoint;
 pub use triangle::{intersect_triangle, RayShear, TriangleHit};
 
-use crate::accel::Aabb;
-use crate::math::{Ray, Vec3};
-use crate::texture::TexPoint;
+use crate::math::{Aabb, Ray, Vec3};
 
 /// Geometry that cannot be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -3,8 +3,7 @@
 //! textures), values sit at the cell centres, (i + ½)/n along each axis of
 //! the unit cube, and lookups outside the centres clamp to the edge cells.
 
-use crate::accel::Aabb;
-use crate::math::Vec3;
+use crate::math::{Aabb, Vec3};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Grid {

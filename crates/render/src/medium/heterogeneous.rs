@@ -16,8 +16,7 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths};
 use super::majorant::Majorants;
 use super::volume::Field;
 use super::{densities_from_logs, MediumEvent, Phase};
-use crate::accel::Aabb;
-use crate::math::{Ray, Transform, Vec3};
+use crate::math::{Aabb, Ray, Transform, Vec3};
 use crate::sampling::splitmix::SplitMix;
 
 #[derive(Debug, Clone, PartialEq)]

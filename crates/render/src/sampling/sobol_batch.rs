@@ -10,8 +10,9 @@
 //! AVX2 and AVX-512), since pulp's safe kernels have no gathers.
 //!
 //! [`Sampler`]: super::sobol::Sampler
+//! [`set_point`]: super::sobol_point::set_point
 
-use super::sobol::{
+use super::sobol_point::{
     murmur, pixel_key, set_point, DIM_MUL, DIRECTIONS, LK_MULS, MIX_MULS, SET_MUL, UNIT,
 };
 use crate::simd::{Kernel, Level, Wide};
@@ -153,7 +154,7 @@ fn set_points<W: Wide>(s: W, keys: W::u32s, index: W::u32s, set: u32) -> [W::f32
     out
 }
 
-/// Wellons's lowbias32 per lane (`mix` in sobol.rs).
+/// Wellons's lowbias32 per lane (`mix` in sobol_point.rs).
 #[inline(always)]
 pub(super) fn mix<W: Wide>(s: W, mut x: W::u32s) -> W::u32s {
     x = s.xor_u32s(x, s.shr_u32s::<16>(x));
@@ -163,7 +164,7 @@ pub(super) fn mix<W: Wide>(s: W, mut x: W::u32s) -> W::u32s {
     s.xor_u32s(x, s.shr_u32s::<16>(x))
 }
 
-/// The Laine–Karras permutation per lane (`laine_karras` in sobol.rs).
+/// The Laine–Karras permutation per lane (`laine_karras` in sobol_point.rs).
 #[inline(always)]
 pub(super) fn laine_karras<W: Wide>(s: W, x: W::u32s, seed: W::u32s) -> W::u32s {
     let mut x = s.add_u32s(x, seed);
@@ -174,7 +175,7 @@ pub(super) fn laine_karras<W: Wide>(s: W, x: W::u32s, seed: W::u32s) -> W::u32s 
 }
 
 /// The four reversed Sobol coordinates of reversed indices `x`
-/// (`sobol_reversed` in sobol.rs).
+/// (`sobol_reversed` in sobol_point.rs).
 #[inline(always)]
 fn sobol_reversed<W: Wide>(s: W, x: W::u32s) -> [W::u32s; 4] {
     let [d1, d2, d3] = match W::LANES {
@@ -241,7 +242,7 @@ fn rotl<W: Wide, const R: i32, const L: i32>(s: W, x: W::u32s) -> W::u32s {
     s.or_u32s(s.shl_u32s::<R>(x), s.shr_u32s::<L>(x))
 }
 
-/// One word's round of `hash` (sobol.rs) per lane.
+/// One word's round of `hash` (sobol_point.rs) per lane.
 #[inline(always)]
 fn hash_round<W: Wide>(s: W, h: W::u32s, w: W::u32s) -> W::u32s {
     let k = s.mul_u32s(w, s.splat_u32s(murmur::C1));
@@ -253,7 +254,7 @@ fn hash_round<W: Wide>(s: W, h: W::u32s, w: W::u32s) -> W::u32s {
     )
 }
 
-/// `hash(&[seed, x, y])` (sobol.rs) per lane.
+/// `hash(&[seed, x, y])` (sobol_point.rs) per lane.
 #[inline(always)]
 fn hash3<W: Wide>(s: W, seed: u32, x: W::u32s, y: W::u32s) -> W::u32s {
     // The first word is the same in every lane: hashed once, in scalar.
@@ -276,7 +277,6 @@ fn hash3<W: Wide>(s: W, seed: u32, x: W::u32s, y: W::u32s) -> W::u32s {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sampling::sobol::Sampler;
 
     fn rng(mut state: u64) -> impl FnMut() -> u32 {
         move || {
@@ -284,60 +284,6 @@ mod tests {
                 .wrapping_mul(6_364_136_223_846_793_005)
                 .wrapping_add(1_442_695_040_888_963_407);
             (state >> 32) as u32
-        }
-    }
-
-    #[test]
-    fn batches_match_the_sampler_bit_for_bit_on_every_level() {
-        let mut next = rng(99);
-        // Lengths that leave tails at every width, random pixels, indices
-        // (small and full 32-bit), sets and seeds.
-        for (round, n) in [1usize, 3, 4, 7, 8, 15, 16, 17, 33, 100, 257]
-            .into_iter()
-            .enumerate()
-        {
-            let seed = if round % 3 == 0 { 0 } else { next() };
-            let xs: Vec<u32> = (0..n).map(|_| next() % 4096).collect();
-            let ys: Vec<u32> = (0..n).map(|_| next()).collect();
-            let indices: Vec<u32> = (0..n)
-                .map(|i| if i % 2 == 0 { next() % 1024 } else { next() })
-                .collect();
-            let set = [0, 1, 5, next() % 64, next()][round % 5];
-            // The reference: a Sampler drawn up to `set`.
-            let want: Vec<[f32; 4]> = (0..n)
-                .map(|i| {
-                    let mut s = Sampler::new(seed);
-                    s.start([xs[i], ys[i]], indices[i]);
-                    if set < 64 {
-                        for _ in 0..set {
-                            s.get_4d();
-                        }
-                        assert_eq!(s.next_set(), set);
-                        s.get_4d()
-                    } else {
-                        set_point(s.pixel_key(), indices[i].reverse_bits(), set)
-                    }
-                })
-                .collect();
-            for level in Level::available() {
-                let mut keys = vec![0u32; n];
-                pixel_keys(level, seed, &xs, &ys, &mut keys);
-                for i in 0..n {
-                    assert_eq!(keys[i], pixel_key(seed, [xs[i], ys[i]]), "{level} key {i}");
-                }
-                let mut out = [vec![0f32; n], vec![0f32; n], vec![0f32; n], vec![0f32; n]];
-                let [a, b, c, d] = &mut out;
-                sobol_sets(level, set, &keys, &indices, [a, b, c, d]);
-                for (i, w) in want.iter().enumerate() {
-                    for dim in 0..4 {
-                        assert_eq!(
-                            out[dim][i].to_bits(),
-                            w[dim].to_bits(),
-                            "{level}: lane {i} of {n}, set {set}, dim {dim}"
-                        );
-                    }
-                }
-            }
         }
     }
 
@@ -352,7 +298,8 @@ mod tests {
                         .map(|g| groups[g][((x >> (g as u32 * b)) & 15) as usize])
                         .fold(0, |a, v| a ^ v)
                 };
-                let want = crate::sampling::sobol::sobol(x.reverse_bits(), d + 1).reverse_bits();
+                let want =
+                    crate::sampling::sobol_point::sobol(x.reverse_bits(), d + 1).reverse_bits();
                 assert_eq!(by(4, t4), want);
                 let g8: u32 = (0..11)
                     .map(|g| GROUPS_8[d][g][((x >> (3 * g)) & 7) as usize])

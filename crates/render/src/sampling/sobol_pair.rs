@@ -10,9 +10,9 @@
 //! each, most of the work — run as one 8-lane register on AVX2 (two on
 //! SSE4.2, half of one on AVX-512).
 //!
-//! [`set_point`]: super::sobol::set_point
+//! [`set_point`]: super::sobol_point::set_point
 
-use super::sobol::{laine_karras, mix, set_point, sobol_reversed, DIM_MUL, SET_MUL, UNIT};
+use super::sobol_point::{laine_karras, mix, set_point, sobol_reversed, DIM_MUL, SET_MUL, UNIT};
 use crate::simd::{Kernel, Level, Wide};
 
 /// Sets `set` and `set + 1` of the sample whose bit-reversed index is
@@ -73,13 +73,13 @@ impl Kernel for Pair {
     }
 }
 
-/// `mix` (sobol.rs) per lane.
+/// `mix` (sobol_point.rs) per lane.
 #[inline(always)]
 fn mix_wide<W: Wide>(s: W, x: W::u32s) -> W::u32s {
     super::sobol_batch::mix(s, x)
 }
 
-/// `laine_karras` (sobol.rs) per lane.
+/// `laine_karras` (sobol_point.rs) per lane.
 #[inline(always)]
 fn lk<W: Wide>(s: W, x: W::u32s, seed: W::u32s) -> W::u32s {
     super::sobol_batch::laine_karras(s, x, seed)

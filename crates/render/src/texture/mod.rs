@@ -8,16 +8,17 @@
 mod bitmap;
 mod checkerboard;
 mod mesh_attribute;
-mod point;
 mod scalar;
 mod uv;
 
 use std::sync::Arc;
 
+/// Made by the shapes (`geometry`), which know the hit; kept here for the
+/// paths that name it `texture::TexPoint`.
+pub use crate::geometry::TexPoint;
 pub use bitmap::{Bitmap, Filter, Wrap};
 pub use checkerboard::Checkerboard;
 pub use mesh_attribute::MeshAttribute;
-pub use point::TexPoint;
 pub use scalar::{luminance, FloatCheckerboard, FloatTexture, RgbBitmap};
 pub use uv::UvTransform;
 

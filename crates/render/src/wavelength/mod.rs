@@ -13,14 +13,14 @@
 //! - `single`: one wavelength per path, from the visible density.
 
 mod inverse_cdf;
-mod spectral_pdf;
 mod swc;
-mod visible;
 
 pub use inverse_cdf::InverseCdf;
-pub use spectral_pdf::SpectralPdf;
 pub use swc::Swc;
-pub use visible::{sample_visible, visible_pdf};
+// The densities live in `sampling`, below the fluorescent BSDFs that
+// sample with them; named here too, where the strategies use them.
+pub use crate::sampling::spectral_pdf::SpectralPdf;
+pub use crate::sampling::visible::{sample_visible, visible_pdf};
 
 use scotopia_color::{SampledWavelengths, LAMBDA_MAX, LAMBDA_MIN};
 

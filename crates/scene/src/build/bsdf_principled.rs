@@ -7,7 +7,7 @@ use scotopia_render::bsdf::{
 };
 use scotopia_render::texture::FloatTexture;
 
-use super::bsdf_nested::float_texture;
+use super::float_texture::float_texture;
 use super::Builder;
 use crate::mitsuba::{Node, Props, SceneError, Usage};
 

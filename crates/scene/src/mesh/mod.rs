@@ -5,6 +5,7 @@
 mod obj;
 mod ply;
 mod ply_attributes;
+mod ply_scalar;
 mod serialized;
 
 pub use obj::{parse_obj, read_obj};

@@ -11,6 +11,7 @@ use scotopia_render::geometry::Attribute;
 use scotopia_render::math::Vec3;
 
 use super::ply_attributes::{self, Plan};
+use super::ply_scalar::Scalar;
 use super::{MeshData, MeshError};
 
 /// Vertex properties read as geometry, not attributes.
@@ -30,43 +31,6 @@ const VERTEX_RESERVED: [&str; 14] = [
     "texture_s",
     "texture_t",
 ];
-
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) enum Scalar {
-    I8,
-    U8,
-    I16,
-    U16,
-    I32,
-    U32,
-    F32,
-    F64,
-}
-
-impl Scalar {
-    fn parse(s: &str) -> Option<Self> {
-        Some(match s {
-            "char" | "int8" => Scalar::I8,
-            "uchar" | "uint8" => Scalar::U8,
-            "short" | "int16" => Scalar::I16,
-            "ushort" | "uint16" => Scalar::U16,
-            "int" | "int32" => Scalar::I32,
-            "uint" | "uint32" => Scalar::U32,
-            "float" | "float32" => Scalar::F32,
-            "double" | "float64" => Scalar::F64,
-            _ => return None,
-        })
-    }
-
-    fn size(self) -> usize {
-        match self {
-            Scalar::I8 | Scalar::U8 => 1,
-            Scalar::I16 | Scalar::U16 => 2,
-            Scalar::I32 | Scalar::U32 | Scalar::F32 => 4,
-            Scalar::F64 => 8,
-        }
-    }
-}
 
 #[derive(Debug, Clone)]
 enum Property {

@@ -13,7 +13,7 @@
 //! the sRGB curve — except `uchar`, which Mitsuba 3 keeps as it is (0–255;
 //! its integer range test starts at `char`), with a note.
 
-use super::ply::Scalar;
+use super::ply_scalar::Scalar;
 use scotopia_color::space::srgb_decode;
 
 /// Where each attribute's numbers come from in an element's records.

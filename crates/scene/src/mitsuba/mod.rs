@@ -1,6 +1,6 @@
 //! The Mitsuba 3 XML scene format: parse to plain nodes (`parse`), then
 //! read values (`values`); files named in a scene are found through the
-//! search path (`search`). Building scene objects follows.
+//! search path (`search`). `crate::build` makes scene objects of them.
 
 mod error;
 mod parse;

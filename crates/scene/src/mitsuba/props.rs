@@ -1,17 +1,17 @@
 //! Properties of an object node: `<float name=…>`, `<integer>`,
 //! `<boolean>`, `<string>`, `<rgb>`, `<spectrum>`, `<point>`, `<vector>`,
 //! `<transform>`. Each read is remembered, so what a scene sets but
-//! scotopia does not use can be reported once as a warning.
+//! scotopia does not use can be reported once as a warning. Spectral
+//! properties are read in `spectrum.rs`, which reads spectra's own
+//! properties through these.
 
 use std::cell::RefCell;
 
-use scotopia_color::{rgb_to_spectrum, RgbSpace, Spectrum, SpectrumKind, UpsampleMethod};
 use scotopia_render::math::{Transform, Vec3};
 
 use super::error::SceneError;
 use super::parse::Node;
-use super::spectrum::read_spectrum_as;
-use super::values::{parse_floats, parse_rgb, read_transform};
+use super::values::{parse_floats, read_transform};
 
 /// What a colour is used as: it decides how `<rgb>` is upsampled and
 /// whether negative values are allowed.
@@ -57,7 +57,7 @@ pub struct Props<'a> {
     used: RefCell<Vec<&'a str>>,
     /// Values read with an adjustment the user should hear of: (property
     /// node, what was done), reported as warnings with the unused ones.
-    notes: RefCell<Vec<(&'a Node, String)>>,
+    pub(super) notes: RefCell<Vec<(&'a Node, String)>>,
 }
 
 impl<'a> Props<'a> {
@@ -102,7 +102,7 @@ impl<'a> Props<'a> {
             .collect()
     }
 
-    fn number(&self, n: &Node) -> Result<f32, SceneError> {
+    pub(super) fn number(&self, n: &Node) -> Result<f32, SceneError> {
         self.one(n, n.require("value")?)
     }
 
@@ -178,91 +178,5 @@ impl<'a> Props<'a> {
             Some(n) => Err(n.error(format!("'{name}' must be a <transform>"))),
             None => Ok(Transform::IDENTITY),
         }
-    }
-
-    /// A medium's coefficient (σ_t, albedo) from `<spectrum>`, `<rgb>` or a
-    /// number, read for `usage`, except that an RGB within [0, 1] is
-    /// upsampled as a reflectance whatever the usage, as Mitsuba's spectral
-    /// variants upsample every volume's colour (its `srgb`); a brighter one,
-    /// which Mitsuba refuses there, as `usage` says.
-    pub fn coefficient(&self, name: &str, usage: Usage) -> Result<Option<Spectrum>, SceneError> {
-        match self.get(name) {
-            Some(n) if n.tag == "rgb" && usage == Usage::Unbounded => self
-                .spectrum(name, Usage::Reflectance)
-                .or_else(|_| self.spectrum(name, usage)),
-            _ => self.spectrum(name, usage),
-        }
-    }
-
-    /// A spectral property from `<spectrum>`, `<rgb>` or a number.
-    pub fn spectrum(&self, name: &str, usage: Usage) -> Result<Option<Spectrum>, SceneError> {
-        let Some(n) = self.get(name) else {
-            return Ok(None);
-        };
-        let s = match n.tag.as_str() {
-            "float" => Spectrum::Constant(self.number(n)?),
-            "rgb" => {
-                let mut rgb = parse_rgb(n)?;
-                // Mitsuba's spectral upsampling clamps an unbounded colour
-                // (an index fitted in RGB) to non-negative values.
-                if usage == Usage::Unbounded && rgb.iter().any(|&v| v < 0.0) {
-                    let given = format!("{}, {}, {}", rgb[0], rgb[1], rgb[2]);
-                    rgb = rgb.map(|v| v.max(0.0));
-                    self.notes.borrow_mut().push((
-                        n,
-                        format!(
-                            "'{name}' = ({given}) has a negative component: read as ({}, {}, {}), as Mitsuba's spectral upsampling does",
-                            rgb[0], rgb[1], rgb[2]
-                        ),
-                    ));
-                }
-                let kind = match usage {
-                    Usage::Reflectance => SpectrumKind::Reflectance,
-                    Usage::Unbounded => SpectrumKind::Unbounded,
-                    Usage::Emission => SpectrumKind::Illuminant,
-                };
-                rgb_to_spectrum(rgb, RgbSpace::Srgb, UpsampleMethod::Jakob2019, kind)
-                    .map_err(|e| n.error(e.to_string()))?
-            }
-            "spectrum" => read_spectrum_as(n, usage)?,
-            "texture" | "ref" => {
-                return Err(n.error(format!(
-                    "'{name}' cannot be a texture here: give a <spectrum>, <rgb> or <float>"
-                )))
-            }
-            other => {
-                return Err(n.error(format!(
-                    "'{name}' must be a spectrum, <rgb> or <float>, not <{other}>"
-                )))
-            }
-        };
-        if usage == Usage::Reflectance {
-            check_reflectance(n, &s)?;
-        }
-        Ok(Some(s))
-    }
-}
-
-/// Reflectances above 1 or below 0 create energy: an error. Checked on a
-/// 5 nm grid and at the spectrum's own samples (a tabulated spectrum is
-/// piecewise linear, so its extremes lie there: a spike between grid
-/// points is caught).
-fn check_reflectance(n: &Node, s: &Spectrum) -> Result<(), SceneError> {
-    let range = scotopia_color::LAMBDA_MIN..=scotopia_color::LAMBDA_MAX;
-    let grid = (360..=830).step_by(5).map(|l| l as f32);
-    let samples = s
-        .breakpoints()
-        .iter()
-        .copied()
-        .filter(|l| range.contains(l));
-    let bad = grid
-        .chain(samples)
-        .map(|l| (l, s.eval(l)))
-        .find(|(_, v)| !(0.0..=1.0 + 1e-4).contains(v));
-    match bad {
-        Some((l, v)) => Err(n.error(format!(
-            "a reflectance must lie in [0, 1], found {v} at {l} nm"
-        ))),
-        None => Ok(()),
     }
 }

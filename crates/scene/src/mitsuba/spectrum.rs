@@ -1,7 +1,8 @@
 //! `<spectrum>` values: constants, `λ:value` pairs, files, blackbodies,
 //! CIE illuminants by name, and Mitsuba's spectrum plugins (`regular`,
 //! `irregular`, `uniform`, `srgb`, `rawconstant`), with `scale` or
-//! scotopia's `luminance`.
+//! scotopia's `luminance`; and an object's spectral properties
+//! (`Props::spectrum`, `Props::coefficient`), which may be such values.
 
 use scotopia_color::photometry::{integrate_observers, spectrum_to_xyzv};
 use scotopia_color::{
@@ -247,4 +248,92 @@ fn spectrum_plugin(n: &Node, kind: &str, usage: Usage) -> Result<Option<Spectrum
         return Err(n.error(format!("the '{kind}' spectrum has no value")));
     }
     Ok(Some(s))
+}
+
+impl<'a> Props<'a> {
+    /// A medium's coefficient (σ_t, albedo) from `<spectrum>`, `<rgb>` or a
+    /// number, read for `usage`, except that an RGB within [0, 1] is
+    /// upsampled as a reflectance whatever the usage, as Mitsuba's spectral
+    /// variants upsample every volume's colour (its `srgb`); a brighter one,
+    /// which Mitsuba refuses there, as `usage` says.
+    pub fn coefficient(&self, name: &str, usage: Usage) -> Result<Option<Spectrum>, SceneError> {
+        match self.get(name) {
+            Some(n) if n.tag == "rgb" && usage == Usage::Unbounded => self
+                .spectrum(name, Usage::Reflectance)
+                .or_else(|_| self.spectrum(name, usage)),
+            _ => self.spectrum(name, usage),
+        }
+    }
+
+    /// A spectral property from `<spectrum>`, `<rgb>` or a number.
+    pub fn spectrum(&self, name: &str, usage: Usage) -> Result<Option<Spectrum>, SceneError> {
+        let Some(n) = self.get(name) else {
+            return Ok(None);
+        };
+        let s = match n.tag.as_str() {
+            "float" => Spectrum::Constant(self.number(n)?),
+            "rgb" => {
+                let mut rgb = parse_rgb(n)?;
+                // Mitsuba's spectral upsampling clamps an unbounded colour
+                // (an index fitted in RGB) to non-negative values.
+                if usage == Usage::Unbounded && rgb.iter().any(|&v| v < 0.0) {
+                    let given = format!("{}, {}, {}", rgb[0], rgb[1], rgb[2]);
+                    rgb = rgb.map(|v| v.max(0.0));
+                    self.notes.borrow_mut().push((
+                        n,
+                        format!(
+                            "'{name}' = ({given}) has a negative component: read as ({}, {}, {}), as Mitsuba's spectral upsampling does",
+                            rgb[0], rgb[1], rgb[2]
+                        ),
+                    ));
+                }
+                let kind = match usage {
+                    Usage::Reflectance => SpectrumKind::Reflectance,
+                    Usage::Unbounded => SpectrumKind::Unbounded,
+                    Usage::Emission => SpectrumKind::Illuminant,
+                };
+                rgb_to_spectrum(rgb, RgbSpace::Srgb, UpsampleMethod::Jakob2019, kind)
+                    .map_err(|e| n.error(e.to_string()))?
+            }
+            "spectrum" => read_spectrum_as(n, usage)?,
+            "texture" | "ref" => {
+                return Err(n.error(format!(
+                    "'{name}' cannot be a texture here: give a <spectrum>, <rgb> or <float>"
+                )))
+            }
+            other => {
+                return Err(n.error(format!(
+                    "'{name}' must be a spectrum, <rgb> or <float>, not <{other}>"
+                )))
+            }
+        };
+        if usage == Usage::Reflectance {
+            check_reflectance(n, &s)?;
+        }
+        Ok(Some(s))
+    }
+}
+
+/// Reflectances above 1 or below 0 create energy: an error. Checked on a
+/// 5 nm grid and at the spectrum's own samples (a tabulated spectrum is
+/// piecewise linear, so its extremes lie there: a spike between grid
+/// points is caught).
+fn check_reflectance(n: &Node, s: &Spectrum) -> Result<(), SceneError> {
+    let range = scotopia_color::LAMBDA_MIN..=scotopia_color::LAMBDA_MAX;
+    let grid = (360..=830).step_by(5).map(|l| l as f32);
+    let samples = s
+        .breakpoints()
+        .iter()
+        .copied()
+        .filter(|l| range.contains(l));
+    let bad = grid
+        .chain(samples)
+        .map(|l| (l, s.eval(l)))
+        .find(|(_, v)| !(0.0..=1.0 + 1e-4).contains(v));
+    match bad {
+        Some((l, v)) => Err(n.error(format!(
+            "a reflectance must lie in [0, 1], found {v} at {l} nm"
+        ))),
+        None => Ok(()),
+    }
 }

@@ -19,7 +19,7 @@
 
 use std::path::Path;
 
-use scotopia_render::accel::Aabb;
+use scotopia_render::math::Aabb;
 use scotopia_render::math::Vec3;
 use scotopia_render::medium::Grid;
 

@@ -1,3 +1,7 @@
+use scotopia_color::{Mat3, RgbSpace};
+
+use super::display::to_display_cones;
+use super::receptors::Matrices;
 use super::*;
 
 const W: usize = 96;

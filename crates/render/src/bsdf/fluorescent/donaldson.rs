@@ -20,7 +20,7 @@
 
 use scotopia_color::{Spectrum, Tabulated, LAMBDA_MAX, LAMBDA_MIN};
 
-use crate::wavelength::SpectralPdf;
+use crate::sampling::spectral_pdf::SpectralPdf;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Donaldson {

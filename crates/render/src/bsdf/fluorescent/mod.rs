@@ -26,9 +26,9 @@ pub use separable::Separable;
 
 use super::BsdfSample;
 use crate::math::Vec3;
+use crate::sampling::spectral_pdf::SpectralPdf;
 use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
 use crate::texture::{TexPoint, Texture};
-use crate::wavelength::SpectralPdf;
 
 /// How absorbed light is re-emitted.
 #[derive(Debug, Clone, PartialEq)]

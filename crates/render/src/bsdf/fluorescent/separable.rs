@@ -13,7 +13,7 @@
 
 use scotopia_color::{Spectrum, LAMBDA_MAX, LAMBDA_MIN};
 
-use crate::wavelength::SpectralPdf;
+use crate::sampling::spectral_pdf::SpectralPdf;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Separable {

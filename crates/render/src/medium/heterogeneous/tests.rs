@@ -1,5 +1,5 @@
 use super::*;
-use crate::accel::Aabb;
+use crate::math::Aabb;
 use crate::medium::{Filter, Grid, GridVolume, Homogeneous};
 use crate::test_rng::{mean_and_se, uniforms};
 use scotopia_color::Spectrum;

@@ -1,10 +1,10 @@
 //! Axis-aligned bounding boxes.
 
-use crate::math::{Ray, Vec3};
+use super::{Ray, Vec3};
 
 /// γ₃ = 3u/(1 − 3u), u the unit roundoff (pbrt-v4 §6.8.1): the relative
 /// error bound of the slab distances.
-pub(super) const GAMMA3: f32 = 3.0 * (f32::EPSILON * 0.5) / (1.0 - 3.0 * (f32::EPSILON * 0.5));
+pub(crate) const GAMMA3: f32 = 3.0 * (f32::EPSILON * 0.5) / (1.0 - 3.0 * (f32::EPSILON * 0.5));
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Aabb {

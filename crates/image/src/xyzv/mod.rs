@@ -1,6 +1,9 @@
 //! The XYZV′ image: absolute X, Y, Z (cd/m²) and V′ (scotopic cd/m²) per
 //! pixel — the contract between the renderer and the vision pipeline — read
-//! from an OpenEXR written by scotopia or by any other renderer.
+//! from an OpenEXR written by scotopia or by any other renderer; scotopia's
+//! own layout through a faster reader (`exr_fast`).
+
+mod exr_fast;
 
 use std::path::Path;
 
@@ -94,7 +97,7 @@ pub fn read_xyzv(path: &Path, rgb: RgbInput) -> Result<XyzvImage, ImageError> {
                     let index = |n: &Text| header.channels.list.iter().position(|c| c.name == *n);
                     let fast = match [&x, &y, &z, &v].map(index) {
                         [Some(a), Some(b), Some(c), Some(d)] => {
-                            crate::exr_fast::read_own_layout(path, &meta, [a, b, c, d])
+                            exr_fast::read_own_layout(path, &meta, [a, b, c, d])
                         }
                         _ => None,
                     };

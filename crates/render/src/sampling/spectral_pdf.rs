@@ -8,6 +8,8 @@
 use scotopia_color::photometry::integration_nodes;
 use scotopia_color::{Spectrum, LAMBDA_MAX, LAMBDA_MIN};
 
+use super::visible::visible_pdf;
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct SpectralPdf {
     nodes: Vec<f32>,
@@ -41,24 +43,21 @@ impl SpectralPdf {
     }
 
     /// A density proportional to `s` times the visible density
-    /// ([`super::visible_pdf`]): where a lamp's light is seen. `None` as
+    /// ([`visible_pdf`]): where a lamp's light is seen. `None` as
     /// for [`Self::new`].
     pub fn seen(s: &Spectrum) -> Option<Self> {
         let nodes = integration_nodes(s);
-        let values = nodes
-            .iter()
-            .map(|&l| s.eval(l) * super::visible_pdf(l))
-            .collect();
+        let values = nodes.iter().map(|&l| s.eval(l) * visible_pdf(l)).collect();
         Self::from_nodes(nodes, values)
     }
 
-    /// The visible density ([`super::visible_pdf`]) on the 1 nm grid,
+    /// The visible density ([`visible_pdf`]) on the 1 nm grid,
     /// linear between.
     pub fn visible() -> Self {
         let nodes: Vec<f32> = (LAMBDA_MIN as u32..=LAMBDA_MAX as u32)
             .map(|l| l as f32)
             .collect();
-        let values = nodes.iter().map(|&l| super::visible_pdf(l)).collect();
+        let values = nodes.iter().map(|&l| visible_pdf(l)).collect();
         Self::from_nodes(nodes, values).expect("the visible density is positive")
     }
 

@@ -5,6 +5,8 @@
 //! and attached to shapes (`interior`, `exterior`) and to the sensor;
 //! `volpath` and `bdpt` trace them.
 
+mod heterogeneous;
+
 use scotopia_color::{Spectrum, LAMBDA_MAX, LAMBDA_MIN};
 use scotopia_render::medium::{Homogeneous, Medium, Phase, ShapeMedia};
 
@@ -15,7 +17,7 @@ use crate::mitsuba::{Node, Props, SceneError, Usage};
 pub fn build_medium(b: &mut Builder, node: &Node) -> Result<Option<Medium>, SceneError> {
     let kind = node.require("type")?;
     if kind == "heterogeneous" {
-        return super::heterogeneous::build_heterogeneous(b, node).map(Some);
+        return heterogeneous::build_heterogeneous(b, node).map(Some);
     }
     if kind != "homogeneous" {
         return Ok(None);

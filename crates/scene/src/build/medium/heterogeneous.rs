@@ -11,8 +11,8 @@ use scotopia_color::Spectrum;
 use scotopia_render::math::Transform;
 use scotopia_render::medium::{Field, Filter, GridVolume, Heterogeneous, Medium};
 
-use super::medium::{negative, phase_and_rest};
-use super::Builder;
+use super::{negative, phase_and_rest};
+use crate::build::Builder;
 use crate::mitsuba::{resolve, Node, Props, SceneError, Usage};
 use crate::volume::read_vol;
 
