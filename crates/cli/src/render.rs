@@ -129,7 +129,9 @@ pub struct Setup {
     pub(crate) bdpt_strategy: Option<BdptStrategy>,
     /// The path integrator's form: scalar (one path at a time, the
     /// reference, today the faster) or wavefront (batches of paths, stage
-    /// by stage). Both give the same image, bit for bit.
+    /// by stage). Both give the same image, bit for bit. The wavefront
+    /// tracer traces between surfaces only: with media, bdpt, illuminance
+    /// or an irradiance meter it is an error.
     #[arg(long, default_value = "scalar", value_name = "scalar|wavefront")]
     pub(crate) tracer: Tracer,
     /// Wavelengths per path: 1, 2, 4, 8 or 16.

@@ -26,21 +26,22 @@ pub(super) struct DirectSample<const K: usize> {
 
 impl Renderer<'_> {
     /// A point of light `i`, chosen with probability `p_choice`, sampled
-    /// towards `p` on wavelengths `wl` (`u_select`, `u`: the light's
-    /// numbers), and the ray from `p` that tests it: it leaves on the side
-    /// of `n` the light is on, or along the light's direction where there
-    /// is no surface (`None`: a point in a medium). `None` when the light
-    /// gives nothing there.
+    /// towards `p` on wavelengths `wl` (`u`: the light's three numbers),
+    /// and the ray from `p` that tests it: it leaves on the side of `n`
+    /// the light is on, or along the light's direction where there is no
+    /// surface (`None`: a point in a medium). `None` when the light gives
+    /// nothing there.
     pub(super) fn sample_direct<const K: usize>(
         &self,
-        (i, p_choice): (usize, f32),
+        i: usize,
+        p_choice: f32,
         wl: &scotopia_color::SampledWavelengths<K>,
-        (p, n): (Vec3, Option<Vec3>),
-        u_select: f32,
-        u: [f32; 2],
+        p: Vec3,
+        n: Option<Vec3>,
+        [u_select, u0, u1]: [f32; 3],
     ) -> Option<DirectSample<K>> {
         let light = &self.scene.lights[i];
-        let ls = light.sample_li(&self.extent(), wl, p, u_select, u)?;
+        let ls = light.sample_li(&self.extent(), wl, p, u_select, [u0, u1])?;
         if ls.pdf.is_nan() || ls.pdf <= 0.0 || ls.radiance.is_zero() {
             return None;
         }

@@ -22,7 +22,7 @@ use rayon::prelude::*;
 use scotopia_color::photometry::estimate_xyzv;
 use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
 
-use super::path::{CameraSample, PathState};
+use super::path::{CameraSample, PathState, ScatterPoint};
 use super::{RenderError, RenderOptions, Renderer};
 use crate::bsdf::{Bsdf, Diffuse, ShadingPoint};
 use crate::math::{Frame, Ray, Vec3};
@@ -196,7 +196,13 @@ impl Renderer<'_> {
         path.medium = self.scene.camera_medium;
         path.rng = sampler.stream();
         let u = sampler.get_two_4d();
-        let b = self.scatter(&mut path, u, (p, n), (frame, at), &self.white);
+        let point = ScatterPoint {
+            p,
+            ng: n,
+            frame,
+            at,
+        };
+        let b = self.scatter(&mut path, u, &point, &self.white);
         if self.settle(&mut path, b, rays) {
             self.trace(sampler, &mut path, rays);
         }

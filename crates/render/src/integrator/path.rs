@@ -63,6 +63,16 @@ pub struct PathState<const K: usize> {
     pub rng: SplitMix,
 }
 
+/// Where a path scatters at a surface: the point, its geometric normal,
+/// and the shading frame and point of its BSDF.
+#[derive(Clone, Copy)]
+pub(super) struct ScatterPoint {
+    pub p: Vec3,
+    pub ng: Vec3,
+    pub frame: Frame,
+    pub at: ShadingPoint,
+}
+
 /// What a bounce leaves to do: a shadow ray whose contribution counts if
 /// it is not occluded, and whether the path goes on (along `ray`).
 pub struct Bounce<const K: usize> {
@@ -254,7 +264,13 @@ impl Renderer<'_> {
             surface.dpdv,
         );
         let ng = surface.n_geometric;
-        let mut b = self.scatter(path, u, (surface.p, ng), (frame, at), bsdf);
+        let point = ScatterPoint {
+            p: surface.p,
+            ng,
+            frame,
+            at,
+        };
+        let mut b = self.scatter(path, u, &point, bsdf);
         // Rays leaving a medium boundary enter the medium on their side.
         if self.volumetric {
             if let Some(sides) = self.shape_media(hit.shape) {
@@ -283,10 +299,10 @@ impl Renderer<'_> {
         &self,
         path: &mut PathState<K>,
         u: [[f32; 4]; 2],
-        (p, ng): (Vec3, Vec3),
-        (frame, at): (Frame, ShadingPoint),
+        point: &ScatterPoint,
         bsdf: &Bsdf,
     ) -> Bounce<K> {
+        let ScatterPoint { p, ng, frame, at } = *point;
         let scene = self.scene;
         let stop = Bounce::STOP;
         let wo_world = -path.ray.d;
@@ -307,9 +323,12 @@ impl Renderer<'_> {
         // squared distance (`light_choice`).
         let mut shadow = None;
         if !bsdf.is_delta() {
-            let light = self.nee_choice.sample(p, u_light).and_then(|choice| {
-                self.sample_direct(choice, &now, (p, Some(ng)), u_select, [u_l0, u_l1])
-            });
+            let light = self
+                .nee_choice
+                .sample(p, u_light)
+                .and_then(|(i, p_choice)| {
+                    self.sample_direct(i, p_choice, &now, p, Some(ng), [u_select, u_l0, u_l1])
+                });
             if let Some(DirectSample { ls, ray, pdf }) = light {
                 let wo = frame.to_local(ls.wi);
                 let f = bsdf.eval(&now, at, wi, wo, Transport::Radiance);

@@ -149,9 +149,9 @@ impl Renderer<'_> {
         mis: Mis,
     ) -> Option<(Ray, SampledSpectrum<K>)> {
         let wi = -path.ray.d;
-        let choice = self.nee_choice.sample(p, u_light)?;
+        let (i, p_choice) = self.nee_choice.sample(p, u_light)?;
         let DirectSample { ls, ray, pdf } =
-            self.sample_direct(choice, &path.now, (p, None), u_select, [u_l0, u_l1])?;
+            self.sample_direct(i, p_choice, &path.now, p, None, [u_select, u_l0, u_l1])?;
         let f = phase.eval(wi, ls.wi);
         if f.is_nan() || f <= 0.0 {
             return None;

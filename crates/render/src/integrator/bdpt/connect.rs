@@ -262,7 +262,7 @@ impl Renderer<'_> {
             // light's direction.
             let n = z.on_surface().then_some(z.ng);
             let DirectSample { ls, ray, pdf } =
-                self.sample_direct((i, q), wl, (z.p, n), u_select, [u0, u1])?;
+                self.sample_direct(i, q, wl, z.p, n, [u_select, u0, u1])?;
             let (f, rho) = self.scatter_f(z, wl, ls.wi, Transport::Radiance);
             let f = f * rho;
             if f.is_zero() {

@@ -202,7 +202,7 @@ impl Renderer<'_> {
                 let (frame, at) = v.shading();
                 let mut f = bsdf.eval(wl, at, frame.to_local(v.wi), frame.to_local(d), mode);
                 if mode == Transport::Importance {
-                    f *= super::walk::shading_correction(v.ng, v.ns, v.wi, d);
+                    f *= super::vertex::shading_correction(v.ng, v.ns, v.wi, d);
                 }
                 (f, super::connect::elastic(bsdf, wl, v.tex))
             }

@@ -141,3 +141,16 @@ impl<const K: usize> Vertex<K> {
         }
     }
 }
+
+/// The factor that makes shading normals symmetric for light paths
+/// (Veach 1997, §5.3, eq. 5.19): |wi·ns||wo·ng| / (|wi·ng||wo·ns|), with
+/// `wi` towards where the light came from and `wo` where it goes.
+#[inline]
+pub(super) fn shading_correction(ng: Vec3, ns: Vec3, wi: Vec3, wo: Vec3) -> f32 {
+    let den = wi.dot(ng).abs() * wo.dot(ns).abs();
+    if den == 0.0 {
+        0.0
+    } else {
+        wi.dot(ns).abs() * wo.dot(ng).abs() / den
+    }
+}

@@ -6,26 +6,13 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::clusters::LightChoice;
 use super::media::take_event;
-use super::vertex::{Kind, Vertex, MAX_VERTICES};
+use super::vertex::{shading_correction, Kind, Vertex, MAX_VERTICES};
 use crate::bsdf::Transport;
 use crate::integrator::direct::spawn;
 use crate::integrator::Renderer;
 use crate::math::{Ray, Vec3};
 use crate::sampling::sobol::Sampler;
 use crate::sampling::splitmix::SplitMix;
-
-/// The factor that makes shading normals symmetric for light paths
-/// (Veach 1997, §5.3, eq. 5.19): |wi·ns||wo·ng| / (|wi·ng||wo·ns|), with
-/// `wi` towards where the light came from and `wo` where it goes.
-#[inline]
-pub(super) fn shading_correction(ng: Vec3, ns: Vec3, wi: Vec3, wo: Vec3) -> f32 {
-    let den = wi.dot(ng).abs() * wo.dot(ns).abs();
-    if den == 0.0 {
-        0.0
-    } else {
-        wi.dot(ns).abs() * wo.dot(ng).abs() / den
-    }
-}
 
 impl Renderer<'_> {
     /// Camera subpath along camera ray `ray` from lens point `lens_point`:
