@@ -181,6 +181,11 @@ def test_another_site_cannot_save(browser, viewer):
         with page.expect_response(save) as answer:
             page.evaluate("() => document.getElementById('f').submit()")
         assert answer.value.status in (403, 415)
+        # The form's submission navigates the page to the refusal: the
+        # fetch goes from a fresh page, not one whose context the
+        # navigation may still be replacing.
+        page.close()
+        page = browser.new_page()
         page.set_content("<p>elsewhere</p>")
         sent = page.evaluate(
             """url => fetch(url, {method: 'POST', headers: {'Content-Type': 'application/json'},
