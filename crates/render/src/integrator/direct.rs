@@ -31,6 +31,7 @@ impl Renderer<'_> {
     /// the light is on, or along the light's direction where there is no
     /// surface (`None`: a point in a medium). `None` when the light gives
     /// nothing there.
+    #[inline]
     pub(super) fn sample_direct<const K: usize>(
         &self,
         i: usize,

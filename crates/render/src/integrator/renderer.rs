@@ -356,6 +356,7 @@ impl<'a> Renderer<'a> {
 
     /// One camera sample of `pixel` by the integrator that runs (the
     /// wavefront tracer's come a row at a time, `wavefront::trace_row`).
+    #[inline]
     fn estimate<const K: usize>(
         &self,
         sampler: &mut Sampler,
