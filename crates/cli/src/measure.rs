@@ -184,10 +184,7 @@ pub fn run(args: Args) -> Result<()> {
         ..load_options(None)
     };
     let (scene, files) = load_scene_tracked(&args.scene, &parameters(&args.define)?, &load)?;
-    let read: Vec<(&str, &Path)> = files
-        .iter()
-        .map(|f| ("a file the scene reads", &**f))
-        .collect();
+    let read = crate::render::named_inputs("the scene", &files);
     scotopia_image::check_outputs(&read, output).map_err(anyhow::Error::msg)?;
     for w in &scene.warnings {
         eprintln!("scotopia: warning: {w}");

@@ -498,19 +498,29 @@ pub(crate) fn check_outputs(args: &Args, inputs: &[PathBuf]) -> Result<()> {
         }
         outputs.push(("the checkpoint", &ckpt));
     }
-    let inputs: Vec<(&str, &Path)> = inputs
+    let inputs = named_inputs("the scene", inputs);
+    scotopia_image::check_outputs(&inputs, &outputs).map_err(anyhow::Error::msg)
+}
+
+/// A run's input files named for an error: the first as `first` (the
+/// scene, or the image or scene `view` shows), the others as files the
+/// scene reads.
+pub(crate) fn named_inputs<'a>(
+    first: &'static str,
+    files: &'a [PathBuf],
+) -> Vec<(&'static str, &'a Path)> {
+    let what = |i: usize| {
+        if i == 0 {
+            first
+        } else {
+            "a file the scene reads"
+        }
+    };
+    files
         .iter()
         .enumerate()
-        .map(|(i, p)| {
-            let what = if i == 0 {
-                "the scene"
-            } else {
-                "a file the scene reads"
-            };
-            (what, p.as_path())
-        })
-        .collect();
-    scotopia_image::check_outputs(&inputs, &outputs).map_err(anyhow::Error::msg)
+        .map(|(i, p)| (what(i), p.as_path()))
+        .collect()
 }
 
 /// Where `--checkpoint` saves and `--resume` reads: beside the output.

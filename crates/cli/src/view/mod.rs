@@ -299,18 +299,7 @@ fn serve(args: &Args, live: Arc<Live>) -> Result<(String, server::Serving)> {
 /// saving would destroy it.
 fn check_saves(output: &Path, inputs: &[PathBuf]) -> Result<()> {
     let png = output.with_extension("png");
-    let inputs: Vec<(&str, &Path)> = inputs
-        .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            let what = if i == 0 {
-                "the input"
-            } else {
-                "a file the scene reads"
-            };
-            (what, p.as_path())
-        })
-        .collect();
+    let inputs = crate::render::named_inputs("the input", inputs);
     let outputs = [("-o", output), ("the PNG saved beside -o", png.as_path())];
     scotopia_image::check_outputs(&inputs, &outputs).map_err(anyhow::Error::msg)
 }

@@ -17,11 +17,21 @@ use super::Renderer;
 pub(super) struct DirectSample<const K: usize> {
     /// The light's sample: direction, radiance, distance, density.
     pub ls: LightSample<K>,
-    /// The ray that tests whether the sampled point is seen.
-    pub ray: Ray,
     /// The density of the light point: the light's choice times its own
     /// sampling density.
     pub pdf: f32,
+    /// Where it was sampled from, and the normal whose side the shadow
+    /// ray leaves on (the light's direction in a medium).
+    p: Vec3,
+    n: Vec3,
+}
+
+impl<const K: usize> DirectSample<K> {
+    /// The ray that tests whether the sampled point is seen: made only
+    /// once the scattering towards it is known not to be zero.
+    pub fn ray(&self, unit: f32) -> Ray {
+        shadow_ray(self.p, self.n, &self.ls, unit)
+    }
 }
 
 impl Renderer<'_> {
@@ -46,14 +56,9 @@ impl Renderer<'_> {
         if ls.pdf.is_nan() || ls.pdf <= 0.0 || ls.radiance.is_zero() {
             return None;
         }
-        let ray = shadow_ray(
-            p,
-            n.unwrap_or(ls.wi),
-            &ls,
-            self.scene.geometry.offset_unit(),
-        );
         let pdf = p_choice * ls.pdf;
-        Some(DirectSample { ls, ray, pdf })
+        let n = n.unwrap_or(ls.wi);
+        Some(DirectSample { ls, pdf, p, n })
     }
 }
 

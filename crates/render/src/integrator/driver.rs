@@ -190,7 +190,7 @@ fn render_k<const K: usize>(
     }
     let start = Instant::now();
     let mut renderer = Renderer::new(scene, options)?;
-    let (integrator, quantity) = (renderer.kind, renderer.quantity);
+    let (integrator, quantity) = (renderer.kind, renderer.integrator.quantity());
     let first = match &options.shard {
         Some(shard) => {
             if shard.samples.is_empty() {

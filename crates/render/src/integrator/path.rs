@@ -7,7 +7,7 @@
 use scotopia_color::photometry::estimate_xyzv;
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
-use super::direct::{power_heuristic, spawn, DirectSample};
+use super::direct::{power_heuristic, spawn};
 use super::Renderer;
 use crate::bsdf::{Bsdf, ShadingPoint, Transport};
 use crate::geometry::Hit;
@@ -329,10 +329,12 @@ impl Renderer<'_> {
                 .and_then(|(i, p_choice)| {
                     self.sample_direct(i, p_choice, &now, p, Some(ng), [u_select, u_l0, u_l1])
                 });
-            if let Some(DirectSample { ls, ray, pdf }) = light {
+            if let Some(d) = light {
+                let (ls, pdf) = (&d.ls, d.pdf);
                 let wo = frame.to_local(ls.wi);
                 let f = bsdf.eval(&now, at, wi, wo, Transport::Radiance);
                 if !f.is_zero() {
+                    let ray = d.ray(scene.geometry.offset_unit());
                     let w = if ls.delta {
                         1.0
                     } else {

@@ -17,8 +17,8 @@ use crate::wavelength::{WavelengthSampler, WavelengthStrategy};
 
 use super::select::{traces_media, Bidirectional, Choice, Integrator, Run};
 use super::{
-    bdpt, equiangular, measure, wavefront, CameraSample, LightChoice, Quantity, Reflectors,
-    RenderError, RenderOptions, Splat, Tracer,
+    bdpt, equiangular, measure, wavefront, CameraSample, LightChoice, Reflectors, RenderError,
+    RenderOptions, Splat, Tracer,
 };
 
 /// The bounding spheres of the shapes (outside shape groups) whose BSDF
@@ -89,10 +89,8 @@ pub struct Renderer<'a> {
     /// The integrator that runs, with its own state.
     pub integrator: Integrator,
     /// The integrator as an image's metadata reports it (the options' or
-    /// the scene's; the path tracer for an irradiance meter), and what
-    /// the pixels hold.
+    /// the scene's; the path tracer for an irradiance meter).
     pub(super) kind: IntegratorKind,
-    pub(super) quantity: Quantity,
     /// The film rows a pass renders (a shard's; all by default).
     pub(super) rows: std::ops::Range<u32>,
     /// The white Lambertian surface of virtual receivers (`measure.rs`).
@@ -113,7 +111,6 @@ impl<'a> Renderer<'a> {
     pub fn new(scene: &'a Scene, options: &RenderOptions) -> Result<Self, RenderError> {
         let choice = Choice::new(scene, options)?;
         let mut r = Self::shared(scene, options.strategy, choice.kind);
-        r.quantity = choice.quantity;
         r.integrator = match choice.run {
             Run::Path(tracer) => Integrator::Path(tracer),
             Run::VolPath => Integrator::VolPath,
@@ -199,7 +196,6 @@ impl<'a> Renderer<'a> {
             light_choice,
             integrator: Integrator::Path(Tracer::Scalar),
             kind,
-            quantity: Quantity::Radiance,
             rows: 0..u32::MAX,
             white: measure::white(),
             targets,

@@ -37,11 +37,10 @@ pub struct Bidirectional {
 }
 
 /// What the options and the scene ask for, before the integrator's state
-/// is built: the integrator as reported in an image's metadata, the
-/// quantity the pixels hold, and the integrator that runs.
+/// is built: the integrator as reported in an image's metadata, and the
+/// integrator that runs.
 pub(super) struct Choice {
     pub kind: IntegratorKind,
-    pub quantity: Quantity,
     pub run: Run,
 }
 
@@ -103,15 +102,19 @@ impl Choice {
             };
             return Err(RenderError::Wavefront(what));
         }
-        Ok(Self {
-            kind,
-            quantity,
-            run,
-        })
+        Ok(Self { kind, run })
     }
 }
 
 impl Integrator {
+    /// What its pixels hold.
+    pub fn quantity(&self) -> Quantity {
+        match self {
+            Self::Illuminance | Self::Meter => Quantity::Illuminance,
+            _ => Quantity::Radiance,
+        }
+    }
+
     /// The name of what runs, for messages.
     pub fn name(&self) -> &'static str {
         match self {

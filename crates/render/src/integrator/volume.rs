@@ -19,7 +19,6 @@
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
-use super::direct::DirectSample;
 use super::path::{Bounce, PathState};
 use super::Renderer;
 use crate::bsdf::ShadingPoint;
@@ -150,14 +149,14 @@ impl Renderer<'_> {
     ) -> Option<(Ray, SampledSpectrum<K>)> {
         let wi = -path.ray.d;
         let (i, p_choice) = self.nee_choice.sample(p, u_light)?;
-        let DirectSample { ls, ray, pdf } =
-            self.sample_direct(i, p_choice, &path.now, p, None, [u_select, u_l0, u_l1])?;
-        let f = phase.eval(wi, ls.wi);
+        let d = self.sample_direct(i, p_choice, &path.now, p, None, [u_select, u_l0, u_l1])?;
+        let f = phase.eval(wi, d.ls.wi);
         if f.is_nan() || f <= 0.0 {
             return None;
         }
-        let w = mis.light_weight(pdf, f, ls.delta);
-        (w > 0.0).then(|| (ray, beta * ls.radiance * (f * w / pdf)))
+        let w = mis.light_weight(d.pdf, f, d.ls.delta);
+        let unit = self.scene.geometry.offset_unit();
+        (w > 0.0).then(|| (d.ray(unit), beta * d.ls.radiance * (f * w / d.pdf)))
     }
 
     /// A scattering event in a medium at `p` (phase function `phase`),

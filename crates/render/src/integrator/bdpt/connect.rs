@@ -261,13 +261,14 @@ impl Renderer<'_> {
             // No surface at a medium vertex: the ray leaves along the
             // light's direction.
             let n = z.on_surface().then_some(z.ng);
-            let DirectSample { ls, ray, pdf } =
-                self.sample_direct(i, q, wl, z.p, n, [u_select, u0, u1])?;
-            let (f, rho) = self.scatter_f(z, wl, ls.wi, Transport::Radiance);
+            let d = self.sample_direct(i, q, wl, z.p, n, [u_select, u0, u1])?;
+            let (f, rho) = self.scatter_f(z, wl, d.ls.wi, Transport::Radiance);
             let f = f * rho;
             if f.is_zero() {
                 return None;
             }
+            let ray = d.ray(self.scene.geometry.offset_unit());
+            let DirectSample { ls, pdf, .. } = d;
             let tr = self.pass_segment(ray, self.medium_towards(z, ls.wi), wl, rng, rays);
             if tr.is_zero() {
                 return None;
