@@ -2,16 +2,32 @@
 //! light sampled towards a point with the ray that tests whether it is
 //! seen (`Renderer::sample_direct`), the rays leaving a surface, and the
 //! power heuristic that weighs light sampling against the path's own
-//! direction. Each integrator chooses the light its own way (the path
-//! tracers by power over squared distance, `light_choice`; the
-//! bidirectional tracer by the cluster, `bdpt/clusters`), evaluates its
-//! scattering (BSDF or phase function) and carries the shadow ray through
-//! its media.
+//! direction, and what passes along a shadow ray: clear air or media and
+//! the null surfaces between them (`Renderer::transmittance`). Each
+//! integrator chooses the light its own way (the path tracers by power
+//! over squared distance, the bidirectional tracer by the cluster: both
+//! `light_choice`) and evaluates its scattering (BSDF or phase function).
 
+use scotopia_color::{SampledSpectrum, SampledWavelengths};
+
+use crate::bsdf::ShadingPoint;
 use crate::light::LightSample;
 use crate::math::{offset_ray_origin, Ray, Vec3};
+use crate::sampling::splitmix::SplitMix;
 
 use super::Renderer;
+
+/// What a shadow ray may cross on its way.
+pub(super) enum Crossing<'r> {
+    /// Clear air: it is seen or not.
+    Clear,
+    /// Media, from `medium` on, and null surfaces; `rng` draws the media's
+    /// estimates.
+    Media {
+        medium: Option<u32>,
+        rng: &'r mut SplitMix,
+    },
+}
 
 /// A light sampled for next-event estimation.
 pub(super) struct DirectSample<const K: usize> {
@@ -46,7 +62,7 @@ impl Renderer<'_> {
         &self,
         i: usize,
         p_choice: f32,
-        wl: &scotopia_color::SampledWavelengths<K>,
+        wl: &SampledWavelengths<K>,
         p: Vec3,
         n: Option<Vec3>,
         [u_select, u0, u1]: [f32; 3],
@@ -59,6 +75,97 @@ impl Renderer<'_> {
         let pdf = p_choice * ls.pdf;
         let n = n.unwrap_or(ls.wi);
         Some(DirectSample { ls, pdf, p, n })
+    }
+
+    /// Whether shadow ray `ray` reaches its end in clear air; counts it in
+    /// `rays`.
+    #[inline]
+    pub(super) fn visible(&self, ray: &Ray, rays: &mut u64) -> bool {
+        *rays += 1;
+        !self.scene.geometry.occluded(ray)
+    }
+
+    /// The fraction of light on wavelengths `now` that travels along
+    /// shadow ray `ray` as `crossing` says: 1 or 0 in clear air, else
+    /// [`Self::through_media`].
+    pub(super) fn transmittance<const K: usize>(
+        &self,
+        ray: Ray,
+        crossing: Crossing<'_>,
+        now: &SampledWavelengths<K>,
+        rays: &mut u64,
+    ) -> SampledSpectrum<K> {
+        match crossing {
+            Crossing::Clear => {
+                SampledSpectrum::splat(if self.visible(&ray, rays) { 1.0 } else { 0.0 })
+            }
+            Crossing::Media { medium, rng } => self.through_media(ray, medium, now, rng, rays),
+        }
+    }
+
+    /// The fraction of light on wavelengths `now` that travels along
+    /// shadow ray `ray`, which starts in `medium`: the media's
+    /// transmittance (estimated with `rng`), times what null surfaces on
+    /// the way let through; 0 when anything else is in the way. Counts the
+    /// segments it traces in `rays`.
+    pub(super) fn through_media<const K: usize>(
+        &self,
+        ray: Ray,
+        mut medium: Option<u32>,
+        now: &SampledWavelengths<K>,
+        rng: &mut SplitMix,
+        rays: &mut u64,
+    ) -> SampledSpectrum<K> {
+        let scene = self.scene;
+        let geometry = &scene.geometry;
+        let end = ray.o + ray.d * ray.t_max;
+        let finite = ray.t_max.is_finite();
+        let mut ray = ray;
+        let mut tr = SampledSpectrum::splat(1.0);
+        loop {
+            *rays += 1;
+            let hit = geometry.intersect(&ray);
+            if let Some(m) = medium {
+                let t = hit.as_ref().map_or(ray.t_max, |h| h.t);
+                tr *= scene.media[m as usize].transmittance(&ray, t, now, rng);
+                if tr.is_zero() {
+                    return tr;
+                }
+            }
+            let Some(hit) = hit else {
+                return tr;
+            };
+            let bsdf = &scene.materials[scene.shape_material[hit.shape as usize] as usize];
+            if !bsdf.may_pass() {
+                return SampledSpectrum::splat(0.0);
+            }
+            let surface = geometry.surface(&hit, &ray);
+            let ng = surface.n_geometric;
+            let (frame, at) = ShadingPoint::at(
+                surface.tex(&hit),
+                surface.n_shading,
+                ng,
+                surface.dpdu,
+                surface.dpdv,
+            );
+            let cos = frame.to_local(ray.d).z.abs();
+            tr *= bsdf.null_transmission(now, at.tex(), cos);
+            if tr.is_zero() {
+                return tr;
+            }
+            if let Some(sides) = self.shape_media(hit.shape) {
+                medium = sides.target(ray.d, ng);
+            }
+            let d = ray.d;
+            ray = spawn(surface.p, ng, d, geometry.offset_unit());
+            if finite {
+                let left = (end - ray.o).dot(d);
+                if left <= 0.0 {
+                    return tr;
+                }
+                ray.t_max = left;
+            }
+        }
     }
 }
 

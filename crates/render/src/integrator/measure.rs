@@ -23,12 +23,13 @@ use scotopia_color::photometry::estimate_xyzv;
 use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
 
 use super::path::{CameraSample, PathState, ScatterPoint};
+use super::select::{Integrator, Receivers};
 use super::{RenderError, RenderOptions, Renderer};
 use crate::bsdf::{Bsdf, Diffuse, ShadingPoint};
 use crate::math::{Frame, Ray, Vec3};
 use crate::sampling::sobol::Sampler;
 use crate::sampling::splitmix::SplitMix;
-use crate::scene::{IntegratorKind, Scene};
+use crate::scene::Scene;
 use crate::texture::Texture;
 
 /// A point and the unit normal of the hemisphere it receives light from.
@@ -104,7 +105,10 @@ fn measure_k<const K: usize>(
     {
         return Err(RenderError::Receiver(i));
     }
-    let renderer = Renderer::shared(scene, options.strategy, IntegratorKind::Path);
+    let renderer = Renderer::receivers(scene, options.strategy);
+    let Integrator::Illuminance(state) = &renderer.integrator else {
+        unreachable!("Renderer::receivers runs the illuminance integrator")
+    };
     let done = AtomicUsize::new(0);
     Ok(receivers
         .par_iter()
@@ -113,7 +117,8 @@ fn measure_k<const K: usize>(
             if cancel.load(Ordering::Relaxed) {
                 return Measured::default();
             }
-            let m = renderer.receive::<K>(r, options.seed, k as u32, spp, cancel);
+            let m =
+                renderer.receive::<K>(state, r, Sampler::new(options.seed), k as u32, spp, cancel);
             progress(done.fetch_add(1, Ordering::Relaxed) + 1, receivers.len());
             m
         })
@@ -137,6 +142,7 @@ impl Renderer<'_> {
     /// whose X, Y, Z, V′ are illuminances.
     pub(super) fn sample_illuminance<const K: usize>(
         &self,
+        receivers: &Receivers,
         sampler: &mut Sampler,
         pixel: [u32; 2],
         index: u32,
@@ -150,7 +156,13 @@ impl Renderer<'_> {
         let surface = self.scene.geometry.surface(&hit, &camera.ray);
         let ng = surface.n_geometric;
         let n = if ng.dot(camera.ray.d) <= 0.0 { ng } else { -ng };
-        let mut path = self.receiver_path(sampler, surface.p, n, camera.wl, rays);
+        let mut path = self.receiver_path(
+            receivers,
+            sampler,
+            &Receiver { p: surface.p, n },
+            camera.wl,
+            rays,
+        );
         path.l *= std::f32::consts::PI;
         Self::finish(&path)
     }
@@ -162,6 +174,7 @@ impl Renderer<'_> {
     /// `irradiancemeter` does with cosine-distributed rays.
     pub(super) fn sample_meter<const K: usize>(
         &self,
+        receivers: &Receivers,
         sampler: &mut Sampler,
         pixel: [u32; 2],
         index: u32,
@@ -172,19 +185,20 @@ impl Renderer<'_> {
         let sets = sampler.get_two_4d();
         let (_, lens, wl, spare) = self.start_sample_with::<K>(pixel, sets);
         let s = meter.sample(&self.scene.geometry.shapes, spare, lens)?;
-        let mut path = self.receiver_path(sampler, s.p, s.n, wl, rays);
+        let mut path =
+            self.receiver_path(receivers, sampler, &Receiver { p: s.p, n: s.n }, wl, rays);
         path.l *= std::f32::consts::PI;
         Self::finish(&path)
     }
 
-    /// One path from a white receiver at `p` facing `n` (unit), as if a
-    /// camera ray had just arrived there from straight above: its `l` is
-    /// the receiver's radiance L = E/π.
+    /// One path from a white receiver at `at.p` facing `at.n` (unit), as
+    /// if a camera ray had just arrived there from straight above: its `l`
+    /// is the receiver's radiance L = E/π.
     fn receiver_path<const K: usize>(
         &self,
+        receivers: &Receivers,
         sampler: &mut Sampler,
-        p: Vec3,
-        n: Vec3,
+        &Receiver { p, n }: &Receiver,
         wl: SampledWavelengths<K>,
         rays: &mut u64,
     ) -> PathState<K> {
@@ -202,9 +216,20 @@ impl Renderer<'_> {
             frame,
             at,
         };
-        let b = self.scatter(&mut path, u, &point, &self.white);
-        if self.settle(&mut path, b, rays) {
-            self.trace(sampler, &mut path, rays);
+        let white = &receivers.white;
+        match &receivers.media {
+            None => {
+                let b = self.scatter::<K, false>(&mut path, u, &point, white);
+                if self.settle(&mut path, b, rays) {
+                    self.trace(sampler, &mut path, rays);
+                }
+            }
+            Some(media) => {
+                let b = self.scatter::<K, true>(&mut path, u, &point, white);
+                if self.settle_media(&mut path, b, rays) {
+                    self.trace_media(media, sampler, &mut path, rays);
+                }
+            }
         }
         path
     }
@@ -213,14 +238,14 @@ impl Renderer<'_> {
     /// pixel grid: row 0, column `index`).
     fn receive<const K: usize>(
         &self,
+        receivers: &Receivers,
         r: &Receiver,
-        seed: u32,
+        mut sampler: Sampler,
         index: u32,
         spp: u32,
         cancel: &AtomicBool,
     ) -> Measured {
         let n = unit_normal(r.n);
-        let mut sampler = Sampler::new(seed);
         let (mut sum, mut sum2) = ([0.0f64; 2], [0.0f64; 2]);
         let mut samples = 0u32;
         for i in 0..spp {
@@ -230,7 +255,8 @@ impl Renderer<'_> {
             sampler.start([index, 0], i);
             let sets = sampler.get_two_4d();
             let (_, _, wl, _) = self.start_sample_with::<K>([index, 0], sets);
-            let path = self.receiver_path(&mut sampler, r.p, n, wl, &mut 0);
+            let at = Receiver { p: r.p, n };
+            let path = self.receiver_path(receivers, &mut sampler, &at, wl, &mut 0);
             let [_, y, _, v] = estimate_xyzv(&path.l, &path.wl);
             let (e, es) = (
                 std::f64::consts::PI * y as f64,

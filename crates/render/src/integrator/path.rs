@@ -107,23 +107,20 @@ impl Renderer<'_> {
         Self::finish(&path)
     }
 
-    /// Follows `path` from its ray to its end.
+    /// Follows `path` from its ray to its end, in clear air.
     pub(super) fn trace<const K: usize>(
         &self,
         sampler: &mut Sampler,
         path: &mut PathState<K>,
         rays: &mut u64,
     ) {
-        if self.volumetric {
-            return self.trace_media(sampler, path, rays);
-        }
         loop {
             *rays += 1;
             let Some(hit) = self.scene.geometry.intersect(&path.ray) else {
                 self.escape(path);
                 return;
             };
-            let b = self.bounce(path, sampler.get_two_4d(), &hit);
+            let b = self.bounce::<K, false>(path, sampler.get_two_4d(), &hit);
             if !self.settle(path, b, rays) {
                 return;
             }
@@ -139,14 +136,8 @@ impl Renderer<'_> {
         rays: &mut u64,
     ) -> bool {
         if let Some((shadow, contribution)) = b.shadow {
-            if self.volumetric {
-                let tr = self.transmittance(shadow, b.shadow_medium, path, rays);
-                path.l += contribution * tr;
-            } else {
-                *rays += 1;
-                if !self.scene.geometry.occluded(&shadow) {
-                    path.l += contribution;
-                }
+            if self.visible(&shadow, rays) {
+                path.l += contribution;
             }
         }
         b.goes_on
@@ -214,8 +205,7 @@ impl Renderer<'_> {
             let w = if path.delta {
                 1.0
             } else {
-                let p_light =
-                    self.nee_choice.probability(path.prev, i) * light.pdf_li_at_infinity(d);
+                let p_light = self.lights.probability(path.prev, i) * light.pdf_li_at_infinity(d);
                 power_heuristic(path.bsdf_pdf, p_light)
             };
             path.l += path.beta * le * w;
@@ -225,8 +215,9 @@ impl Renderer<'_> {
     /// The path's ray hit `hit`: emission there, next-event estimation
     /// (a shadow ray left to the caller), and the next direction by
     /// sampling the BSDF, with Russian roulette. `u`: the path's next two
-    /// 4-dimensional sets of its sampler.
-    pub(super) fn bounce<const K: usize>(
+    /// 4-dimensional sets of its sampler. `MEDIA`: whether the path is
+    /// traced through media (`volume.rs`).
+    pub(super) fn bounce<const K: usize, const MEDIA: bool>(
         &self,
         path: &mut PathState<K>,
         u: [[f32; 4]; 2],
@@ -244,7 +235,7 @@ impl Renderer<'_> {
                     let w = if path.delta {
                         1.0
                     } else {
-                        let p_light = self.nee_choice.probability(path.prev, li as usize)
+                        let p_light = self.lights.probability(path.prev, li as usize)
                             * area.pdf_li(path.prev, surface.p, surface.n_geometric);
                         power_heuristic(path.bsdf_pdf, p_light)
                     };
@@ -270,9 +261,9 @@ impl Renderer<'_> {
             frame,
             at,
         };
-        let mut b = self.scatter(path, u, &point, bsdf);
+        let mut b = self.scatter::<K, MEDIA>(path, u, &point, bsdf);
         // Rays leaving a medium boundary enter the medium on their side.
-        if self.volumetric {
+        if MEDIA {
             if let Some(sides) = self.shape_media(hit.shape) {
                 if let Some((shadow, _)) = &b.shadow {
                     b.shadow_medium = sides.target(shadow.d, ng);
@@ -294,8 +285,10 @@ impl Renderer<'_> {
     /// reached along `path.ray`: fluorescence, next-event estimation and
     /// the next direction. The camera's hits come here through
     /// [`Self::bounce`], the virtual receivers of illuminance measurement
-    /// directly (`measure.rs`).
-    pub(super) fn scatter<const K: usize>(
+    /// directly (`measure.rs`). `MEDIA`: whether the path is traced
+    /// through media, where a dispersive collapse rescales the cluster's
+    /// densities and null lobes are passed, not scattered at.
+    pub(super) fn scatter<const K: usize, const MEDIA: bool>(
         &self,
         path: &mut PathState<K>,
         u: [[f32; 4]; 2],
@@ -323,12 +316,9 @@ impl Renderer<'_> {
         // squared distance (`light_choice`).
         let mut shadow = None;
         if !bsdf.is_delta() {
-            let light = self
-                .nee_choice
-                .sample(p, u_light)
-                .and_then(|(i, p_choice)| {
-                    self.sample_direct(i, p_choice, &now, p, Some(ng), [u_select, u_l0, u_l1])
-                });
+            let light = self.lights.sample(p, u_light).and_then(|(i, p_choice)| {
+                self.sample_direct(i, p_choice, &now, p, Some(ng), [u_select, u_l0, u_l1])
+            });
             if let Some(d) = light {
                 let (ls, pdf) = (&d.ls, d.pdf);
                 let wo = frame.to_local(ls.wi);
@@ -363,7 +353,7 @@ impl Renderer<'_> {
         if bs.collapse {
             path.wl.terminate_secondary();
             path.now.terminate_secondary();
-            if self.volumetric && !path.renormalise() {
+            if MEDIA && !path.renormalise() {
                 return stop;
             }
         }
@@ -375,7 +365,7 @@ impl Renderer<'_> {
         // thin dielectric) a volume path tracer does not scatter: the
         // depth and the last vertex for MIS stay those before it
         // (Mitsuba's volpath).
-        let passes = self.volumetric && bs.passes_through(wi);
+        let passes = MEDIA && bs.passes_through(wi);
         let d = if passes {
             path.ray.d
         } else {

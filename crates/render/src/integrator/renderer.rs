@@ -10,15 +10,14 @@ use crate::film::{Film, FilterSampler, SampleCounts};
 use crate::geometry::Shape;
 use crate::light::{Caster, Light, SceneExtent};
 use crate::math::Vec3;
-use crate::sampling::distribution::Distribution1D;
 use crate::sampling::sobol::Sampler;
 use crate::scene::{IntegratorKind, Scene};
 use crate::wavelength::{WavelengthSampler, WavelengthStrategy};
 
-use super::select::{traces_media, Bidirectional, Choice, Integrator, Run};
+use super::select::{Integrator, Receivers};
 use super::{
-    bdpt, equiangular, measure, wavefront, CameraSample, LightChoice, Reflectors, RenderError,
-    RenderOptions, Splat, Tracer,
+    bdpt, wavefront, CameraSample, LightChoice, Reflectors, RenderError, RenderOptions, Splat,
+    Tracer,
 };
 
 /// The bounding spheres of the shapes (outside shape groups) whose BSDF
@@ -67,22 +66,81 @@ pub(super) fn light_centre(light: &Light, shapes: &[Shape]) -> Option<Vec3> {
     }
 }
 
-/// Per-scene state shared by all samples.
+/// The scene's lights as every integrator sees them: the scene's bounds,
+/// each light's radiant power (W) and the light choice made from them.
+struct SceneLights {
+    bounds: SceneBounds,
+    power: Vec<f32>,
+    choice: LightChoice,
+}
+
+impl SceneLights {
+    fn of(scene: &Scene) -> Self {
+        let bounds = SceneBounds::of(scene);
+        let extent = extent(scene, &bounds);
+        let power: Vec<f32> = scene
+            .lights
+            .iter()
+            .map(|l| l.power(&extent).watts as f32)
+            .collect();
+        let choice = LightChoice::new(&scene.lights, &power, &extent);
+        Self {
+            bounds,
+            power,
+            choice,
+        }
+    }
+}
+
+/// The scene facts lights need, before the casters are known.
+fn extent<'s>(scene: &'s Scene, bounds: &SceneBounds) -> SceneExtent<'s> {
+    SceneExtent {
+        shapes: &scene.geometry.shapes,
+        center: bounds.center,
+        radius: bounds.radius,
+        casters: &[],
+    }
+}
+
+/// The scene's bounding sphere (a unit sphere at the origin for an empty
+/// scene): where lights at infinity are placed and how far away they are.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct SceneBounds {
+    pub center: Vec3,
+    pub radius: f32,
+}
+
+impl SceneBounds {
+    fn of(scene: &Scene) -> Self {
+        let bounds = scene.geometry.bounds();
+        if bounds.is_empty() {
+            Self {
+                center: Vec3::ZERO,
+                radius: 1.0,
+            }
+        } else {
+            Self {
+                center: bounds.centroid(),
+                radius: (0.5 * bounds.extent().length()).max(1e-3),
+            }
+        }
+    }
+}
+
+/// Per-scene state shared by all samples, and the integrator that runs
+/// with its own.
 pub struct Renderer<'a> {
     pub scene: &'a Scene,
-    /// Light choice by radiant power (wavelengths, the bidirectional
-    /// tracer's clusters).
-    pub light_choice: Distribution1D,
-    /// The path tracer's light choice for next-event estimation, by power
-    /// over squared distance.
-    pub nee_choice: LightChoice,
+    /// Which light next-event estimation samples and SWC draws the
+    /// cluster from (by power; at a point, by power over squared
+    /// distance).
+    pub lights: LightChoice,
     /// Glossy surfaces lamps light brightly, which the path tracer's
     /// diffuse bounces aim at in part (`reflectors`).
     pub reflectors: Reflectors,
     pub wavelengths: WavelengthSampler,
     pub filter: FilterSampler,
-    pub(super) center: Vec3,
-    pub(super) radius: f32,
+    pub(super) bounds: SceneBounds,
     /// The shapes light subpaths from infinity are aimed at.
     pub(super) casters: Vec<Caster>,
     pub(super) infinite: Vec<usize>,
@@ -93,67 +151,39 @@ pub struct Renderer<'a> {
     pub(super) kind: IntegratorKind,
     /// The film rows a pass renders (a shard's; all by default).
     pub(super) rows: std::ops::Range<u32>,
-    /// The white Lambertian surface of virtual receivers (`measure.rs`).
-    pub(super) white: crate::bsdf::Bsdf,
-    /// The lights equi-angular sampling aims at in media (empty when
-    /// media are not traced).
-    pub(super) targets: equiangular::Targets,
-    /// Whether paths are traced through media (`volume.rs`): the
-    /// integrator traces them and the scene has media or surfaces that
-    /// pass light (null lobes, which such an integrator treats as media
-    /// boundaries).
-    pub(super) volumetric: bool,
 }
 
 impl<'a> Renderer<'a> {
     /// The integrator `options` ask of `scene`, built with its state, or
     /// why it cannot run.
     pub fn new(scene: &'a Scene, options: &RenderOptions) -> Result<Self, RenderError> {
-        let choice = Choice::new(scene, options)?;
-        let mut r = Self::shared(scene, options.strategy, choice.kind);
-        r.integrator = match choice.run {
-            Run::Path(tracer) => Integrator::Path(tracer),
-            Run::VolPath => Integrator::VolPath,
-            Run::Illuminance => Integrator::Illuminance,
-            Run::Meter => Integrator::Meter,
-            Run::Bdpt(only) => {
-                let p = (0..scene.lights.len())
-                    .map(|i| r.light_choice.probability(i))
-                    .collect();
-                let spectra = bdpt::LightSpectra::new(&scene.lights, p);
-                Integrator::Bdpt(Box::new(Bidirectional { spectra, only }))
-            }
-        };
-        Ok(r)
+        let lit = SceneLights::of(scene);
+        let (kind, integrator) = Integrator::new(scene, options, &lit.choice, &lit.bounds)?;
+        Ok(Self::with(scene, options.strategy, kind, integrator, lit))
     }
 
-    /// The state every integrator shares, for `kind`'s wavelengths; the
-    /// virtual receivers of `measure` use it as it is.
-    pub(super) fn shared(
+    /// The illuminance at virtual receivers (`measure`): the path tracer's
+    /// transport, with `strategy`'s wavelengths.
+    pub(super) fn receivers(scene: &'a Scene, strategy: WavelengthStrategy) -> Self {
+        let lit = SceneLights::of(scene);
+        let receivers = Receivers::of(scene, &lit.choice, &lit.bounds);
+        let integrator = Integrator::Illuminance(receivers);
+        Self::with(scene, strategy, IntegratorKind::Path, integrator, lit)
+    }
+
+    /// The state every integrator shares, for `kind`'s wavelengths.
+    fn with(
         scene: &'a Scene,
         strategy: WavelengthStrategy,
         kind: IntegratorKind,
+        integrator: Integrator,
+        lit: SceneLights,
     ) -> Self {
-        let bounds = scene.geometry.bounds();
-        let (center, radius) = if bounds.is_empty() {
-            (Vec3::ZERO, 1.0)
-        } else {
-            (
-                bounds.centroid(),
-                (0.5 * bounds.extent().length()).max(1e-3),
-            )
-        };
-        let extent = SceneExtent {
-            shapes: &scene.geometry.shapes,
-            center,
-            radius,
-            casters: &[],
-        };
-        let power: Vec<f32> = scene
-            .lights
-            .iter()
-            .map(|l| l.power(&extent).watts as f32)
-            .collect();
+        let SceneLights {
+            bounds,
+            power,
+            choice,
+        } = lit;
         // The path tracer draws some wavelengths from fluorescent
         // emission; the bidirectional tracer reaches them by re-emission
         // on its light subpaths and draws from the lights alone.
@@ -165,41 +195,21 @@ impl<'a> Renderer<'a> {
                 .collect(),
             IntegratorKind::Bdpt => Vec::new(),
         };
-        let light_choice = Distribution1D::new(power.clone());
-        let nee_choice = LightChoice::new(&scene.lights, &power, &extent);
         let reflectors = Reflectors::new(
             &scene.materials,
             &scene.shape_material,
             &scene.shape_light,
             &scene.lights,
             &power,
-            &extent,
+            &extent(scene, &bounds),
         );
-        let volumetric = traces_media(scene);
-        let targets = if volumetric {
-            equiangular::Targets::new(
-                (0..scene.lights.len())
-                    .filter_map(|i| {
-                        let c = light_centre(&scene.lights[i], &scene.geometry.shapes)?;
-                        Some((c, light_choice.probability(i)))
-                    })
-                    .collect(),
-                radius,
-            )
-        } else {
-            equiangular::Targets::default()
-        };
         Self {
-            nee_choice,
+            lights: choice,
             reflectors,
             wavelengths: WavelengthSampler::new(strategy, &scene.lights, &power, &fluorescent),
-            light_choice,
-            integrator: Integrator::Path(Tracer::Scalar),
+            integrator,
             kind,
             rows: 0..u32::MAX,
-            white: measure::white(),
-            targets,
-            volumetric,
             filter: FilterSampler::new(scene.filter),
             infinite: (0..scene.lights.len())
                 .filter(|&i| scene.lights[i].is_infinite())
@@ -210,8 +220,7 @@ impl<'a> Renderer<'a> {
                 Vec::new()
             },
             scene,
-            center,
-            radius,
+            bounds,
         }
     }
 
@@ -219,8 +228,8 @@ impl<'a> Renderer<'a> {
     pub fn extent(&self) -> SceneExtent<'_> {
         SceneExtent {
             shapes: &self.scene.geometry.shapes,
-            center: self.center,
-            radius: self.radius,
+            center: self.bounds.center,
+            radius: self.bounds.radius,
             casters: &self.casters,
         }
     }
@@ -360,14 +369,14 @@ impl<'a> Renderer<'a> {
         index: u32,
         to: Scratchpad<'_, K>,
     ) -> Option<CameraSample<K>> {
+        let rays = &mut to.counts.rays;
         match &self.integrator {
-            Integrator::Meter => self.sample_meter::<K>(sampler, pixel, index, &mut to.counts.rays),
-            Integrator::Illuminance => {
-                self.sample_illuminance::<K>(sampler, pixel, index, &mut to.counts.rays)
+            Integrator::Meter(r) => self.sample_meter::<K>(r, sampler, pixel, index, rays),
+            Integrator::Illuminance(r) => {
+                self.sample_illuminance::<K>(r, sampler, pixel, index, rays)
             }
-            Integrator::Path(_) | Integrator::VolPath => {
-                self.sample_pixel::<K>(sampler, pixel, index, &mut to.counts.rays)
-            }
+            Integrator::Path(_) => self.sample_pixel::<K>(sampler, pixel, index, rays),
+            Integrator::VolPath(m) => self.sample_pixel_media::<K>(m, sampler, pixel, index, rays),
             Integrator::Bdpt(b) => self.sample_pixel_bdpt::<K>(b, sampler, pixel, index, to),
         }
     }

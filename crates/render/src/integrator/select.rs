@@ -1,30 +1,39 @@
 //! Which integrator a render runs, chosen once from the scene and the
-//! options: each variant holds only its own settings, and a combination
-//! the integrators do not support is an error that says so (never a
-//! silent fallback to another integrator).
+//! options and built with its own state: a combination the integrators do
+//! not support is an error that says so (never a silent fallback to
+//! another integrator).
 
+use crate::bsdf::Bsdf;
 use crate::camera::Projection;
 use crate::scene::{IntegratorKind, Scene};
 
 use super::bdpt::LightSpectra;
-use super::{Quantity, RenderError, RenderOptions, Tracer};
+use super::light_choice::LightChoice;
+use super::renderer::{light_centre, SceneBounds};
+use super::{equiangular, measure, Quantity, RenderError, RenderOptions, Tracer};
 
 /// The light transport of a render.
 pub enum Integrator {
-    /// Path tracing between surfaces, one path at a time (`path.rs`) or
-    /// in batches run stage by stage (`wavefront/`): the same image, bit
-    /// for bit.
+    /// Path tracing between surfaces in clear air, one path at a time
+    /// (`path.rs`) or in batches run stage by stage (`wavefront/`): the
+    /// same image, bit for bit.
     Path(Tracer),
     /// Path tracing through participating media and surfaces that pass
     /// light (`volume.rs`).
-    VolPath,
+    VolPath(Media),
     /// Bidirectional path tracing (`bdpt/`).
     Bdpt(Box<Bidirectional>),
     /// The illuminance at the first surface each pixel sees, by the path
     /// tracer's transport at a virtual receiver there (`measure.rs`).
-    Illuminance,
+    Illuminance(Receivers),
     /// The scene's sensor is an irradiance meter (`measure.rs`).
-    Meter,
+    Meter(Receivers),
+}
+
+/// The volume path tracer's own state.
+pub struct Media {
+    /// The lights equi-angular sampling aims at.
+    pub(super) targets: equiangular::Targets,
 }
 
 /// The bidirectional tracer's own state.
@@ -34,37 +43,64 @@ pub struct Bidirectional {
     /// One strategy [s, t] alone, unweighted (a check that each converges
     /// to the same image).
     pub(crate) only: Option<[usize; 2]>,
+    /// Whether the subpaths are traced through media (`bdpt/media.rs`).
+    pub(crate) media: bool,
 }
 
-/// What the options and the scene ask for, before the integrator's state
-/// is built: the integrator as reported in an image's metadata, and the
-/// integrator that runs.
-pub(super) struct Choice {
-    pub kind: IntegratorKind,
-    pub run: Run,
-}
-
-/// [`Integrator`] without its state.
-#[derive(Clone, Copy, PartialEq, Eq)]
-pub(super) enum Run {
-    Path(Tracer),
-    VolPath,
-    Bdpt(Option<[usize; 2]>),
-    Illuminance,
-    Meter,
+/// The virtual receivers' state: their surface and, where the scene has
+/// media, how their paths cross them.
+pub struct Receivers {
+    /// The white Lambertian surface of a receiver.
+    pub(super) white: Bsdf,
+    pub(super) media: Option<Media>,
 }
 
 /// Whether paths in `scene` are traced through media: its integrator
 /// traces them and it has media or surfaces that pass light (null lobes,
 /// which such an integrator treats as media boundaries).
-pub(super) fn traces_media(scene: &Scene) -> bool {
+fn traces_media(scene: &Scene) -> bool {
     scene.integrator.media
         && (!scene.media.is_empty() || scene.materials.iter().any(|m| m.may_pass()))
 }
 
-impl Choice {
-    /// The integrator `options` ask of `scene`, or why it cannot run.
-    pub fn new(scene: &Scene, options: &RenderOptions) -> Result<Self, RenderError> {
+impl Media {
+    /// The media state of `scene`, `None` where its paths are not traced
+    /// through media.
+    pub(super) fn of(scene: &Scene, lights: &LightChoice, bounds: &SceneBounds) -> Option<Self> {
+        traces_media(scene).then(|| {
+            let targets = (0..scene.lights.len())
+                .filter_map(|i| {
+                    let c = light_centre(&scene.lights[i], &scene.geometry.shapes)?;
+                    Some((c, lights.power.probability(i)))
+                })
+                .collect();
+            Self {
+                targets: equiangular::Targets::new(targets, bounds.radius),
+            }
+        })
+    }
+}
+
+impl Receivers {
+    pub(super) fn of(scene: &Scene, lights: &LightChoice, bounds: &SceneBounds) -> Self {
+        Self {
+            white: measure::white(),
+            media: Media::of(scene, lights, bounds),
+        }
+    }
+}
+
+impl Integrator {
+    /// The integrator `options` ask of `scene`, built with its state, and
+    /// the integrator as an image's metadata reports it (the options' or
+    /// the scene's; the path tracer for an irradiance meter); or why it
+    /// cannot run.
+    pub(super) fn new(
+        scene: &Scene,
+        options: &RenderOptions,
+        lights: &LightChoice,
+        bounds: &SceneBounds,
+    ) -> Result<(IntegratorKind, Self), RenderError> {
         // An irradiancemeter is measured by the path tracer's receiver, in lx.
         let (kind, quantity) = match scene.meter {
             Some(_) => (IntegratorKind::Path, Quantity::Illuminance),
@@ -81,36 +117,46 @@ impl Choice {
                 return Err(RenderError::Strategy(s, t));
             }
         }
-        let media = traces_media(scene);
-        let run = if scene.meter.is_some() {
-            Run::Meter
+        let integrator = if scene.meter.is_some() {
+            Self::Meter(Receivers::of(scene, lights, bounds))
         } else if quantity == Quantity::Illuminance {
-            Run::Illuminance
+            Self::Illuminance(Receivers::of(scene, lights, bounds))
         } else if kind == IntegratorKind::Bdpt {
-            Run::Bdpt(options.only_strategy)
-        } else if media {
-            Run::VolPath
+            let p = (0..scene.lights.len())
+                .map(|i| lights.power.probability(i))
+                .collect();
+            Self::Bdpt(Box::new(Bidirectional {
+                spectra: LightSpectra::new(&scene.lights, p),
+                only: options.only_strategy,
+                media: traces_media(scene),
+            }))
         } else {
-            Run::Path(options.tracer)
+            match Media::of(scene, lights, bounds) {
+                Some(media) => Self::VolPath(media),
+                None => Self::Path(options.tracer),
+            }
         };
-        if options.tracer == Tracer::Wavefront && run != Run::Path(Tracer::Wavefront) {
-            let what = match run {
-                Run::Meter => "an irradiance meter",
-                Run::Illuminance => "illuminance",
-                Run::Bdpt(_) => "the bidirectional integrator",
-                _ => "participating media or surfaces that pass light (null, thin dielectrics)",
+        if options.tracer == Tracer::Wavefront {
+            let refused = match integrator {
+                Self::Path(_) => None,
+                Self::Meter(_) => Some("an irradiance meter"),
+                Self::Illuminance(_) => Some("illuminance"),
+                Self::Bdpt(_) => Some("the bidirectional integrator"),
+                Self::VolPath(_) => {
+                    Some("participating media or surfaces that pass light (null, thin dielectrics)")
+                }
             };
-            return Err(RenderError::Wavefront(what));
+            if let Some(what) = refused {
+                return Err(RenderError::Wavefront(what));
+            }
         }
-        Ok(Self { kind, run })
+        Ok((kind, integrator))
     }
-}
 
-impl Integrator {
     /// What its pixels hold.
     pub fn quantity(&self) -> Quantity {
         match self {
-            Self::Illuminance | Self::Meter => Quantity::Illuminance,
+            Self::Illuminance(_) | Self::Meter(_) => Quantity::Illuminance,
             _ => Quantity::Radiance,
         }
     }
@@ -120,10 +166,10 @@ impl Integrator {
         match self {
             Self::Path(Tracer::Scalar) => "path",
             Self::Path(Tracer::Wavefront) => "path (wavefront)",
-            Self::VolPath => "volpath",
+            Self::VolPath(_) => "volpath",
             Self::Bdpt(_) => "bdpt",
-            Self::Illuminance => "illuminance",
-            Self::Meter => "irradiance meter",
+            Self::Illuminance(_) => "illuminance",
+            Self::Meter(_) => "irradiance meter",
         }
     }
 }

@@ -17,24 +17,39 @@
 //! is a uniform choice of its first member (`start_sample` rotates it),
 //! which the MIS needs.
 
-use scotopia_color::{SampledSpectrum, SampledWavelengths};
+use scotopia_color::SampledSpectrum;
 
-use super::path::{Bounce, PathState};
-use super::Renderer;
-use crate::bsdf::ShadingPoint;
+use super::path::{Bounce, CameraSample, PathState};
+use super::select::Media;
+use super::{equiangular, Renderer};
 use crate::math::{Ray, Vec3};
 use crate::medium::{Homogeneous, Medium, MediumEvent, Phase, ShapeMedia};
 use crate::sampling::sobol::Sampler;
-use crate::sampling::splitmix::SplitMix;
 
 impl Renderer<'_> {
+    /// [`Self::sample_pixel`] through media.
+    pub(super) fn sample_pixel_media<const K: usize>(
+        &self,
+        media: &Media,
+        sampler: &mut Sampler,
+        pixel: [u32; 2],
+        index: u32,
+        rays: &mut u64,
+    ) -> Option<CameraSample<K>> {
+        let mut path = self.start_path::<K>(sampler, pixel, index);
+        self.trace_media(media, sampler, &mut path, rays);
+        Self::finish(&path)
+    }
+
     /// [`Self::trace`] through media.
     pub(super) fn trace_media<const K: usize>(
         &self,
+        media: &Media,
         sampler: &mut Sampler,
         path: &mut PathState<K>,
         rays: &mut u64,
     ) {
+        let targets = &media.targets;
         let scene = self.scene;
         loop {
             *rays += 1;
@@ -48,10 +63,10 @@ impl Renderer<'_> {
                 // homogeneous medium (whose free-flight density is known).
                 let aimed = match medium {
                     Medium::Homogeneous(h)
-                        if !self.targets.is_empty() && self.within(path.depth + 1) =>
+                        if !targets.is_empty() && self.within(path.depth + 1) =>
                     {
                         let st = h.sigma_t(&path.now);
-                        self.equiangular_light(path, h, &st, t_max, rays);
+                        self.equiangular_light(targets, path, h, &st, t_max, rays);
                         Some(st)
                     }
                     _ => None,
@@ -66,7 +81,7 @@ impl Renderer<'_> {
                     // the point here, squared (0 without it).
                     let q2 = aimed.map_or(0.0, |st| {
                         let free = free_flight_pdf(&st, path, &ratio, event.t);
-                        let q = self.targets.pdf(&ray, t_max, event.t) / free;
+                        let q = targets.pdf(&ray, t_max, event.t) / free;
                         if q.is_finite() {
                             q * q
                         } else {
@@ -75,7 +90,7 @@ impl Renderer<'_> {
                     });
                     let u = sampler.get_two_4d();
                     let b = self.scatter_in_medium(path, u, p, medium.phase(), q2);
-                    if !self.settle(path, b, rays) {
+                    if !self.settle_media(path, b, rays) {
                         return;
                     }
                     continue;
@@ -85,11 +100,26 @@ impl Renderer<'_> {
                 self.escape(path);
                 return;
             };
-            let b = self.bounce(path, sampler.get_two_4d(), &hit);
-            if !self.settle(path, b, rays) {
+            let b = self.bounce::<K, true>(path, sampler.get_two_4d(), &hit);
+            if !self.settle_media(path, b, rays) {
                 return;
             }
         }
+    }
+
+    /// [`Self::settle`] through media: the bounce's light times the
+    /// transmittance along its shadow ray.
+    pub(super) fn settle_media<const K: usize>(
+        &self,
+        path: &mut PathState<K>,
+        b: Bounce<K>,
+        rays: &mut u64,
+    ) -> bool {
+        if let Some((shadow, contribution)) = b.shadow {
+            let tr = self.through_media(shadow, b.shadow_medium, &path.now, &mut path.rng, rays);
+            path.l += contribution * tr;
+        }
+        b.goes_on
     }
 
     /// Direct light at a scattering point drawn equi-angularly on the
@@ -99,6 +129,7 @@ impl Renderer<'_> {
     /// path's light at once. The path itself is not moved.
     fn equiangular_light<const K: usize>(
         &self,
+        targets: &equiangular::Targets,
         path: &mut PathState<K>,
         h: &Homogeneous,
         st: &SampledSpectrum<K>,
@@ -109,7 +140,7 @@ impl Renderer<'_> {
         let mut u = || path.rng.next_f32();
         let (u_pick, u_t) = (u(), u());
         let nee = [u(), u(), u(), u()];
-        let Some((t, pdf)) = self.targets.sample(&ray, t_max, u_pick, u_t) else {
+        let Some((t, pdf)) = targets.sample(&ray, t_max, u_pick, u_t) else {
             return;
         };
         let q = pdf / free_flight_pdf(st, path, &path.ratio, t);
@@ -130,7 +161,7 @@ impl Renderer<'_> {
         }
         let p = ray.o + ray.d * t;
         if let Some((shadow, c)) = self.medium_nee(path, beta, p, h.phase, nee, Mis::Aimed(q2)) {
-            let tr = self.transmittance(shadow, path.medium, path, rays);
+            let tr = self.through_media(shadow, path.medium, &path.now, &mut path.rng, rays);
             path.l += c * tr;
         }
     }
@@ -148,7 +179,7 @@ impl Renderer<'_> {
         mis: Mis,
     ) -> Option<(Ray, SampledSpectrum<K>)> {
         let wi = -path.ray.d;
-        let (i, p_choice) = self.nee_choice.sample(p, u_light)?;
+        let (i, p_choice) = self.lights.sample(p, u_light)?;
         let d = self.sample_direct(i, p_choice, &path.now, p, None, [u_select, u_l0, u_l1])?;
         let f = phase.eval(wi, d.ls.wi);
         if f.is_nan() || f <= 0.0 {
@@ -200,82 +231,6 @@ impl Renderer<'_> {
         Bounce {
             goes_on: true,
             ..stop
-        }
-    }
-
-    /// The fraction of light that travels along shadow ray `ray`, which
-    /// starts in `medium`: the media's transmittance, times what null
-    /// surfaces on the way let through; 0 when anything else is in the
-    /// way. Counts the segments it traces in `rays`.
-    pub(super) fn transmittance<const K: usize>(
-        &self,
-        ray: Ray,
-        medium: Option<u32>,
-        path: &mut PathState<K>,
-        rays: &mut u64,
-    ) -> SampledSpectrum<K> {
-        self.transmittance_at(ray, medium, &path.now, &mut path.rng, rays)
-    }
-
-    /// [`Self::transmittance`] on wavelengths `now`, with `rng` for the
-    /// media's estimates (the bidirectional tracer has no `PathState`).
-    pub(super) fn transmittance_at<const K: usize>(
-        &self,
-        ray: Ray,
-        mut medium: Option<u32>,
-        now: &SampledWavelengths<K>,
-        rng: &mut SplitMix,
-        rays: &mut u64,
-    ) -> SampledSpectrum<K> {
-        let scene = self.scene;
-        let geometry = &scene.geometry;
-        let end = ray.o + ray.d * ray.t_max;
-        let finite = ray.t_max.is_finite();
-        let mut ray = ray;
-        let mut tr = SampledSpectrum::splat(1.0);
-        loop {
-            *rays += 1;
-            let hit = geometry.intersect(&ray);
-            if let Some(m) = medium {
-                let t = hit.as_ref().map_or(ray.t_max, |h| h.t);
-                tr *= scene.media[m as usize].transmittance(&ray, t, now, rng);
-                if tr.is_zero() {
-                    return tr;
-                }
-            }
-            let Some(hit) = hit else {
-                return tr;
-            };
-            let bsdf = &scene.materials[scene.shape_material[hit.shape as usize] as usize];
-            if !bsdf.may_pass() {
-                return SampledSpectrum::splat(0.0);
-            }
-            let surface = geometry.surface(&hit, &ray);
-            let ng = surface.n_geometric;
-            let (frame, at) = ShadingPoint::at(
-                surface.tex(&hit),
-                surface.n_shading,
-                ng,
-                surface.dpdu,
-                surface.dpdv,
-            );
-            let cos = frame.to_local(ray.d).z.abs();
-            tr *= bsdf.null_transmission(now, at.tex(), cos);
-            if tr.is_zero() {
-                return tr;
-            }
-            if let Some(sides) = self.shape_media(hit.shape) {
-                medium = sides.target(ray.d, ng);
-            }
-            let d = ray.d;
-            ray = super::direct::spawn(surface.p, ng, d, geometry.offset_unit());
-            if finite {
-                let left = (end - ray.o).dot(d);
-                if left <= 0.0 {
-                    return tr;
-                }
-                ray.t_max = left;
-            }
         }
     }
 

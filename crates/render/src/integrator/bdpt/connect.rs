@@ -11,7 +11,7 @@ use super::clusters::{Lanes, LightChoice};
 use super::mis::{self, Connection};
 use super::vertex::{Kind, Vertex};
 use crate::bsdf::{Bsdf, Transport};
-use crate::integrator::direct::DirectSample;
+use crate::integrator::direct::{Crossing, DirectSample};
 use crate::integrator::Renderer;
 use crate::light::Light;
 use crate::math::{offset_ray_origin, Ray, Vec3};
@@ -34,6 +34,24 @@ pub(super) struct Subpaths<'p, const K: usize> {
     pub unweighted: bool,
 }
 
+/// What one strategy adds: light on the camera cluster's members, and
+/// where on the film it lands for light tracing (t = 1; `None`: the
+/// sample's own pixel).
+pub(super) struct Contribution<const K: usize> {
+    pub l: SampledSpectrum<K>,
+    pub raster: Option<[f32; 2]>,
+}
+
+/// What a sample's subpaths and connections draw numbers from and count
+/// their rays in, and whether they are traced through media (`media.rs`).
+pub(super) struct Draw<'s> {
+    pub sampler: &'s mut Sampler,
+    /// Numbers for the media's estimates.
+    pub rng: &'s mut SplitMix,
+    pub rays: &'s mut u64,
+    pub media: bool,
+}
+
 /// The elastic part of a fluorescent BSDF (ρ), 1 for the others.
 pub(super) fn elastic<const K: usize>(
     bsdf: &Bsdf,
@@ -51,6 +69,26 @@ impl Renderer<'_> {
         &scene.materials[scene.shape_material[v.index as usize] as usize]
     }
 
+    /// What passes along connection `ray`, which starts in `medium`
+    /// (`Renderer::transmittance`).
+    fn connection<const K: usize>(
+        &self,
+        ray: Ray,
+        medium: Option<u32>,
+        wl: &SampledWavelengths<K>,
+        draw: &mut Draw<'_>,
+    ) -> SampledSpectrum<K> {
+        let crossing = if draw.media {
+            Crossing::Media {
+                medium,
+                rng: &mut *draw.rng,
+            }
+        } else {
+            Crossing::Clear
+        };
+        self.transmittance(ray, crossing, wl, draw.rays)
+    }
+
     /// What passes between vertex `a` and point `b` (normal `nb`; zero:
     /// no surface), each offset off its surface towards the other: the
     /// transmittance through media and null surfaces (`media`), starting
@@ -61,8 +99,7 @@ impl Renderer<'_> {
         b: Vec3,
         nb: Vec3,
         wl: &SampledWavelengths<K>,
-        rng: &mut SplitMix,
-        rays: &mut u64,
+        draw: &mut Draw<'_>,
     ) -> SampledSpectrum<K> {
         let off = |p: Vec3, n: Vec3, towards: Vec3| {
             if n == Vec3::ZERO {
@@ -81,8 +118,7 @@ impl Renderer<'_> {
         }
         let mut ray = Ray::new(o, d / dist);
         ray.t_max = dist * (1.0 - CONNECT_EPSILON);
-        let medium = self.medium_towards(a, ray.d);
-        self.pass_segment(ray, medium, wl, rng, rays)
+        self.connection(ray, self.medium_towards(a, ray.d), wl, draw)
     }
 
     /// The lights' choice-weighted density of starting a light path at
@@ -174,9 +210,8 @@ impl Renderer<'_> {
         sub: &Subpaths<K>,
         s: usize,
         t: usize,
-        (sampler, rng): (&mut Sampler, &mut SplitMix),
-        rays: &mut u64,
-    ) -> Option<(SampledSpectrum<K>, Option<[f32; 2]>)> {
+        draw: &mut Draw<'_>,
+    ) -> Option<Contribution<K>> {
         let (light, camera, wl, lanes) = (sub.light, sub.camera, sub.wl, sub.lanes);
         let mut c = Connection::default();
         if let Some(y0) = light.first() {
@@ -220,7 +255,7 @@ impl Renderer<'_> {
         } else if t == 1 {
             // Light tracing: the light vertex seen through the lens.
             let y = &light[s - 1];
-            let [u0, u1] = sampler.get_2d();
+            let [u0, u1] = draw.sampler.get_2d();
             if y.at_infinity || (s > 1 && !self.connectible(y)) {
                 return None;
             }
@@ -237,7 +272,7 @@ impl Renderer<'_> {
             if f.is_zero() {
                 return None;
             }
-            let tr = self.between(y, conn.lens, Vec3::ZERO, wl, rng, rays);
+            let tr = self.between(y, conn.lens, Vec3::ZERO, wl, draw);
             if tr.is_zero() {
                 return None;
             }
@@ -252,7 +287,7 @@ impl Renderer<'_> {
         } else if s == 1 {
             // Next-event estimation: a light point sampled for z.
             let z = &camera[t - 1];
-            let [u_choice, u_select, u0, u1] = sampler.get_4d();
+            let [u_choice, u_select, u0, u1] = draw.sampler.get_4d();
             if !self.connectible(z) {
                 return None;
             }
@@ -269,7 +304,7 @@ impl Renderer<'_> {
             }
             let ray = d.ray(self.scene.geometry.offset_unit());
             let DirectSample { ls, pdf, .. } = d;
-            let tr = self.pass_segment(ray, self.medium_towards(z, ls.wi), wl, rng, rays);
+            let tr = self.connection(ray, self.medium_towards(z, ls.wi), wl, draw);
             if tr.is_zero() {
                 return None;
             }
@@ -283,7 +318,7 @@ impl Renderer<'_> {
                     Kind::Light
                 },
                 if at_infinity {
-                    z.p + ls.wi * (2.0 * self.radius)
+                    z.p + ls.wi * (2.0 * self.bounds.radius)
                 } else {
                     z.p + ls.wi * ls.distance
                 },
@@ -322,7 +357,7 @@ impl Renderer<'_> {
             if f.is_zero() {
                 return None;
             }
-            let tr = self.between(y, z.p, z.ng, wl, rng, rays);
+            let tr = self.between(y, z.p, z.ng, wl, draw);
             if tr.is_zero() {
                 return None;
             }
@@ -359,7 +394,7 @@ impl Renderer<'_> {
                 *v *= w;
             }
         }
-        Some((l, raster))
+        Some(Contribution { l, raster })
     }
 
     /// Per camera member, light vertex `i`'s throughput for the member's

@@ -10,7 +10,7 @@
 //!
 //! **Connections** (s, t ≥ 1, light tracing t = 1, the light point of
 //! s = 1) are weighted by the transmittance of the media and null surfaces
-//! between their endpoints (`Renderer::transmittance_at`), starting in the
+//! between their endpoints (`Renderer::through_media`), starting in the
 //! medium on the segment's side of the first endpoint
 //! (`Renderer::medium_towards`).
 //!
@@ -49,7 +49,6 @@ use crate::integrator::Renderer;
 use crate::light::Light;
 use crate::math::{Ray, Vec3};
 use crate::medium::MediumEvent;
-use crate::sampling::splitmix::SplitMix;
 
 /// Largest relative spread of the live members' densities of one event for
 /// which the medium counts as grey there.
@@ -148,26 +147,6 @@ impl Renderer<'_> {
             ray.t_max = left;
         }
         medium
-    }
-
-    /// What passes along `ray`, which starts in `medium`: with media, the
-    /// transmittance of the media and null surfaces on the way; without,
-    /// 1 or 0 as the segment is clear or not.
-    pub(super) fn pass_segment<const K: usize>(
-        &self,
-        ray: Ray,
-        medium: Option<u32>,
-        wl: &SampledWavelengths<K>,
-        rng: &mut SplitMix,
-        rays: &mut u64,
-    ) -> SampledSpectrum<K> {
-        if self.volumetric {
-            self.transmittance_at(ray, medium, wl, rng, rays)
-        } else {
-            *rays += 1;
-            let clear = !self.scene.geometry.occluded(&ray);
-            SampledSpectrum::splat(if clear { 1.0 } else { 0.0 })
-        }
     }
 
     /// Whether a connection can be made at `v`: a scattering vertex whose

@@ -29,7 +29,7 @@ use super::{CameraSample, Renderer};
 use crate::sampling::sobol::Sampler;
 pub(crate) use clusters::LightSpectra;
 use clusters::{camera_cluster, LightChoice};
-use connect::Subpaths;
+use connect::{Contribution, Draw, Subpaths};
 use vertex::Vertex;
 
 /// A light-tracing contribution: where it lands on the film and what.
@@ -83,28 +83,31 @@ impl Renderer<'_> {
         } else {
             (max_depth as usize + 1, max_depth as usize)
         };
-        let camera_ray = self.scene.camera.generate_ray_from_lens(film, lens);
+        let (camera_ray, lens_point) = self.scene.camera.generate_ray_from_lens(film, lens);
         let mut rng = sampler.stream();
+        let mut draw = Draw {
+            sampler,
+            rng: &mut rng,
+            rays: &mut counts.rays,
+            media: bidirectional.media,
+        };
         let mut light_wl = first;
         let light_collapsed = self.light_subpath(
-            sampler,
-            &mut rng,
-            camera_ray.1,
+            &mut draw,
+            lens_point,
             &mut light_wl,
             &scratch.choice,
             max_light,
             &mut scratch.light,
-            &mut counts.rays,
         );
         let (wl, lanes) = camera_cluster(&first, &scratch.light, u_runs, u_rotate);
         let camera_collapsed = self.camera_subpath(
-            sampler,
-            &mut rng,
+            &mut draw,
             &wl,
             camera_ray,
+            lens_point,
             max_camera,
             &mut scratch.camera,
-            &mut counts.rays,
         );
 
         // Every strategy (s, t) with t ≥ 1 and s + t − 1 ≤ max_depth.
@@ -134,9 +137,7 @@ impl Renderer<'_> {
                 if s > sub.light.len() && !(s == 1 && t >= 2) {
                     continue;
                 }
-                let Some((l, raster)) =
-                    self.strategy(&sub, s, t, (sampler, &mut rng), &mut counts.rays)
-                else {
+                let Some(Contribution { l, raster }) = self.strategy(&sub, s, t, &mut draw) else {
                     continue;
                 };
                 match raster {

@@ -64,7 +64,7 @@ pub(super) struct Vertex<const K: usize> {
     /// the new wavelength.
     pub shift: SampledSpectrum<K>,
     pub lambda_out: [f32; K],
-    /// Media (`Renderer::volumetric`): the medium the vertex sits in — for
+    /// Media (`Bidirectional::media`): the medium the vertex sits in — for
     /// a surface vertex the one its subpath arrived through, for a light
     /// the one around it; a surface bounding media replaces it on the side
     /// a direction leaves by (`Renderer::medium_towards`).

@@ -5,74 +5,63 @@
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::clusters::LightChoice;
+use super::connect::Draw;
 use super::media::take_event;
 use super::vertex::{shading_correction, Kind, Vertex, MAX_VERTICES};
 use crate::bsdf::Transport;
 use crate::integrator::direct::spawn;
 use crate::integrator::Renderer;
 use crate::math::{Ray, Vec3};
-use crate::sampling::sobol::Sampler;
-use crate::sampling::splitmix::SplitMix;
 
 impl Renderer<'_> {
     /// Camera subpath along camera ray `ray` from lens point `lens_point`:
     /// z₀ on the lens, then up to `max` vertices in all. Returns whether its
     /// cluster collapsed.
-    #[allow(clippy::too_many_arguments)]
     pub(super) fn camera_subpath<const K: usize>(
         &self,
-        sampler: &mut Sampler,
-        rng: &mut SplitMix,
+        draw: &mut Draw<'_>,
         wl: &SampledWavelengths<K>,
-        (ray, lens_point): (Ray, Vec3),
+        ray: Ray,
+        lens_point: Vec3,
         max: usize,
         path: &mut Vec<Vertex<K>>,
-        rays: &mut u64,
     ) -> bool {
         path.clear();
         let camera = &self.scene.camera;
         let mut z0 = Vertex::new(Kind::Camera, lens_point, SampledSpectrum::splat(1.0));
         z0.pdf_fwd = camera.pdf_lens();
-        z0.medium = self.start_medium();
+        z0.medium = self.start_medium(draw);
         path.push(z0);
-        let pdf = camera.pdf_direction(lens_point, ray.d);
-        self.walk(
-            sampler,
-            rng,
-            &mut wl.clone(),
-            (ray, z0.medium),
-            SampledSpectrum::splat(1.0),
-            pdf,
-            Transport::Radiance,
-            max,
-            path,
-            rays,
-        )
+        let leaving = Leaving {
+            ray,
+            medium: z0.medium,
+            beta: SampledSpectrum::splat(1.0),
+            pdf: camera.pdf_direction(lens_point, ray.d),
+        };
+        let mut wl = *wl;
+        self.walk(draw, &mut wl, leaving, Transport::Radiance, max, path)
     }
 
     /// The camera's medium, when media are traced.
-    pub(super) fn start_medium(&self) -> Option<u32> {
-        self.scene.camera_medium.filter(|_| self.volumetric)
+    fn start_medium(&self, draw: &Draw<'_>) -> Option<u32> {
+        self.scene.camera_medium.filter(|_| draw.media)
     }
 
     /// Light subpath of at most `max` vertices from a light chosen by
     /// `choice`, carrying cluster `wl` (whose members fluorescence moves).
     /// Returns whether its cluster collapsed; empty when no light emits.
-    #[allow(clippy::too_many_arguments)]
     pub(super) fn light_subpath<const K: usize>(
         &self,
-        sampler: &mut Sampler,
-        rng: &mut SplitMix,
+        draw: &mut Draw<'_>,
         lens_point: Vec3,
         wl: &mut SampledWavelengths<K>,
         choice: &LightChoice,
         max: usize,
         path: &mut Vec<Vertex<K>>,
-        rays: &mut u64,
     ) -> bool {
         path.clear();
-        let [u_choice, u_select, u_p0, u_p1] = sampler.get_4d();
-        let [u_d0, u_d1] = sampler.get_2d();
+        let [u_choice, u_select, u_p0, u_p1] = draw.sampler.get_4d();
+        let [u_d0, u_d1] = draw.sampler.get_2d();
         if max == 0 {
             return false;
         }
@@ -102,10 +91,11 @@ impl Renderer<'_> {
         y0.tex = e.uv.into();
         y0.wi = -e.d;
         y0.pdf_fwd = self.origin_density(choice, &y0);
-        if self.volumetric {
+        if draw.media {
             // The medium around the light (`media`): an area light on a
             // shape bounding media emits into the medium on its side.
-            y0.medium = self.medium_at(lens_point, self.start_medium(), e.p, rays);
+            let camera_medium = self.start_medium(draw);
+            y0.medium = self.medium_at(lens_point, camera_medium, e.p, draw.rays);
             if y0.at_infinity && y0.medium.is_some() {
                 return false;
             }
@@ -118,39 +108,39 @@ impl Renderer<'_> {
             Some(n) => spawn(e.p, n, e.d, self.scene.geometry.offset_unit()),
             None => Ray::new(e.p, e.d),
         };
-        let medium = self.medium_towards(&y0, e.d);
-        self.walk(
-            sampler,
-            rng,
-            wl,
-            (ray, medium),
+        let leaving = Leaving {
+            ray,
+            medium: self.medium_towards(&y0, e.d),
             beta,
             pdf,
-            Transport::Importance,
-            max,
-            path,
-            rays,
-        )
+        };
+        self.walk(draw, wl, leaving, Transport::Importance, max, path)
     }
 
-    /// Extends `path` from its last vertex along `ray` (left with density
-    /// `pdf`, per solid angle or per disk area for a light at infinity,
-    /// into `medium`), to at most `max` vertices. Returns whether the
-    /// cluster collapsed.
-    #[allow(clippy::too_many_arguments)]
+    /// Extends `path` from its last vertex as `from` leaves it, to at most
+    /// `max` vertices. Returns whether the cluster collapsed.
     fn walk<const K: usize>(
         &self,
-        sampler: &mut Sampler,
-        rng: &mut SplitMix,
+        draw: &mut Draw<'_>,
         wl: &mut SampledWavelengths<K>,
-        (mut ray, mut medium): (Ray, Option<u32>),
-        mut beta: SampledSpectrum<K>,
-        mut pdf: f32,
+        from: Leaving<K>,
         mode: Transport,
         max: usize,
         path: &mut Vec<Vertex<K>>,
-        rays: &mut u64,
     ) -> bool {
+        let Leaving {
+            mut ray,
+            mut medium,
+            mut beta,
+            mut pdf,
+        } = from;
+        let Draw {
+            sampler,
+            rng,
+            rays,
+            media,
+        } = draw;
+        let media = *media;
         let scene = self.scene;
         let max = max.min(MAX_VERTICES);
         let mut collapsed = false;
@@ -159,11 +149,11 @@ impl Renderer<'_> {
         let start = beta.max_value();
         let mut passes = 0usize;
         while path.len() < max {
-            *rays += 1;
+            **rays += 1;
             let prev = *path.last().expect("a subpath starts with its endpoint");
             let hit = scene.geometry.intersect(&ray);
             // A free flight through the medium the ray travels in.
-            if let (true, Some(m)) = (self.volumetric, medium) {
+            if let (true, Some(m)) = (media, medium) {
                 let t_max = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
                 let u = sampler.get_1d();
                 let e = scene.media[m as usize].sample_event(&ray, t_max, wl, u, rng);
@@ -201,8 +191,11 @@ impl Renderer<'_> {
             let Some(hit) = hit else {
                 // A camera ray that escapes ends on the lights at infinity.
                 if mode == Transport::Radiance && self.has_infinite_lights() {
-                    let mut v =
-                        Vertex::new(Kind::Infinite, ray.o + ray.d * (2.0 * self.radius), beta);
+                    let mut v = Vertex::new(
+                        Kind::Infinite,
+                        ray.o + ray.d * (2.0 * self.bounds.radius),
+                        beta,
+                    );
                     v.wi = ray.d;
                     v.at_infinity = true;
                     v.pdf_fwd = pdf;
@@ -234,7 +227,7 @@ impl Renderer<'_> {
             // the surface into the medium beyond (as the path tracer does).
             // (Drawn here, before the vertex is kept; fluorescent BSDFs,
             // which move wavelengths first, have no null lobe.)
-            let early = (self.volumetric && bsdf.may_pass() && bsdf.fluorescent().is_none())
+            let early = (media && bsdf.may_pass() && bsdf.fluorescent().is_none())
                 .then(|| bsdf.sample(wl, at, wi, u_lobe, [u_b0, u_b1], mode));
             if let Some(Some(bs)) = &early {
                 if bs.passes_through(wi) && passes < MAX_PASSES {
@@ -312,7 +305,7 @@ impl Renderer<'_> {
                 break;
             }
             ray = spawn(v.p, v.ng, wo, scene.geometry.offset_unit());
-            if self.volumetric {
+            if media {
                 if let Some(sides) = self.shape_media(hit.shape) {
                     medium = sides.target(wo, v.ng);
                 }
@@ -343,6 +336,16 @@ impl Renderer<'_> {
         }
         true
     }
+}
+
+/// How a subpath leaves its last vertex: along `ray`, into `medium`, with
+/// throughput `beta` and density `pdf` (per solid angle, or per disk
+/// area for a light at infinity).
+struct Leaving<const K: usize> {
+    ray: Ray,
+    medium: Option<u32>,
+    beta: SampledSpectrum<K>,
+    pdf: f32,
 }
 
 /// Most null surfaces a subpath passes between two vertices.

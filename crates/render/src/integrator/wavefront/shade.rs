@@ -59,7 +59,7 @@ pub fn shade<const K: usize>(
                 lane.alive = false;
             }
             Some(hit) => {
-                let b = r.bounce(&mut lane.path, lane.u, hit);
+                let b = r.bounce::<K, false>(&mut lane.path, lane.u, hit);
                 lane.shadow = b.shadow;
                 lane.alive = b.goes_on;
             }
