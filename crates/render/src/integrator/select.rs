@@ -7,7 +7,6 @@ use crate::bsdf::Bsdf;
 use crate::camera::Projection;
 use crate::scene::{IntegratorKind, Scene};
 
-use super::bdpt::LightSpectra;
 use super::light_choice::LightChoice;
 use super::renderer::{light_centre, SceneBounds};
 use super::{equiangular, measure, Quantity, RenderError, RenderOptions, Tracer};
@@ -22,7 +21,7 @@ pub enum Integrator {
     /// light (`volume.rs`).
     VolPath(Media),
     /// Bidirectional path tracing (`bdpt/`).
-    Bdpt(Box<Bidirectional>),
+    Bdpt(Bidirectional),
     /// The illuminance at the first surface each pixel sees, by the path
     /// tracer's transport at a virtual receiver there (`measure.rs`).
     Illuminance(Receivers),
@@ -38,8 +37,6 @@ pub struct Media {
 
 /// The bidirectional tracer's own state.
 pub struct Bidirectional {
-    /// The lights' spectra, to choose a light by the camera's cluster.
-    pub(crate) spectra: LightSpectra,
     /// One strategy [s, t] alone, unweighted (a check that each converges
     /// to the same image).
     pub(crate) only: Option<[usize; 2]>,
@@ -122,14 +119,10 @@ impl Integrator {
         } else if quantity == Quantity::Illuminance {
             Self::Illuminance(Receivers::of(scene, lights, bounds))
         } else if kind == IntegratorKind::Bdpt {
-            let p = (0..scene.lights.len())
-                .map(|i| lights.power.probability(i))
-                .collect();
-            Self::Bdpt(Box::new(Bidirectional {
-                spectra: LightSpectra::new(&scene.lights, p),
+            Self::Bdpt(Bidirectional {
                 only: options.only_strategy,
                 media: traces_media(scene),
-            }))
+            })
         } else {
             match Media::of(scene, lights, bounds) {
                 Some(media) => Self::VolPath(media),

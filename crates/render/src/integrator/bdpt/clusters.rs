@@ -1,14 +1,5 @@
-//! Which light a light subpath starts from, and which wavelengths the
-//! camera subpath carries.
-//!
-//! **Light choice.** The cluster is drawn first (SWC: a light chosen by
-//! power, K wavelengths stratified over its spectrum); the light subpath
-//! then starts on light l with probability ∝ P(l)·Σₖ p_l(λₖ), P by power,
-//! p_l the light's spectral density: the posterior of the light that drew
-//! the cluster. With one light, or lights of distinct spectra, that is the
-//! light SWC chose; unlike reusing SWC's choice, its probability is known
-//! for every light given the cluster, so every strategy's density (a
-//! light hit by a camera path, a light sampled for a connection) is too.
+//! Which wavelengths the camera subpath carries (the light subpath's
+//! light is chosen for its cluster by `integrator::light_choice`).
 //!
 //! **Fluorescence (the rule the seed design proposes).** Wavelengths only
 //! change on the light subpath: at a fluorescent vertex each member is
@@ -35,69 +26,6 @@
 use scotopia_color::SampledWavelengths;
 
 use super::vertex::Vertex;
-use crate::light::Light;
-use crate::wavelength::SpectralPdf;
-
-/// Per-scene facts for choosing lights by cluster.
-pub(crate) struct LightSpectra {
-    /// Each light's spectral density (`None`: it emits nothing).
-    pub spectra: Vec<Option<SpectralPdf>>,
-    /// P(l), by power.
-    pub power: Vec<f32>,
-}
-
-impl LightSpectra {
-    pub fn new(lights: &[Light], power_probability: Vec<f32>) -> Self {
-        Self {
-            spectra: lights
-                .iter()
-                .map(|l| SpectralPdf::new(l.spectrum()))
-                .collect(),
-            power: power_probability,
-        }
-    }
-}
-
-/// The light choice for one cluster: probabilities and their running sum.
-#[derive(Debug, Default)]
-pub(super) struct LightChoice {
-    prob: Vec<f32>,
-    cdf: Vec<f32>,
-}
-
-impl LightChoice {
-    /// Recomputes the choice for cluster `wl` (no allocation once warm).
-    pub fn update<const K: usize>(&mut self, lights: &LightSpectra, wl: &SampledWavelengths<K>) {
-        self.prob.clear();
-        self.cdf.clear();
-        let mut total = 0.0f32;
-        for (spectrum, &p) in lights.spectra.iter().zip(&lights.power) {
-            let w = match spectrum {
-                Some(s) if p > 0.0 => p * wl.lambdas().iter().map(|&l| s.pdf(l)).sum::<f32>(),
-                _ => 0.0,
-            };
-            self.prob.push(w);
-            total += w;
-            self.cdf.push(total);
-        }
-        if total > 0.0 {
-            self.prob.iter_mut().for_each(|p| *p /= total);
-            self.cdf.iter_mut().for_each(|c| *c /= total);
-        }
-    }
-
-    pub fn probability(&self, light: usize) -> f32 {
-        self.prob.get(light).copied().unwrap_or(0.0)
-    }
-
-    /// A light and its probability; `None` when no light emits at the
-    /// cluster's wavelengths.
-    pub fn sample(&self, u: f32) -> Option<(usize, f32)> {
-        let i = self.cdf.partition_point(|&c| c <= u);
-        let i = (i..self.prob.len()).find(|&i| self.prob[i] > 0.0)?;
-        Some((i, self.prob[i]))
-    }
-}
 
 /// Which light member and run each camera member follows.
 #[derive(Debug, Clone, Copy)]

@@ -7,11 +7,12 @@
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
-use super::clusters::{Lanes, LightChoice};
+use super::clusters::Lanes;
 use super::mis::{self, Connection};
 use super::vertex::{Kind, Vertex};
 use crate::bsdf::{Bsdf, Transport};
 use crate::integrator::direct::{Crossing, DirectSample};
+use crate::integrator::light_choice::ClusterChoice;
 use crate::integrator::Renderer;
 use crate::light::Light;
 use crate::math::{offset_ray_origin, Ray, Vec3};
@@ -29,7 +30,7 @@ pub(super) struct Subpaths<'p, const K: usize> {
     /// The camera cluster, on which every contribution is evaluated.
     pub wl: &'p SampledWavelengths<K>,
     pub lanes: &'p Lanes<K>,
-    pub choice: &'p LightChoice,
+    pub choice: &'p ClusterChoice,
     /// Evaluate one strategy alone, unweighted.
     pub unweighted: bool,
 }
@@ -126,7 +127,7 @@ impl Renderer<'_> {
     /// infinity in direction `v.wi`).
     pub(super) fn origin_density<const K: usize>(
         &self,
-        choice: &LightChoice,
+        choice: &ClusterChoice,
         v: &Vertex<K>,
     ) -> f32 {
         let extent = self.extent();

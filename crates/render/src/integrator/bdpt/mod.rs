@@ -23,12 +23,12 @@ mod walk;
 use scotopia_color::photometry::estimate_xyzv;
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
+use super::light_choice::ClusterChoice;
 use super::renderer::Scratchpad;
 use super::select::Bidirectional;
 use super::{CameraSample, Renderer};
 use crate::sampling::sobol::Sampler;
-pub(crate) use clusters::LightSpectra;
-use clusters::{camera_cluster, LightChoice};
+use clusters::camera_cluster;
 use connect::{Contribution, Draw, Subpaths};
 use vertex::Vertex;
 
@@ -46,7 +46,7 @@ pub struct Splat<const K: usize> {
 pub struct Scratch<const K: usize> {
     light: Vec<Vertex<K>>,
     camera: Vec<Vertex<K>>,
-    choice: LightChoice,
+    choice: ClusterChoice,
 }
 
 impl Renderer<'_> {
@@ -72,7 +72,7 @@ impl Renderer<'_> {
         } = to;
         let (film, lens, first, u_runs) = self.start_sample::<K>(sampler, pixel, index);
         let u_rotate = sampler.get_1d();
-        scratch.choice.update(&bidirectional.spectra, &first);
+        self.lights.for_cluster(&first, &mut scratch.choice);
 
         // The subpaths: Mitsuba's max_depth counts segments, so a camera
         // subpath has at most max_depth + 1 vertices and a light subpath

@@ -4,12 +4,12 @@
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
-use super::clusters::LightChoice;
 use super::connect::Draw;
 use super::media::take_event;
 use super::vertex::{shading_correction, Kind, Vertex, MAX_VERTICES};
 use crate::bsdf::Transport;
 use crate::integrator::direct::spawn;
+use crate::integrator::light_choice::ClusterChoice;
 use crate::integrator::Renderer;
 use crate::math::{Ray, Vec3};
 
@@ -55,7 +55,7 @@ impl Renderer<'_> {
         draw: &mut Draw<'_>,
         lens_point: Vec3,
         wl: &mut SampledWavelengths<K>,
-        choice: &LightChoice,
+        choice: &ClusterChoice,
         max: usize,
         path: &mut Vec<Vertex<K>>,
     ) -> bool {

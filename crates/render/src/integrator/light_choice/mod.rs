@@ -1,4 +1,8 @@
-//! Which light the path tracer's next-event estimation samples at a point.
+//! Which light a path samples: the one choice every integrator consults.
+//! By radiant power (SWC's choice of the light that draws a cluster), at a
+//! point by power over squared distance (the path tracers' next-event
+//! estimation, below), and for a cluster by the posterior of the light
+//! that drew it (the bidirectional tracer's light subpaths, `cluster`).
 //!
 //! By radiant power alone, a point beside one lamp of three samples its
 //! own lamp a third of the time and the far ones the rest, though they
@@ -22,10 +26,15 @@
 //! Scenes with more than [`MAX_NEAR`] lights keep the power choice (the
 //! per-point table is O(lights)).
 
+mod cluster;
+
+pub(crate) use cluster::ClusterChoice;
+
 use crate::geometry::Shape;
 use crate::light::{Light, SceneExtent};
 use crate::math::Vec3;
 use crate::sampling::distribution::Distribution1D;
+use crate::wavelength::SpectralPdf;
 
 /// Lights up to which the choice depends on the point.
 pub const MAX_NEAR: usize = 16;
@@ -43,15 +52,20 @@ enum Reach {
     Far,
 }
 
-/// The per-point light choice.
+/// The scene's light choice.
 #[derive(Debug, Clone)]
 pub struct LightChoice {
     /// By radiant power alone.
     pub power: Distribution1D,
+    /// Each light's probability in `power`.
+    power_probability: Vec<f32>,
     /// Per light: its reach and power; empty when the choice is by power
     /// alone.
     near: Vec<(Reach, f32)>,
     radius2: f32,
+    /// Each light's spectral density (`None`: it emits nothing), for the
+    /// choice by cluster.
+    spectra: Vec<Option<SpectralPdf>>,
 }
 
 impl LightChoice {
@@ -71,9 +85,14 @@ impl LightChoice {
             Vec::new()
         };
         Self {
+            power_probability: (0..lights.len()).map(|i| global.probability(i)).collect(),
             power: global,
             near,
             radius2: extent.radius * extent.radius,
+            spectra: lights
+                .iter()
+                .map(|l| SpectralPdf::new(l.spectrum()))
+                .collect(),
         }
     }
 
