@@ -294,7 +294,7 @@ impl Reflectors {
             .iter()
             .zip(power)
             .filter_map(|(l, &watts)| {
-                let centre = super::renderer::light_centre(l, extent.shapes)?;
+                let centre = l.centre(extent.shapes)?;
                 (watts.is_finite() && watts > 0.0).then_some(Lamp { centre, watts })
             })
             .collect();

@@ -48,24 +48,6 @@ pub(super) fn casters(scene: &Scene) -> Vec<Caster> {
     }))
 }
 
-/// Where a light at a finite place is (its bounding box's centre for an
-/// area light), for equi-angular sampling; `None` at infinity.
-pub(super) fn light_centre(light: &Light, shapes: &[Shape]) -> Option<Vec3> {
-    match light {
-        Light::Point(l) => Some(l.position),
-        Light::Spot(l) => Some(l.position),
-        Light::Goniometric(l) => Some(l.position),
-        Light::Projector(l) => Some(l.position),
-        Light::Area(a) => {
-            let shape = shapes.get(a.shape as usize)?;
-            let b = (0..shape.primitive_count())
-                .fold(Aabb::EMPTY, |b, prim| b.union(shape.bounds(prim)));
-            (!b.is_empty()).then(|| b.centroid())
-        }
-        Light::Directional(_) | Light::Constant(_) | Light::EnvMap(_) => None,
-    }
-}
-
 /// The scene's lights as every integrator sees them: the scene's bounds,
 /// each light's radiant power (W) and the light choice made from them.
 struct SceneLights {
@@ -158,7 +140,7 @@ impl<'a> Renderer<'a> {
     /// why it cannot run.
     pub fn new(scene: &'a Scene, options: &RenderOptions) -> Result<Self, RenderError> {
         let lit = SceneLights::of(scene);
-        let (kind, integrator) = Integrator::new(scene, options, &lit.choice, &lit.bounds)?;
+        let (kind, integrator) = Integrator::new(scene, options, &lit.choice, lit.bounds.radius)?;
         Ok(Self::with(scene, options.strategy, kind, integrator, lit))
     }
 
@@ -166,7 +148,7 @@ impl<'a> Renderer<'a> {
     /// transport, with `strategy`'s wavelengths.
     pub(super) fn receivers(scene: &'a Scene, strategy: WavelengthStrategy) -> Self {
         let lit = SceneLights::of(scene);
-        let receivers = Receivers::of(scene, &lit.choice, &lit.bounds);
+        let receivers = Receivers::of(scene, &lit.choice, lit.bounds.radius);
         let integrator = Integrator::Illuminance(receivers);
         Self::with(scene, strategy, IntegratorKind::Path, integrator, lit)
     }

@@ -8,7 +8,6 @@ use crate::camera::Projection;
 use crate::scene::{IntegratorKind, Scene};
 
 use super::light_choice::LightChoice;
-use super::renderer::{light_centre, SceneBounds};
 use super::{equiangular, measure, Quantity, RenderError, RenderOptions, Tracer};
 
 /// The light transport of a render.
@@ -63,26 +62,26 @@ fn traces_media(scene: &Scene) -> bool {
 impl Media {
     /// The media state of `scene`, `None` where its paths are not traced
     /// through media.
-    pub(super) fn of(scene: &Scene, lights: &LightChoice, bounds: &SceneBounds) -> Option<Self> {
+    pub(super) fn of(scene: &Scene, lights: &LightChoice, scene_radius: f32) -> Option<Self> {
         traces_media(scene).then(|| {
             let targets = (0..scene.lights.len())
                 .filter_map(|i| {
-                    let c = light_centre(&scene.lights[i], &scene.geometry.shapes)?;
+                    let c = scene.lights[i].centre(&scene.geometry.shapes)?;
                     Some((c, lights.power.probability(i)))
                 })
                 .collect();
             Self {
-                targets: equiangular::Targets::new(targets, bounds.radius),
+                targets: equiangular::Targets::new(targets, scene_radius),
             }
         })
     }
 }
 
 impl Receivers {
-    pub(super) fn of(scene: &Scene, lights: &LightChoice, bounds: &SceneBounds) -> Self {
+    pub(super) fn of(scene: &Scene, lights: &LightChoice, scene_radius: f32) -> Self {
         Self {
             white: measure::white(),
-            media: Media::of(scene, lights, bounds),
+            media: Media::of(scene, lights, scene_radius),
         }
     }
 }
@@ -96,7 +95,7 @@ impl Integrator {
         scene: &Scene,
         options: &RenderOptions,
         lights: &LightChoice,
-        bounds: &SceneBounds,
+        scene_radius: f32,
     ) -> Result<(IntegratorKind, Self), RenderError> {
         // An irradiancemeter is measured by the path tracer's receiver, in lx.
         let (kind, quantity) = match scene.meter {
@@ -115,16 +114,16 @@ impl Integrator {
             }
         }
         let integrator = if scene.meter.is_some() {
-            Self::Meter(Receivers::of(scene, lights, bounds))
+            Self::Meter(Receivers::of(scene, lights, scene_radius))
         } else if quantity == Quantity::Illuminance {
-            Self::Illuminance(Receivers::of(scene, lights, bounds))
+            Self::Illuminance(Receivers::of(scene, lights, scene_radius))
         } else if kind == IntegratorKind::Bdpt {
             Self::Bdpt(Bidirectional {
                 only: options.only_strategy,
                 media: traces_media(scene),
             })
         } else {
-            match Media::of(scene, lights, bounds) {
+            match Media::of(scene, lights, scene_radius) {
                 Some(media) => Self::VolPath(media),
                 None => Self::Path(options.tracer),
             }

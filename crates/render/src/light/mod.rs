@@ -29,7 +29,7 @@ pub use simple::{ConstantLight, DirectionalLight, PointLight, SpotLight};
 use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
 
 use crate::geometry::Shape;
-use crate::math::Vec3;
+use crate::math::{Aabb, Vec3};
 
 /// An incident-light sample at a reference point.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -75,6 +75,24 @@ pub struct SceneExtent<'a> {
 }
 
 impl Light {
+    /// Where a light at a finite place is (its bounding box's centre for
+    /// an area light), for sampling aimed at it; `None` at infinity.
+    pub fn centre(&self, shapes: &[Shape]) -> Option<Vec3> {
+        match self {
+            Light::Point(l) => Some(l.position),
+            Light::Spot(l) => Some(l.position),
+            Light::Goniometric(l) => Some(l.position),
+            Light::Projector(l) => Some(l.position),
+            Light::Area(a) => {
+                let shape = shapes.get(a.shape as usize)?;
+                let b = (0..shape.primitive_count())
+                    .fold(Aabb::EMPTY, |b, prim| b.union(shape.bounds(prim)));
+                (!b.is_empty()).then(|| b.centroid())
+            }
+            Light::Directional(_) | Light::Constant(_) | Light::EnvMap(_) => None,
+        }
+    }
+
     /// Samples incident light at `p` with `u` ∈ [0, 1)² and `u_select`
     /// (choosing a triangle of a mesh emitter).
     pub fn sample_li<const K: usize>(

@@ -5,7 +5,7 @@
 //! multiple importance sampling (power heuristic).
 //!
 //! Wavelengths: the light subpath carries the SWC cluster and a light
-//! chosen for it (`clusters`); the camera subpath carries the same
+//! chosen for it (`light_choice`); the camera subpath carries the same
 //! cluster, or with fluorescence one drawn from the wavelengths along the
 //! light subpath. Dispersion collapses the cluster on either subpath.
 //!

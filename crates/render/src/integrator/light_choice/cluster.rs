@@ -120,7 +120,10 @@ mod tests {
             counts[i] += 1;
         }
         for i in 0..3 {
-            assert!((counts[i] as f32 - p[i] * n as f32).abs() <= 2.0, "{counts:?}");
+            assert!(
+                (counts[i] as f32 - p[i] * n as f32).abs() <= 2.0,
+                "{counts:?}"
+            );
         }
         // No lamp emits at 550 nm: no light at all.
         let green = SampledWavelengths::new([550.0, 560.0], [0.01, 0.01]);
