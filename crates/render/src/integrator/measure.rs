@@ -23,6 +23,7 @@ use scotopia_color::photometry::estimate_xyzv;
 use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
 
 use super::path::{CameraSample, PathState, ScatterPoint};
+use super::renderer::SampleStart;
 use super::select::{Integrator, Receivers};
 use super::{RenderError, RenderOptions, Renderer};
 use crate::bsdf::{Bsdf, Diffuse, ShadingPoint};
@@ -183,7 +184,9 @@ impl Renderer<'_> {
         let meter = self.scene.meter.as_ref()?;
         sampler.start(pixel, index);
         let sets = sampler.get_two_4d();
-        let (_, lens, wl, spare) = self.start_sample_with::<K>(pixel, sets);
+        let SampleStart {
+            lens, wl, spare, ..
+        } = self.start_sample_with::<K>(pixel, sets);
         let s = meter.sample(&self.scene.geometry.shapes, spare, lens)?;
         let mut path =
             self.receiver_path(receivers, sampler, &Receiver { p: s.p, n: s.n }, wl, rays);
@@ -254,7 +257,7 @@ impl Renderer<'_> {
             }
             sampler.start([index, 0], i);
             let sets = sampler.get_two_4d();
-            let (_, _, wl, _) = self.start_sample_with::<K>([index, 0], sets);
+            let wl = self.start_sample_with::<K>([index, 0], sets).wl;
             let at = Receiver { p: r.p, n };
             let path = self.receiver_path(receivers, &mut sampler, &at, wl, &mut 0);
             let [_, y, _, v] = estimate_xyzv(&path.l, &path.wl);

@@ -8,6 +8,7 @@ use scotopia_color::photometry::estimate_xyzv;
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::direct::{power_heuristic, spawn};
+use super::renderer::SampleStart;
 use super::Renderer;
 use crate::bsdf::{Bsdf, ShadingPoint, Transport};
 use crate::geometry::Hit;
@@ -163,7 +164,7 @@ impl Renderer<'_> {
         pixel: [u32; 2],
         sets: [[f32; 4]; 2],
     ) -> PathState<K> {
-        let (film, lens, wl, _) = self.start_sample_with::<K>(pixel, sets);
+        let SampleStart { film, lens, wl, .. } = self.start_sample_with::<K>(pixel, sets);
         PathState {
             ray: self.scene.camera.generate_ray(film, lens),
             l: SampledSpectrum::splat(0.0),

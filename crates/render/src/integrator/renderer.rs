@@ -216,17 +216,14 @@ impl<'a> Renderer<'a> {
         }
     }
 
-    /// What every camera sample starts with, from the sampler's first two
-    /// sets: the film position (filter offset included), the lens point,
-    /// the cluster — rotated so that the member a dispersive refraction
-    /// keeps is uniform over it (stratum 0 alone would bias towards the
-    /// blue) — and the spare fourth number of the second set.
+    /// What every camera sample starts with ([`SampleStart`]), from the
+    /// sampler's first two sets.
     pub(super) fn start_sample<const K: usize>(
         &self,
         sampler: &mut Sampler,
         pixel: [u32; 2],
         index: u32,
-    ) -> ([f32; 2], [f32; 2], SampledWavelengths<K>, f32) {
+    ) -> SampleStart<K> {
         sampler.start(pixel, index);
         let sets = sampler.get_two_4d();
         self.start_sample_with(pixel, sets)
@@ -238,7 +235,7 @@ impl<'a> Renderer<'a> {
         &self,
         pixel: [u32; 2],
         [[fx, fy, u_choice, u_wl], [lx, ly, u_first, spare]]: [[f32; 4]; 2],
-    ) -> ([f32; 2], [f32; 2], SampledWavelengths<K>, f32) {
+    ) -> SampleStart<K> {
         let offset = self.filter.sample([fx, fy]);
         let film = [
             pixel[0] as f32 + 0.5 + offset[0],
@@ -248,7 +245,12 @@ impl<'a> Renderer<'a> {
         if !wl.secondary_terminated() {
             wl.rotate_to_front(((u_first * K as f32) as usize).min(K - 1));
         }
-        (film, [lx, ly], wl, spare)
+        SampleStart {
+            film,
+            lens: [lx, ly],
+            wl,
+            spare,
+        }
     }
 
     /// Lights at infinity with their indices.
@@ -362,6 +364,20 @@ impl<'a> Renderer<'a> {
             Integrator::Bdpt(b) => self.sample_pixel_bdpt::<K>(b, sampler, pixel, index, to),
         }
     }
+}
+
+/// What a camera sample starts with.
+pub(super) struct SampleStart<const K: usize> {
+    /// The film position, the filter's offset included.
+    pub film: [f32; 2],
+    /// The lens sample.
+    pub lens: [f32; 2],
+    /// The cluster, rotated so that the member a dispersive refraction
+    /// keeps is uniform over it (stratum 0 alone would bias towards the
+    /// blue).
+    pub wl: SampledWavelengths<K>,
+    /// The second set's spare fourth number.
+    pub spare: f32,
 }
 
 /// Where a row's samples keep their work: the bidirectional tracer's

@@ -24,7 +24,7 @@ use scotopia_color::photometry::estimate_xyzv;
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::light_choice::ClusterChoice;
-use super::renderer::Scratchpad;
+use super::renderer::{SampleStart, Scratchpad};
 use super::select::Bidirectional;
 use super::{CameraSample, Renderer};
 use crate::sampling::sobol::Sampler;
@@ -70,7 +70,12 @@ impl Renderer<'_> {
             splats,
             counts,
         } = to;
-        let (film, lens, first, u_runs) = self.start_sample::<K>(sampler, pixel, index);
+        let SampleStart {
+            film,
+            lens,
+            wl: first,
+            spare: u_runs,
+        } = self.start_sample::<K>(sampler, pixel, index);
         let u_rotate = sampler.get_1d();
         self.lights.for_cluster(&first, &mut scratch.choice);
 
