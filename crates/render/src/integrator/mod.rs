@@ -1,6 +1,20 @@
-//! Rendering a scene onto the film: the options (`options.rs`), the
-//! per-scene state the integrators share (`renderer.rs`) and the pass
-//! driver (`driver.rs`).
+//! Rendering a scene onto the film.
+//!
+//! - `options.rs`: what a render is asked for, each option parsed from and
+//!   printed to its text;
+//! - `select.rs`: the integrator chosen from the scene and the options,
+//!   each variant with its own state (`Integrator`);
+//! - `renderer.rs`: the per-scene state every sample shares (`Renderer`)
+//!   and a pass of samples over the film;
+//! - `driver.rs`: passes until done, checkpoints, shards, the observer and
+//!   time limits, knowing nothing of any integrator's insides;
+//! - the integrators: `path.rs` (surfaces in clear air), `wavefront/` (the
+//!   same paths in batches), `volume.rs` (media), `bdpt/` (bidirectional),
+//!   `measure.rs` (illuminance at virtual receivers);
+//! - what they share: `direct.rs` (next-event estimation, shadow rays and
+//!   their transmittance, MIS), `light_choice/` (which light a path
+//!   samples), `reflectors.rs` (aiming diffuse bounces at lamp-lit glossy
+//!   surfaces) and `equiangular.rs` (distances aimed at lights in media).
 
 mod bdpt;
 mod direct;
