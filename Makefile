@@ -191,6 +191,7 @@ bench: python
 	$(PY) bench/vs_mitsuba.py
 	$(PY) bench/vision.py
 	$(PY) bench/distributed.py
+	$(PY) bench/same_speed.py
 
 ## Regenerates the Jakob–Hanika coefficient tables in data/rgb2spec.
 tables:

@@ -9,6 +9,7 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::direct::{power_heuristic, spawn};
 use super::renderer::SampleStart;
+use super::select::Media;
 use super::Renderer;
 use crate::bsdf::{Bsdf, ShadingPoint, Transport};
 use crate::geometry::Hit;
@@ -93,18 +94,23 @@ impl<const K: usize> Bounce<K> {
 }
 
 impl Renderer<'_> {
-    /// One camera sample of `pixel`: its X, Y, Z, V′ estimate and the
-    /// cluster's radiance, or `None` when the estimate is not finite
-    /// (counted by the caller). Adds the rays it traced to `rays`.
-    pub fn sample_pixel<const K: usize>(
+    /// One camera sample of `pixel`, traced in clear air or through
+    /// `media`: its X, Y, Z, V′ estimate and the cluster's radiance, or
+    /// `None` when the estimate is not finite (counted by the caller).
+    /// Adds the rays it traced to `rays`.
+    pub(super) fn sample_pixel<const K: usize>(
         &self,
+        media: Option<&Media>,
         sampler: &mut Sampler,
         pixel: [u32; 2],
         index: u32,
         rays: &mut u64,
     ) -> Option<CameraSample<K>> {
         let mut path = self.start_path::<K>(sampler, pixel, index);
-        self.trace(sampler, &mut path, rays);
+        match media {
+            None => self.trace(sampler, &mut path, rays),
+            Some(media) => self.trace_media(media, sampler, &mut path, rays),
+        }
         Self::finish(&path)
     }
 

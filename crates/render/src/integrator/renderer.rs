@@ -359,8 +359,8 @@ impl<'a> Renderer<'a> {
             Integrator::Illuminance(r) => {
                 self.sample_illuminance::<K>(r, sampler, pixel, index, rays)
             }
-            Integrator::Path(_) => self.sample_pixel::<K>(sampler, pixel, index, rays),
-            Integrator::VolPath(m) => self.sample_pixel_media::<K>(m, sampler, pixel, index, rays),
+            Integrator::Path(_) => self.sample_pixel::<K>(None, sampler, pixel, index, rays),
+            Integrator::VolPath(m) => self.sample_pixel::<K>(Some(m), sampler, pixel, index, rays),
             Integrator::Bdpt(b) => self.sample_pixel_bdpt::<K>(b, sampler, pixel, index, to),
         }
     }

@@ -19,7 +19,7 @@
 
 use scotopia_color::SampledSpectrum;
 
-use super::path::{Bounce, CameraSample, PathState};
+use super::path::{Bounce, PathState};
 use super::select::Media;
 use super::{equiangular, Renderer};
 use crate::math::{Ray, Vec3};
@@ -27,20 +27,6 @@ use crate::medium::{Homogeneous, Medium, MediumEvent, Phase, ShapeMedia};
 use crate::sampling::sobol::Sampler;
 
 impl Renderer<'_> {
-    /// [`Self::sample_pixel`] through media.
-    pub(super) fn sample_pixel_media<const K: usize>(
-        &self,
-        media: &Media,
-        sampler: &mut Sampler,
-        pixel: [u32; 2],
-        index: u32,
-        rays: &mut u64,
-    ) -> Option<CameraSample<K>> {
-        let mut path = self.start_path::<K>(sampler, pixel, index);
-        self.trace_media(media, sampler, &mut path, rays);
-        Self::finish(&path)
-    }
-
     /// [`Self::trace`] through media.
     pub(super) fn trace_media<const K: usize>(
         &self,

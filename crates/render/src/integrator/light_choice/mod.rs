@@ -160,22 +160,6 @@ impl LightChoice {
 /// A light's bounding sphere (its position for point-like lights).
 fn reach(light: &Light, shapes: &[Shape]) -> Reach {
     match light {
-        Light::Point(l) => Reach::Near {
-            center: l.position,
-            radius2: 0.0,
-        },
-        Light::Spot(l) => Reach::Near {
-            center: l.position,
-            radius2: 0.0,
-        },
-        Light::Projector(l) => Reach::Near {
-            center: l.position,
-            radius2: 0.0,
-        },
-        Light::Goniometric(l) => Reach::Near {
-            center: l.position,
-            radius2: 0.0,
-        },
         Light::Area(a) => match shapes.get(a.shape as usize) {
             Some(Shape::Sphere(s)) => Reach::Near {
                 center: s.center,
@@ -195,7 +179,14 @@ fn reach(light: &Light, shapes: &[Shape]) -> Reach {
             }
             None => Reach::Far,
         },
-        Light::Directional(_) | Light::Constant(_) | Light::EnvMap(_) => Reach::Far,
+        // Point-like lights: their position.
+        _ => match light.centre(shapes) {
+            Some(center) => Reach::Near {
+                center,
+                radius2: 0.0,
+            },
+            None => Reach::Far,
+        },
     }
 }
 
