@@ -76,9 +76,10 @@ impl Choice {
         if kind == IntegratorKind::Bdpt && scene.camera.projection != Projection::Perspective {
             return Err(RenderError::BdptProjection);
         }
-        if let Some([s, t]) = options.only_strategy {
-            if kind != IntegratorKind::Bdpt || t == 0 || s + t < 2 {
-                return Err(RenderError::Strategy(s, t));
+        // The strategy exists (`BdptStrategy`); only bdpt has strategies.
+        if let Some(strategy) = options.only_strategy {
+            if kind != IntegratorKind::Bdpt {
+                return Err(RenderError::Strategy(strategy));
             }
         }
         let media = traces_media(scene);
@@ -87,7 +88,7 @@ impl Choice {
         } else if quantity == Quantity::Illuminance {
             Run::Illuminance
         } else if kind == IntegratorKind::Bdpt {
-            Run::Bdpt(options.only_strategy)
+            Run::Bdpt(options.only_strategy.map(|s| s.pair()))
         } else if media {
             Run::VolPath
         } else {
