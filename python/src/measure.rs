@@ -72,7 +72,7 @@ fn measure<'py>(
         spp,
         seed,
         strategy,
-        cluster: cluster.get(),
+        cluster,
         ..RenderOptions::default()
     };
     // Ctrl-C stops the measurement (nothing is returned, as the CLI

@@ -192,7 +192,7 @@ impl Named {
     fn options(&self) -> RenderOptions {
         RenderOptions {
             strategy: self.strategy,
-            cluster: self.cluster.get(),
+            cluster: self.cluster,
             integrator: self.integrator,
             tracer: self.tracer,
             quantity: self.quantity,

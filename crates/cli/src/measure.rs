@@ -193,7 +193,7 @@ pub fn run(args: Args) -> Result<()> {
         spp: args.spp,
         seed: args.seed,
         strategy: args.wavelengths,
-        cluster: args.cluster.get(),
+        cluster: args.cluster,
         ..RenderOptions::default()
     };
     let cancel = cancel_on_interrupt()?;

@@ -27,7 +27,7 @@ pub fn render_metadata(
             "integrator",
             Meta::Text(rendered.integrator.name().into()),
         ),
-        ("clusterSize", Meta::I32(options.cluster as i32)),
+        ("clusterSize", Meta::I32(options.cluster.get() as i32)),
         ("seed", Meta::I32(options.seed as i32)),
         ("renderSeconds", Meta::F32(rendered.elapsed.as_secs_f32())),
         ("raysTraced", Meta::Text(rendered.rays.to_string())),

@@ -15,7 +15,7 @@ use std::sync::Arc;
 use scotopia_render::bsdf::{Bsdf, Diffuse, Mask, NormalMap, Null};
 use scotopia_render::camera::{Camera, FovAxis};
 use scotopia_render::geometry::{Planar, PlanarKind, Shape};
-use scotopia_render::integrator::{render, RenderOptions};
+use scotopia_render::integrator::{render, BdptStrategy, RenderOptions};
 use scotopia_render::light::{AreaLight, Light};
 use scotopia_render::math::{Transform, Vec3};
 use scotopia_render::scene::{Filter, IntegratorKind, IntegratorSettings, Scene};
@@ -145,11 +145,11 @@ fn luminance(scene: &Scene, integrator: IntegratorKind, spp: u32, seed: u32) -> 
     luminance_with(scene, integrator, None, spp, seed)
 }
 
-/// The same, with one bidirectional strategy [s, t] alone if given.
+/// The same, with one bidirectional strategy alone if given.
 fn luminance_with(
     scene: &Scene,
     integrator: IntegratorKind,
-    only_strategy: Option<[usize; 2]>,
+    only_strategy: Option<BdptStrategy>,
     spp: u32,
     seed: u32,
 ) -> Vec<f64> {
@@ -270,7 +270,13 @@ fn a_normal_mapped_floor_renders_alike_in_both_tracers() {
     // adjoint direction (without the shading-normal ratio the wrapper
     // applies for importance, it lands some 4 standard errors off; with
     // the flip decided by the light's side, at less than half the image).
-    let traced = luminance_with(&scene, IntegratorKind::Bdpt, Some([2, 1]), 1024, 7);
+    let traced = luminance_with(
+        &scene,
+        IntegratorKind::Bdpt,
+        BdptStrategy::new(2, 1).ok(),
+        1024,
+        7,
+    );
     let (d, se) = difference(&traced, &path, 1.0);
     assert!(
         d.abs() <= Z * se,

@@ -57,7 +57,9 @@ pub fn checkpoint_key(
         options.cluster,
         options.bands,
         options.integrator,
-        options.only_strategy,
+        // As [S, T], the text keys had before the strategy had a type:
+        // checkpoints saved then still resume.
+        options.only_strategy.map(|s| s.pair()),
         options.quantity,
     );
     // The contents in the order read, not the paths: a project moved
@@ -119,6 +121,7 @@ fn hash_file(path: &Path) -> std::io::Result<u64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use scotopia_render::integrator::ClusterSize;
 
     #[test]
     fn the_key_follows_what_changes_samples_and_nothing_else() {
@@ -155,7 +158,7 @@ mod tests {
             ..base.clone()
         };
         let cluster = RenderOptions {
-            cluster: 8,
+            cluster: ClusterSize::K8,
             ..base.clone()
         };
         assert_ne!(key(&a, &seed).key, k.key);

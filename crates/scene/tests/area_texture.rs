@@ -11,7 +11,7 @@ use std::sync::atomic::AtomicBool;
 
 use scotopia_color::photometry::spectrum_to_xyzv;
 use scotopia_color::{rgb_to_spectrum, RgbSpace, Spectrum, SpectrumKind, UpsampleMethod};
-use scotopia_render::integrator::{render, RenderOptions};
+use scotopia_render::integrator::{render, BdptStrategy, RenderOptions};
 use scotopia_render::light::Light;
 use scotopia_render::scene::{IntegratorKind, Scene};
 use scotopia_render::texture::Texture;
@@ -241,7 +241,7 @@ fn every_strategy_finds_the_textured_light_alike() {
                         spp: Some(spp),
                         seed: (1000 * s + 100 * t + k) as u32,
                         integrator: Some(IntegratorKind::Bdpt),
-                        only_strategy: Some([s, t]),
+                        only_strategy: Some(BdptStrategy::new(s, t).unwrap()),
                         ..RenderOptions::default()
                     },
                 );

@@ -12,7 +12,7 @@ use std::path::Path;
 use std::sync::atomic::AtomicBool;
 
 use common::agree;
-use scotopia_render::integrator::{render, RenderOptions};
+use scotopia_render::integrator::{render, BdptStrategy, RenderOptions};
 use scotopia_render::math::Vec3;
 use scotopia_render::scene::{IntegratorKind, Scene};
 use scotopia_scene::load_scene;
@@ -78,7 +78,7 @@ fn every_strategy_alone_converges_to_the_same_image() {
     let (three, reference) = paths_of_length("12", 3, 4096);
     for (s, t) in [(0, 4), (1, 3), (2, 2), (3, 1)] {
         let options = RenderOptions {
-            only_strategy: Some([s, t]),
+            only_strategy: Some(BdptStrategy::new(s, t).unwrap()),
             ..bdpt(8192, 10 + s as u32)
         };
         agree(
@@ -171,7 +171,7 @@ fn light_tracing_alone_matches_direct_lighting() {
     // that an error of a few percent in the camera importance shows.
     let (two, reference) = paths_of_length("8", 2, 8192);
     let options = RenderOptions {
-        only_strategy: Some([2, 1]),
+        only_strategy: Some(BdptStrategy::new(2, 1).unwrap()),
         ..bdpt(32768, 3)
     };
     agree("strategy (2, 1)", &image(&two, options), &reference);
@@ -181,17 +181,18 @@ fn light_tracing_alone_matches_direct_lighting() {
 fn bdpt_is_chosen_in_the_scene_file_and_bad_strategies_are_errors() {
     let s = scene("cornell-box.xml", &[("res", "8")]);
     assert_eq!(s.integrator.kind, IntegratorKind::Path);
-    let bad = |only, integrator| {
+    let bad = |[ls, lt]: [usize; 2], integrator| {
         let o = RenderOptions {
             spp: Some(1),
-            only_strategy: Some(only),
+            only_strategy: Some(BdptStrategy::new(ls, lt).unwrap()),
             integrator: Some(integrator),
             ..RenderOptions::default()
         };
         render(&s, &o, &AtomicBool::new(false), &|_, _| {}).is_err()
     };
-    assert!(bad([1, 0], IntegratorKind::Bdpt));
-    assert!(bad([0, 1], IntegratorKind::Bdpt));
+    // Strategies that do not exist cannot be made at all.
+    assert!(BdptStrategy::new(1, 0).is_err());
+    assert!(BdptStrategy::new(0, 1).is_err());
     assert!(bad([1, 1], IntegratorKind::Path));
     assert!(!bad([1, 1], IntegratorKind::Bdpt));
 }

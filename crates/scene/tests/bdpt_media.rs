@@ -12,7 +12,7 @@ mod common;
 use std::sync::atomic::AtomicBool;
 
 use common::agree;
-use scotopia_render::integrator::{render, RenderOptions};
+use scotopia_render::integrator::{render, BdptStrategy, RenderOptions};
 use scotopia_render::scene::{IntegratorKind, Scene};
 use scotopia_scene::load_scene;
 use scotopia_scene::mitsuba::Parameters;
@@ -219,7 +219,7 @@ fn every_strategy_alone_converges_through_the_fog_box() {
     let two = at(2);
     for (s, t) in [(0, 3), (1, 2), (2, 1)] {
         let o = RenderOptions {
-            only_strategy: Some([s, t]),
+            only_strategy: Some(BdptStrategy::new(s, t).unwrap()),
             ..options(IntegratorKind::Bdpt, 1024, 10 + s as u32)
         };
         agree(
@@ -238,7 +238,7 @@ fn every_strategy_alone_converges_in_the_beam() {
     let two = beam(2);
     for (s, t) in [(1, 2), (2, 1)] {
         let o = RenderOptions {
-            only_strategy: Some([s, t]),
+            only_strategy: Some(BdptStrategy::new(s, t).unwrap()),
             ..options(IntegratorKind::Bdpt, 1024, 20 + s as u32)
         };
         agree(

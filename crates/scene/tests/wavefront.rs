@@ -6,7 +6,7 @@
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
 
-use scotopia_render::integrator::{render, RenderOptions, Rendered, Tracer};
+use scotopia_render::integrator::{render, ClusterSize, RenderOptions, Rendered, Tracer};
 use scotopia_render::wavelength::WavelengthStrategy;
 use scotopia_scene::mitsuba::Parameters;
 use scotopia_scene::{load_scene_with, LoadOptions, Resolution};
@@ -55,10 +55,10 @@ fn every_bundled_scene_renders_the_scalar_tracers_image() {
     ] {
         let s = scene(name);
         for (cluster, strategy) in [
-            (4, WavelengthStrategy::Swc),
-            (1, WavelengthStrategy::Swc),
-            (8, WavelengthStrategy::Hero),
-            (4, WavelengthStrategy::Single),
+            (ClusterSize::K4, WavelengthStrategy::Swc),
+            (ClusterSize::K1, WavelengthStrategy::Swc),
+            (ClusterSize::K8, WavelengthStrategy::Hero),
+            (ClusterSize::K4, WavelengthStrategy::Single),
         ] {
             let o = RenderOptions {
                 spp: Some(3),
@@ -92,7 +92,7 @@ fn every_bundled_scene_renders_the_scalar_tracers_image() {
 /// tracer is an error too.
 #[test]
 fn unsupported_combinations_are_errors_that_say_so() {
-    use scotopia_render::integrator::{Quantity, RenderError};
+    use scotopia_render::integrator::{BdptStrategy, Quantity, RenderError};
     use scotopia_render::scene::IntegratorKind;
     let wavefront = RenderOptions {
         spp: Some(1),
@@ -130,7 +130,7 @@ fn unsupported_combinations_are_errors_that_say_so() {
     let path_alone = RenderOptions {
         spp: Some(1),
         integrator: Some(IntegratorKind::Path),
-        only_strategy: Some([1, 1]),
+        only_strategy: Some(BdptStrategy::new(1, 1).unwrap()),
         ..RenderOptions::default()
     };
     let e = render(
@@ -139,5 +139,7 @@ fn unsupported_combinations_are_errors_that_say_so() {
         &AtomicBool::new(false),
         &|_, _| {},
     );
-    assert_eq!(e.unwrap_err(), RenderError::Strategy(1, 1));
+    let e = e.unwrap_err();
+    assert_eq!(e, RenderError::Strategy(BdptStrategy::new(1, 1).unwrap()));
+    assert_eq!(e.to_string(), "strategy s=1, t=1 needs --integrator bdpt");
 }

@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 use crate::film::{Bands, Checkpoint, Film, SampleCounts};
 use crate::scene::{IntegratorKind, Scene};
 
-use super::{Quantity, RenderError, RenderOptions, Renderer};
+use super::{ClusterSize, Quantity, RenderError, RenderOptions, Renderer};
 
 /// A finished (or interrupted) render.
 #[derive(Debug, Clone, PartialEq)]
@@ -158,12 +158,11 @@ pub fn render_with(
     hooks: Hooks,
 ) -> Result<Rendered, RenderError> {
     match options.cluster {
-        1 => render_k::<1>(scene, options, hooks),
-        2 => render_k::<2>(scene, options, hooks),
-        4 => render_k::<4>(scene, options, hooks),
-        8 => render_k::<8>(scene, options, hooks),
-        16 => render_k::<16>(scene, options, hooks),
-        k => Err(RenderError::Cluster(k)),
+        ClusterSize::K1 => render_k::<1>(scene, options, hooks),
+        ClusterSize::K2 => render_k::<2>(scene, options, hooks),
+        ClusterSize::K4 => render_k::<4>(scene, options, hooks),
+        ClusterSize::K8 => render_k::<8>(scene, options, hooks),
+        ClusterSize::K16 => render_k::<16>(scene, options, hooks),
     }
 }
 

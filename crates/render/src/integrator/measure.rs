@@ -25,7 +25,7 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
 use super::path::{CameraSample, PathState, ScatterPoint};
 use super::renderer::SampleStart;
 use super::select::{Integrator, Receivers};
-use super::{RenderError, RenderOptions, Renderer};
+use super::{ClusterSize, RenderError, RenderOptions, Renderer};
 use crate::bsdf::{Bsdf, Diffuse, ShadingPoint};
 use crate::math::{Frame, Ray, Vec3};
 use crate::sampling::sobol::Sampler;
@@ -79,12 +79,11 @@ pub fn measure(
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Vec<Measured>, RenderError> {
     match options.cluster {
-        1 => measure_k::<1>(scene, receivers, options, cancel, progress),
-        2 => measure_k::<2>(scene, receivers, options, cancel, progress),
-        4 => measure_k::<4>(scene, receivers, options, cancel, progress),
-        8 => measure_k::<8>(scene, receivers, options, cancel, progress),
-        16 => measure_k::<16>(scene, receivers, options, cancel, progress),
-        k => Err(RenderError::Cluster(k)),
+        ClusterSize::K1 => measure_k::<1>(scene, receivers, options, cancel, progress),
+        ClusterSize::K2 => measure_k::<2>(scene, receivers, options, cancel, progress),
+        ClusterSize::K4 => measure_k::<4>(scene, receivers, options, cancel, progress),
+        ClusterSize::K8 => measure_k::<8>(scene, receivers, options, cancel, progress),
+        ClusterSize::K16 => measure_k::<16>(scene, receivers, options, cancel, progress),
     }
 }
 

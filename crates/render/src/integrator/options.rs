@@ -23,15 +23,15 @@ pub struct RenderOptions {
     pub time_limit: Option<Duration>,
     pub seed: u32,
     pub strategy: WavelengthStrategy,
-    /// Wavelengths per path, one of `CLUSTER_SIZES`.
-    pub cluster: usize,
+    /// Wavelengths per path.
+    pub cluster: ClusterSize,
     /// Also accumulate spectral radiance in this many bands.
     pub bands: Option<usize>,
     /// The integrator (the scene's when `None`).
     pub integrator: Option<IntegratorKind>,
-    /// Bidirectional only: render strategy [s, t] alone, without MIS (a
+    /// Bidirectional only: render this strategy alone, without MIS (a
     /// check that each strategy converges to the same image).
-    pub only_strategy: Option<[usize; 2]>,
+    pub only_strategy: Option<BdptStrategy>,
     /// Which tracer runs the path integrator.
     pub tracer: Tracer,
     /// What each pixel holds: the radiance reaching the camera, or the
@@ -125,7 +125,7 @@ impl Default for RenderOptions {
             time_limit: None,
             seed: 0,
             strategy: WavelengthStrategy::Swc,
-            cluster: 4,
+            cluster: ClusterSize::default(),
             bands: None,
             integrator: None,
             only_strategy: None,
@@ -137,19 +137,31 @@ impl Default for RenderOptions {
 }
 
 /// Wavelengths per path, one of `CLUSTER_SIZES`: the renderer is
-/// compiled for those alone.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct ClusterSize(usize);
-
-impl ClusterSize {
-    pub fn get(self) -> usize {
-        self.0
-    }
+/// compiled for those alone. An enum so that no other size can be made
+/// and a match on it needs no arm for one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum ClusterSize {
+    K1,
+    K2,
+    #[default]
+    K4,
+    K8,
+    K16,
 }
 
-impl Default for ClusterSize {
-    fn default() -> Self {
-        Self(4)
+impl ClusterSize {
+    /// Every size, in the order of `CLUSTER_SIZES`.
+    pub const ALL: [Self; 5] = [Self::K1, Self::K2, Self::K4, Self::K8, Self::K16];
+
+    /// The number of wavelengths.
+    pub fn get(self) -> usize {
+        match self {
+            Self::K1 => 1,
+            Self::K2 => 2,
+            Self::K4 => 4,
+            Self::K8 => 8,
+            Self::K16 => 16,
+        }
     }
 }
 
@@ -157,21 +169,21 @@ impl TryFrom<usize> for ClusterSize {
     type Error = OptionError;
 
     fn try_from(k: usize) -> Result<Self, OptionError> {
-        if CLUSTER_SIZES.contains(&k) {
-            Ok(Self(k))
-        } else {
-            Err(OptionError::Cluster(k.to_string()))
-        }
+        Self::ALL
+            .into_iter()
+            .find(|c| c.get() == k)
+            .ok_or_else(|| OptionError::Cluster(k.to_string()))
     }
 }
 
 /// A bidirectional strategy rendered alone (`--bdpt-strategy S,T`): S
 /// light and T camera vertices. T = 1 is light tracing; a path needs two
-/// vertices, so T ≥ 1 and S + T ≥ 2.
+/// vertices, so T ≥ 1 and S + T ≥ 2. Its counts are private, so that
+/// only `new` (or parsing) makes one.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct BdptStrategy {
-    pub s: usize,
-    pub t: usize,
+    s: usize,
+    t: usize,
 }
 
 impl BdptStrategy {
@@ -183,7 +195,17 @@ impl BdptStrategy {
         }
     }
 
-    /// As `RenderOptions::only_strategy` holds it.
+    /// Light vertices.
+    pub fn s(self) -> usize {
+        self.s
+    }
+
+    /// Camera vertices.
+    pub fn t(self) -> usize {
+        self.t
+    }
+
+    /// [S, T], as the bidirectional tracer takes it.
     pub fn pair(self) -> [usize; 2] {
         [self.s, self.t]
     }
@@ -254,7 +276,7 @@ impl FromStr for ClusterSize {
 
 impl fmt::Display for ClusterSize {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}", self.0)
+        write!(f, "{}", self.get())
     }
 }
 
@@ -279,14 +301,13 @@ impl fmt::Display for BdptStrategy {
 /// Errors in the options.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum RenderError {
-    #[error("cluster size {0} is not supported (use one of 1, 2, 4, 8, 16)")]
-    Cluster(usize),
     #[error("samples per pixel must be positive")]
     Spp,
     #[error("spectral bands must number 1 to 471 (at least 1 nm wide)")]
     Bands,
-    #[error("strategy s={0}, t={1} does not exist (t ≥ 1, s + t ≥ 2) or needs --integrator bdpt")]
-    Strategy(usize, usize),
+    /// A strategy asked of another integrator than bdpt.
+    #[error("strategy s={}, t={} needs --integrator bdpt", .0.s, .0.t)]
+    Strategy(BdptStrategy),
     #[error("the wavefront tracer runs the path tracer between surfaces only, not {0}: render with the scalar tracer")]
     Wavefront(&'static str),
     #[error("the bidirectional tracer needs a perspective or thin-lens camera (an orthographic camera cannot be reached from a light); render with path")]
@@ -352,7 +373,11 @@ mod text_tests {
         round_trips([Tracer::Wavefront, Tracer::Scalar]);
         round_trips(WavelengthStrategy::ALL);
         round_trips(IntegratorKind::ALL);
-        round_trips(CLUSTER_SIZES.map(|k| ClusterSize::try_from(k).unwrap()));
+        round_trips(ClusterSize::ALL);
+        assert_eq!(ClusterSize::ALL.map(ClusterSize::get), CLUSTER_SIZES);
+        for k in CLUSTER_SIZES {
+            assert_eq!(ClusterSize::try_from(k).map(ClusterSize::get), Ok(k));
+        }
         round_trips([[0, 2], [1, 1], [2, 1], [3, 4]].map(|[s, t]| BdptStrategy { s, t }));
         assert_eq!(Quantity::default().to_string(), "radiance");
         assert_eq!(Tracer::default().to_string(), "scalar");

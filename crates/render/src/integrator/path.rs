@@ -351,10 +351,7 @@ impl Renderer<'_> {
         // Continue by sampling the BSDF (at diffuse vertices, partly
         // towards lamp-lit glossy surfaces: `reflectors`).
         let u_b = [u_b0, u_b1];
-        let Some(bs) = self
-            .reflectors
-            .sample(bsdf, &now, at, (p, frame), wi, u_lobe, u_b)
-        else {
+        let Some(bs) = self.reflectors.sample(bsdf, &now, point, wi, u_lobe, u_b) else {
             return stop;
         };
         if bs.collapse {

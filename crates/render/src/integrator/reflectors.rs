@@ -30,11 +30,12 @@
 
 use scotopia_color::SampledWavelengths;
 
+use super::path::ScatterPoint;
 use crate::accel::Aabb;
-use crate::bsdf::{Bsdf, BsdfSample, ShadingPoint, Transport};
+use crate::bsdf::{Bsdf, BsdfSample, Transport};
 use crate::geometry::{intersect_triangle, RayShear, Shape};
 use crate::light::{Light, SceneExtent};
-use crate::math::{Frame, Ray, Vec3};
+use crate::math::{Ray, Vec3};
 use crate::sampling::distribution::Distribution1D;
 
 /// The mixture's share c of reflector sampling at a diffuse vertex: the
@@ -460,20 +461,21 @@ impl Reflectors {
         (1.0 - SHARE) * bsdf_pdf + SHARE * self.pdf_refl(x, d)
     }
 
-    /// The path tracer's bounce at `x` (shading frame `frame`): the BSDF
-    /// sample, or at diffuse vertices a sample of the mixture, its weight
-    /// f·cos/q and density q.
-    #[allow(clippy::too_many_arguments)]
-    pub fn sample<const K: usize>(
+    /// The path tracer's bounce at `point` (its position, shading frame
+    /// and shading point): the BSDF sample, or at diffuse vertices a
+    /// sample of the mixture, its weight f·cos/q and density q.
+    pub(super) fn sample<const K: usize>(
         &self,
         bsdf: &Bsdf,
         wl: &SampledWavelengths<K>,
-        at: ShadingPoint,
-        (x, frame): (Vec3, Frame),
+        point: &ScatterPoint,
         wi: Vec3,
         u_lobe: f32,
         u: [f32; 2],
     ) -> Option<BsdfSample<K>> {
+        let ScatterPoint {
+            p: x, frame, at, ..
+        } = *point;
         let mode = Transport::Radiance;
         if !self.guides(bsdf) {
             return bsdf.sample(wl, at, wi, u_lobe, u, mode);

@@ -108,9 +108,10 @@ impl Integrator {
         if kind == IntegratorKind::Bdpt && scene.camera.projection != Projection::Perspective {
             return Err(RenderError::BdptProjection);
         }
-        if let Some([s, t]) = options.only_strategy {
-            if kind != IntegratorKind::Bdpt || t == 0 || s + t < 2 {
-                return Err(RenderError::Strategy(s, t));
+        // The strategy exists (`BdptStrategy`); only bdpt has strategies.
+        if let Some(strategy) = options.only_strategy {
+            if kind != IntegratorKind::Bdpt {
+                return Err(RenderError::Strategy(strategy));
             }
         }
         let integrator = if scene.meter.is_some() {
@@ -119,7 +120,7 @@ impl Integrator {
             Self::Illuminance(Receivers::of(scene, lights, scene_radius))
         } else if kind == IntegratorKind::Bdpt {
             Self::Bdpt(Bidirectional {
-                only: options.only_strategy,
+                only: options.only_strategy.map(|s| s.pair()),
                 media: traces_media(scene),
             })
         } else {

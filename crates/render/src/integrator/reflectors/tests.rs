@@ -4,7 +4,8 @@
 //! mixture still averages the albedo.
 
 use super::*;
-use crate::bsdf::Diffuse;
+use crate::bsdf::{Diffuse, ShadingPoint};
+use crate::math::Frame;
 use crate::sampling::splitmix::SplitMix;
 use crate::sampling::warp::square_to_uniform_sphere;
 use crate::texture::Texture;
@@ -132,6 +133,12 @@ fn a_diffuse_bounce_from_the_mixture_averages_the_albedo() {
     // The road beside the pole, facing up.
     let x = Vec3::new(0.9, 0.0, 0.2);
     let frame = Frame::from_normal(Vec3::new(0.0, 1.0, 0.0));
+    let point = ScatterPoint {
+        p: x,
+        ng: frame.n,
+        frame,
+        at,
+    };
     let wi = Vec3::new(0.3, 0.0, 0.954).normalize();
     let mut rng = SplitMix(3);
     let mut towards = 0usize;
@@ -142,8 +149,7 @@ fn a_diffuse_bounce_from_the_mixture_averages_the_albedo() {
             match r.sample(
                 &white,
                 &wl,
-                at,
-                (x, frame),
+                &point,
                 wi,
                 u_lobe,
                 [rng.next_f32(), rng.next_f32()],
@@ -184,7 +190,13 @@ fn without_reflectors_the_bsdf_sample_is_unchanged() {
     let at = ShadingPoint::from([0.0, 0.0]);
     let frame = Frame::from_normal(Vec3::new(0.0, 0.0, 1.0));
     let wi = Vec3::new(0.0, 0.0, 1.0);
-    let a = none.sample(&white, &wl, at, (Vec3::ZERO, frame), wi, 0.1, [0.3, 0.7]);
+    let point = ScatterPoint {
+        p: Vec3::ZERO,
+        ng: frame.n,
+        frame,
+        at,
+    };
+    let a = none.sample(&white, &wl, &point, wi, 0.1, [0.3, 0.7]);
     let b = white.sample(&wl, at, wi, 0.1, [0.3, 0.7], Transport::Radiance);
     assert_eq!(a, b);
 }
