@@ -32,7 +32,7 @@ CASES = [
     ("Cornell box, wavefront", "cornell-box.xml",
      ["--integrator", "path", "--tracer", "wavefront", "--res", "200", "--spp", "96"]),
     ("night street, path", "night-street.xml", ["--res", "160", "--spp", "128"]),
-    ("prism, bdpt", "prism.xml", ["--integrator", "bdpt", "--res", "160", "--spp", "48"]),
+    ("prism, bdpt", "prism.xml", ["--integrator", "bdpt", "--res", "160", "--spp", "128"]),
     ("foggy street, volpath", "foggy-street.xml", ["--res", "160", "--spp", "32"]),
 ]
 
@@ -77,6 +77,7 @@ def main():
     parser.add_argument("--bin", default=ROOT / "target" / "release" / "scotopia")
     parser.add_argument("--rounds", type=int, default=5)
     parser.add_argument("--threads", type=int, default=2)
+    parser.add_argument("--only", default="", help="the cases whose name holds this text")
     args = parser.parse_args()
     before = Path(args.before_bin) if args.before_bin else build_before(args.before)
     after = Path(args.bin)
@@ -85,6 +86,8 @@ def main():
     print(f"| case | before (s) | after (s) | after/before, median of {args.rounds} |")
     print("|---|---|---|---|")
     for name, scene, options in CASES:
+        if args.only not in name:
+            continue
         ratios, tb, ta = [], [], []
         for r in range(args.rounds):
             pair = [(before, tb), (after, ta)]
