@@ -20,7 +20,7 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 use rayon::prelude::*;
 use scotopia_color::photometry::estimate_xyzv;
-use scotopia_color::{SampledSpectrum, SampledWavelengths, Spectrum};
+use scotopia_color::{SampledWavelengths, Spectrum};
 
 use super::path::{CameraSample, PathState, ScatterPoint};
 use super::renderer::SampleStart;
@@ -29,7 +29,6 @@ use super::{ClusterSize, RenderError, RenderOptions, Renderer};
 use crate::bsdf::{Bsdf, Diffuse, ShadingPoint};
 use crate::math::{Frame, Ray, Vec3};
 use crate::sampling::sobol::Sampler;
-use crate::sampling::splitmix::SplitMix;
 use crate::scene::Scene;
 use crate::texture::Texture;
 
@@ -222,13 +221,13 @@ impl Renderer<'_> {
         match &receivers.media {
             None => {
                 let b = self.scatter::<K, false>(&mut path, u, &point, white);
-                if self.settle(&mut path, b, rays) {
+                if self.settle::<K, false>(&mut path, b, rays) {
                     self.trace(sampler, &mut path, rays);
                 }
             }
             Some(media) => {
                 let b = self.scatter::<K, true>(&mut path, u, &point, white);
-                if self.settle_media(&mut path, b, rays) {
+                if self.settle::<K, true>(&mut path, b, rays) {
                     self.trace_media(media, sampler, &mut path, rays);
                 }
             }
@@ -295,24 +294,10 @@ impl<const K: usize> PathState<K> {
     /// A path that has just reached receiver `p` along −`n` (one segment
     /// done, as a camera ray's first hit).
     fn at_receiver(p: Vec3, n: Vec3, wl: SampledWavelengths<K>) -> Self {
-        Self {
-            ray: Ray::new(p + n, -n),
-            l: SampledSpectrum::splat(0.0),
-            beta: SampledSpectrum::splat(1.0),
-            wl,
-            now: wl,
-            delta: true,
-            bsdf_pdf: 0.0,
-            prev: p + n,
-            // The receiver is the instrument, not a scattering vertex:
-            // max_depth counts segments from it, as from Mitsuba's
-            // irradiancemeter (1: light straight from emitters).
-            depth: 0,
-            whole: !wl.secondary_terminated(),
-            medium: None,
-            ratio: SampledSpectrum::splat(1.0),
-            rng: SplitMix(0),
-        }
+        // The receiver is the instrument, not a scattering vertex:
+        // max_depth counts segments from it, as from Mitsuba's
+        // irradiancemeter (1: light straight from emitters).
+        Self::new(Ray::new(p + n, -n), wl, 0)
     }
 }
 

@@ -123,27 +123,46 @@ impl Renderer<'_> {
     ) {
         loop {
             *rays += 1;
-            let Some(hit) = self.scene.geometry.intersect(&path.ray) else {
-                self.escape(path);
-                return;
-            };
-            let b = self.bounce::<K, false>(path, sampler.get_two_4d(), &hit);
-            if !self.settle(path, b, rays) {
+            let hit = self.scene.geometry.intersect(&path.ray);
+            if !self.arrive::<K, false>(sampler, path, hit, rays) {
                 return;
             }
         }
     }
 
-    /// Adds a bounce's light if its shadow ray is clear; whether the path
+    /// The path's ray reached `hit`, or escaped the scene: the light found
+    /// there and the bounce (`MEDIA`: through media); whether the path
     /// goes on.
-    pub(super) fn settle<const K: usize>(
+    #[inline]
+    pub(super) fn arrive<const K: usize, const MEDIA: bool>(
+        &self,
+        sampler: &mut Sampler,
+        path: &mut PathState<K>,
+        hit: Option<Hit>,
+        rays: &mut u64,
+    ) -> bool {
+        let Some(hit) = hit else {
+            self.escape(path);
+            return false;
+        };
+        let b = self.bounce::<K, MEDIA>(path, sampler.get_two_4d(), &hit);
+        self.settle::<K, MEDIA>(path, b, rays)
+    }
+
+    /// Adds a bounce's light if its shadow ray is clear (through media:
+    /// times the transmittance along it); whether the path goes on.
+    pub(super) fn settle<const K: usize, const MEDIA: bool>(
         &self,
         path: &mut PathState<K>,
         b: Bounce<K>,
         rays: &mut u64,
     ) -> bool {
         if let Some((shadow, contribution)) = b.shadow {
-            if self.visible(&shadow, rays) {
+            if MEDIA {
+                let (now, rng) = (&path.now, &mut path.rng);
+                let tr = self.through_media(shadow, b.shadow_medium, now, rng, rays);
+                path.l += contribution * tr;
+            } else if self.visible(&shadow, rays) {
                 path.l += contribution;
             }
         }
@@ -171,22 +190,10 @@ impl Renderer<'_> {
         sets: [[f32; 4]; 2],
     ) -> PathState<K> {
         let SampleStart { film, lens, wl, .. } = self.start_sample_with::<K>(pixel, sets);
-        PathState {
-            ray: self.scene.camera.generate_ray(film, lens),
-            l: SampledSpectrum::splat(0.0),
-            beta: SampledSpectrum::splat(1.0),
-            wl,
-            now: wl,
-            delta: true,
-            bsdf_pdf: 0.0,
-            prev: Vec3::ZERO,
-            depth: 1,
-            whole: !wl.secondary_terminated(),
-            medium: self.scene.camera_medium,
-            ratio: SampledSpectrum::splat(1.0),
-            rng: SplitMix(0),
-        }
-        .with_prev()
+        let ray = self.scene.camera.generate_ray(film, lens);
+        let mut path = PathState::new(ray, wl, 1);
+        path.medium = self.scene.camera_medium;
+        path
     }
 
     /// The estimate of a finished path, or `None` when it is not finite.
@@ -406,9 +413,23 @@ impl Renderer<'_> {
 }
 
 impl<const K: usize> PathState<K> {
-    /// `prev` starts at the camera ray's origin.
-    fn with_prev(mut self) -> Self {
-        self.prev = self.ray.o;
-        self
+    /// A path on cluster `wl` about to follow `ray` (from its origin, in
+    /// clear air), with `depth` segments counted so far.
+    pub(super) fn new(ray: Ray, wl: SampledWavelengths<K>, depth: i32) -> Self {
+        Self {
+            ray,
+            l: SampledSpectrum::splat(0.0),
+            beta: SampledSpectrum::splat(1.0),
+            wl,
+            now: wl,
+            delta: true,
+            bsdf_pdf: 0.0,
+            prev: ray.o,
+            depth,
+            whole: !wl.secondary_terminated(),
+            medium: None,
+            ratio: SampledSpectrum::splat(1.0),
+            rng: SplitMix(0),
+        }
     }
 }

@@ -76,36 +76,16 @@ impl Renderer<'_> {
                     });
                     let u = sampler.get_two_4d();
                     let b = self.scatter_in_medium(path, u, p, medium.phase(), q2);
-                    if !self.settle_media(path, b, rays) {
+                    if !self.settle::<K, true>(path, b, rays) {
                         return;
                     }
                     continue;
                 }
             }
-            let Some(hit) = hit else {
-                self.escape(path);
-                return;
-            };
-            let b = self.bounce::<K, true>(path, sampler.get_two_4d(), &hit);
-            if !self.settle_media(path, b, rays) {
+            if !self.arrive::<K, true>(sampler, path, hit, rays) {
                 return;
             }
         }
-    }
-
-    /// [`Self::settle`] through media: the bounce's light times the
-    /// transmittance along its shadow ray.
-    pub(super) fn settle_media<const K: usize>(
-        &self,
-        path: &mut PathState<K>,
-        b: Bounce<K>,
-        rays: &mut u64,
-    ) -> bool {
-        if let Some((shadow, contribution)) = b.shadow {
-            let tr = self.through_media(shadow, b.shadow_medium, &path.now, &mut path.rng, rays);
-            path.l += contribution * tr;
-        }
-        b.goes_on
     }
 
     /// Direct light at a scattering point drawn equi-angularly on the
