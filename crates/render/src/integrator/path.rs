@@ -387,13 +387,20 @@ impl Renderer<'_> {
             frame.to_world(bs.wo)
         };
         path.ray = spawn(p, ng, d, scene.geometry.offset_unit());
-        if !self.roulette(path, u_rr) {
-            return stop;
-        }
-        Bounce {
-            goes_on: true,
-            ..stop
-        }
+        self.onwards(path, u_rr, stop)
+    }
+
+    /// `stop`'s shadow ray, and the path going on along its new ray
+    /// unless Russian roulette ends it.
+    #[inline]
+    pub(super) fn onwards<const K: usize>(
+        &self,
+        path: &mut PathState<K>,
+        u_rr: f32,
+        stop: Bounce<K>,
+    ) -> Bounce<K> {
+        let goes_on = self.roulette(path, u_rr);
+        Bounce { goes_on, ..stop }
     }
 
     /// Russian roulette from rr_depth on (Mitsuba's rule: survive with

@@ -191,13 +191,7 @@ impl Renderer<'_> {
         path.prev = p;
         path.ray = Ray::new(p, wo);
         path.depth += 1;
-        if !self.roulette(path, u_rr) {
-            return stop;
-        }
-        Bounce {
-            goes_on: true,
-            ..stop
-        }
+        self.onwards(path, u_rr, stop)
     }
 
     /// The media either side of shape `shape`, when it bounds any.
