@@ -262,10 +262,7 @@ fn point_like(position: Vec3, power: f32, emit: Cone, full: f32) -> LightBounds 
         (Cone::ALL, FRAC_PI_2)
     } else {
         let full = full.clamp(0.0, emit.theta);
-        (
-            Cone::new(emit.w, full),
-            emit.theta - full + ANGLE_MARGIN,
-        )
+        (Cone::new(emit.w, full), emit.theta - full + ANGLE_MARGIN)
     };
     LightBounds {
         aabb: Aabb {
@@ -303,10 +300,7 @@ pub(super) fn light_bounds(light: &Light, shapes: &[Shape], power: f32) -> Optio
         // z > 0): the half-space whose normal is camera space's z row in
         // world space (the inverse transpose of world-from-camera).
         Light::Projector(l) => {
-            let axis = l
-                .camera
-                .world_from_camera
-                .normal(Vec3::new(0.0, 0.0, 1.0));
+            let axis = l.camera.world_from_camera.normal(Vec3::new(0.0, 0.0, 1.0));
             let emit = Cone::new(axis, FRAC_PI_2 + ANGLE_MARGIN);
             Some(point_like(l.position, power, emit, emit.theta))
         }

@@ -70,9 +70,7 @@ fn split(items: Vec<(usize, LightBounds)>, depth: u32, bits: u64, out: &mut Buil
         out.paths.push((light, bits, depth));
         return at;
     }
-    let bounds = items[1..]
-        .iter()
-        .fold(items[0].1, |b, (_, x)| b.union(x));
+    let bounds = items[1..].iter().fold(items[0].1, |b, (_, x)| b.union(x));
     out.nodes.push(BuildNode {
         bounds,
         index: 0,
@@ -191,4 +189,59 @@ fn best_plane(
         }
     }
     best.map(|(_, axis, k)| (axis, k))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::bounds::Cone;
+    use super::*;
+    use crate::math::Vec3;
+
+    fn at(x: f32) -> LightBounds {
+        LightBounds {
+            aabb: Aabb {
+                min: Vec3::new(x, 0.0, 0.0),
+                max: Vec3::new(x, 0.0, 0.0),
+            },
+            phi: 1.0,
+            normals: Cone::ALL,
+            theta_e: std::f32::consts::FRAC_PI_2,
+        }
+    }
+
+    /// Every light's path bits lead from the root to its own leaf.
+    fn check(items: Vec<(usize, LightBounds)>) -> u32 {
+        let n = items.len();
+        let built = build(items);
+        assert_eq!(built.paths.len(), n);
+        assert_eq!(built.nodes.len(), 2 * n - 1);
+        let mut deepest = 0;
+        for &(light, bits, depth) in &built.paths {
+            assert!(depth <= MAX_DEPTH);
+            let mut node = 0;
+            for level in 0..depth {
+                assert!(!built.nodes[node].leaf);
+                node = if bits >> level & 1 == 0 {
+                    node + 1
+                } else {
+                    built.nodes[node].index as usize
+                };
+            }
+            assert!(built.nodes[node].leaf);
+            assert_eq!(built.nodes[node].index as usize, light);
+            deepest = deepest.max(depth);
+        }
+        deepest
+    }
+
+    #[test]
+    fn paths_lead_to_their_leaves_even_in_lopsided_sets() {
+        // Spacing growing geometrically: each SAOH split peels off the
+        // farthest few, so the depth limit must step in.
+        let lopsided = check((0..400).map(|i| (i, at(1.25f32.powi(i as i32)))).collect());
+        assert!(lopsided <= MAX_DEPTH);
+        // All at one place: median splits, a balanced tree.
+        assert_eq!(check((0..1000).map(|i| (i, at(1.0))).collect()), 10);
+        assert_eq!(check(vec![(3, at(0.0))]), 0);
+    }
 }

@@ -149,9 +149,8 @@ fn random_scene(n: usize, seed: u64) -> Scene {
                     // A few triangles near `at`, some with vertex normals
                     // against their winding.
                     let count = 1 + (rng.next() * 4.0) as usize;
-                    let positions: Vec<Vec3> = (0..3 * count)
-                        .map(|_| at + rng.vec(-0.7, 0.7))
-                        .collect();
+                    let positions: Vec<Vec3> =
+                        (0..3 * count).map(|_| at + rng.vec(-0.7, 0.7)).collect();
                     let indices: Vec<[u32; 3]> = (0..count as u32)
                         .map(|f| [3 * f, 3 * f + 1, 3 * f + 2])
                         .collect();
@@ -423,4 +422,97 @@ fn the_tree_is_deterministic_and_deep_lines_stay_within_the_path_bits() {
     let p = Vec3::new(20.0, 1.0, 0.0);
     let sum: f64 = (0..5000).map(|i| h.pmf(p, None, i) as f64).sum();
     assert!((sum - 1.0).abs() < 1e-4, "{sum}");
+}
+
+#[test]
+fn cones_cut_off_lights_that_face_away_and_keep_their_edges() {
+    // A spot at the origin shining down +z's opposite with a 30° cutoff,
+    // a downward panel above, and a lamp far off so that the tree has
+    // something else to choose.
+    let rect = Transform::translate(Vec3::new(0.0, 5.0, 0.0))
+        .then_after(&Transform::rotate(Vec3::new(1.0, 0.0, 0.0), 90.0).unwrap());
+    let shapes = vec![Shape::Planar(Box::new(Planar::new(
+        PlanarKind::Rectangle,
+        rect,
+    )))];
+    let down = shapes[0].clone();
+    let Shape::Planar(pl) = &down else {
+        unreachable!()
+    };
+    // The panel's normal, whichever way the rotation turned it.
+    let panel_n = pl.normal();
+    let lights = vec![
+        Light::Spot(SpotLight::new(
+            Vec3::ZERO,
+            Vec3::new(0.0, 0.0, -1.0),
+            constant(1.0),
+            30.0,
+            20.0,
+        )),
+        Light::Area(AreaLight::new(0, &shapes[0], constant(1.0))),
+        Light::Point(PointLight {
+            position: Vec3::new(50.0, 0.0, 0.0),
+            intensity: constant(1.0),
+        }),
+    ];
+    let h = LightHierarchy::new(&lights, &shapes, &[10.0, 10.0, 10.0]);
+    // Each light's own bound (a leaf's importance).
+    let leaf = |i: usize, p: Vec3| {
+        bounds::light_bounds(&lights[i], &shapes, 10.0)
+            .unwrap()
+            .compact()
+            .importance(p, None)
+    };
+    // Behind the spot: nothing; just inside its cutoff, at 29.9° and 10 m
+    // away: a probability.
+    let behind = Vec3::new(0.0, 0.0, 3.0);
+    assert_eq!(leaf(0, behind), 0.0);
+    let a = 29.9f32.to_radians();
+    let inside = Vec3::new(a.sin(), 0.0, -a.cos()) * 10.0;
+    assert!(leaf(0, inside) > 0.0 && h.pmf(inside, None, 0) > 0.0);
+    // Behind the one-sided panel: nothing; in front of it: a probability.
+    let front = Vec3::new(0.0, 5.0, 0.0) + panel_n * 2.0;
+    let back = Vec3::new(0.0, 5.0, 0.0) - panel_n * 2.0;
+    assert!(leaf(1, front) > 0.0 && h.pmf(front, None, 1) > 0.0);
+    assert_eq!(leaf(1, back), 0.0);
+    // (In the tree the far lamp need not take the whole choice there: the
+    // cluster of spot and panel has the union of their cones, which may
+    // face the point, and where neither child can reach it the choice
+    // below falls back to power. The probabilities still sum to 1.)
+    for p in [behind, back] {
+        let sum: f32 = (0..3).map(|i| h.pmf(p, None, i)).sum();
+        assert!((sum - 1.0).abs() < 1e-6 && h.pmf(p, None, 2) > 0.0);
+    }
+}
+
+#[test]
+fn a_mesh_whose_normals_oppose_its_winding_may_emit_from_its_back() {
+    // One triangle in the plane z = 0 wound to face +z, its vertex normals
+    // facing −z: a hit from below finds the emitting side (the geometric
+    // normal follows the shading normals).
+    let positions = vec![
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(0.0, 1.0, 0.0),
+    ];
+    let normals = vec![Vec3::new(0.0, 0.0, -1.0); 3];
+    let mesh = TriangleMesh::new(
+        positions,
+        Some(normals),
+        None,
+        vec![[0, 1, 2]],
+        &Transform::IDENTITY,
+    )
+    .unwrap();
+    let shapes = vec![Shape::Mesh(mesh)];
+    let lights = vec![
+        Light::Area(AreaLight::new(0, &shapes[0], constant(1.0))),
+        Light::Point(PointLight {
+            position: Vec3::new(9.0, 9.0, 9.0),
+            intensity: constant(1.0),
+        }),
+    ];
+    let h = LightHierarchy::new(&lights, &shapes, &[1.0, 1.0]);
+    assert!(h.pmf(Vec3::new(0.3, 0.3, -2.0), None, 0) > 0.0);
+    assert!(h.pmf(Vec3::new(0.3, 0.3, 2.0), None, 0) > 0.0);
 }
