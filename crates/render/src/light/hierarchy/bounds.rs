@@ -71,7 +71,7 @@ impl Cone {
         // Turn our axis towards the other's by θ − θ_self.
         let perp = o.w - self.w * self.w.dot(o.w);
         let len = perp.length();
-        if !(len > 1e-6) {
+        if len.is_nan() || len <= 1e-6 {
             return Self::ALL;
         }
         let r = theta - self.theta;

@@ -29,8 +29,11 @@ pub(super) struct Built {
     pub paths: Vec<(usize, u64, u32)>,
 }
 
+/// Lights (index, bounds) to place in a subtree.
+type Items = Vec<(usize, LightBounds)>;
+
 /// The tree over `items` (light index, bounds); empty for none.
-pub(super) fn build(items: Vec<(usize, LightBounds)>) -> Built {
+pub(super) fn build(items: Items) -> Built {
     let mut built = Built {
         nodes: Vec::with_capacity(2 * items.len()),
         paths: Vec::with_capacity(items.len()),
@@ -58,7 +61,7 @@ fn box_measure(b: &Aabb) -> f32 {
 
 /// Adds the subtree over `items` (≥ 1) at `depth`, reached by `bits`;
 /// returns its root's index.
-fn split(items: Vec<(usize, LightBounds)>, depth: u32, bits: u64, out: &mut Built) -> usize {
+fn split(items: Items, depth: u32, bits: u64, out: &mut Built) -> usize {
     let at = out.nodes.len();
     if items.len() == 1 {
         let (light, bounds) = items[0];
@@ -87,11 +90,7 @@ fn split(items: Vec<(usize, LightBounds)>, depth: u32, bits: u64, out: &mut Buil
 /// over the binned planes of the three axes; at the median along the
 /// widest axis of the centroids where no plane separates them, or where
 /// the depth left must be kept for a balanced split.
-fn partition(
-    mut items: Vec<(usize, LightBounds)>,
-    bounds: &LightBounds,
-    depth: u32,
-) -> (Vec<(usize, LightBounds)>, Vec<(usize, LightBounds)>) {
+fn partition(mut items: Items, bounds: &LightBounds, depth: u32) -> (Items, Items) {
     let centroids = items
         .iter()
         .fold(Aabb::EMPTY, |b, (_, x)| b.grow(x.aabb.centroid()));
@@ -136,7 +135,7 @@ fn best_plane(
     let widest = extent.max_component();
     let mut best: Option<(f32, usize, usize)> = None;
     for axis in 0..3 {
-        if !(centroids.max[axis] > centroids.min[axis]) {
+        if centroids.max[axis] <= centroids.min[axis] || extent[axis].is_nan() {
             continue;
         }
         let mut buckets: [Option<LightBounds>; BUCKETS] = [None; BUCKETS];

@@ -305,7 +305,7 @@ fn a_light_that_reaches_a_point_has_a_probability() {
             let mut reached = 0usize;
             for (p, n) in points(seed + 23 + rep, 150) {
                 for (i, light) in scene.lights.iter().enumerate() {
-                    if !(scene.power[i] > 0.0) {
+                    if scene.power[i] <= 0.0 {
                         continue;
                     }
                     for _ in 0..3 {
