@@ -6,8 +6,10 @@
 //! Sampling of Many Lights with Adaptive Tree Splitting", §4; pbrt-v4's
 //! `BVHLightSampler`, §12.6.3 — without the adaptive splitting).
 //!
-//! Lights at infinity (directional, constant, environment map) stay out
-//! of the tree: with `m` of them, each is chosen with probability
+//! Lights at infinity (directional, constant, environment map — the
+//! directional light too, which `Light::is_infinite` leaves out as rays
+//! never meet it, but which has no place to bound) stay out of the tree:
+//! with `m` of them, each is chosen with probability
 //! 1/(m + 1) and the tree with the remaining 1/(m + 1) (pbrt-v4's rule);
 //! where the tree's importance at the point is 0 (no bounded light can
 //! reach it), each gets 1/m; with neither, `sample` returns `None` and
@@ -105,6 +107,11 @@ impl LightHierarchy {
         }
     }
 
+    /// Whether no light can ever be chosen.
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty() && self.infinite.is_empty()
+    }
+
     /// Number of lights in the tree.
     pub fn tree_len(&self) -> usize {
         self.places
@@ -150,10 +157,12 @@ impl LightHierarchy {
         (1.0 / (1.0 + b / a), 1.0 / (1.0 + a / b), second)
     }
 
-    /// A light for next-event estimation at `p` (normal `n`, either side;
-    /// `None` in a medium) with `u` ∈ [0, 1): its index in the scene's
-    /// lights and the probability it was chosen with. `None` when no light
-    /// can be chosen.
+    /// A light for next-event estimation at `p` with `u` ∈ [0, 1): its
+    /// index in the scene's lights and the probability it was chosen with.
+    /// `None` when no light can be chosen. `n`: the shading point's normal
+    /// (any length, either orientation: the cosine bound takes |cos θ|, so
+    /// light from behind keeps its share for transmission); `None` in a
+    /// medium.
     pub fn sample(&self, p: Vec3, n: Option<Vec3>, u: f32) -> Option<(usize, f32)> {
         if !p.is_finite() {
             return None;
