@@ -250,12 +250,17 @@ fn samples_come_with_their_pmf_and_its_frequencies() {
         let h = scene.hierarchy();
         let mut rng = Rng(seed + 99);
         for (p, n) in points(seed + 7, 3) {
-            for n in [Some(n), None] {
+            // Stratified and jittered u (as a sampler gives them), and
+            // independent u (the χ² test's own assumption).
+            for (n, stratified) in [(Some(n), true), (None, true), (Some(n), false)] {
                 let count = 200_000;
                 let mut hits = vec![0u64; size];
                 for k in 0..count {
-                    // Stratified, jittered.
-                    let u = (k as f32 + rng.next()) / count as f32;
+                    let u = if stratified {
+                        (k as f32 + rng.next()) / count as f32
+                    } else {
+                        rng.next()
+                    };
                     let (i, q) = h.sample(p, n, u).expect("a light");
                     assert_eq!(q, h.pmf(p, n, i), "light {i} at {p:?}");
                     hits[i] += 1;
