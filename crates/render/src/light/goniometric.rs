@@ -80,6 +80,25 @@ impl IntensityGrid {
         self.flux
     }
 
+    /// (γ_lo, γ_hi): the intensity is zero at every γ outside them. Read
+    /// from the grid's rows: bilinear reading is zero between two rows of
+    /// zeros, so the lit band runs from the row before the first lit row to
+    /// the row after the last (the light hierarchy's cone of directions).
+    pub fn lit_gamma(&self) -> (f32, f32) {
+        let lit = |i: &usize| {
+            self.values[i * self.columns..(i + 1) * self.columns]
+                .iter()
+                .any(|&v| v > 0.0)
+        };
+        let first = (0..=self.rows).find(lit).unwrap_or(0);
+        let last = (0..=self.rows).rev().find(lit).unwrap_or(self.rows);
+        let step = PI / self.rows as f32;
+        (
+            first.saturating_sub(1) as f32 * step,
+            ((last + 1).min(self.rows) as f32 * step).min(PI),
+        )
+    }
+
     /// I in local direction `w` (unit), cd.
     pub fn intensity(&self, w: Vec3) -> f32 {
         let (gamma, c) = angles(w);
