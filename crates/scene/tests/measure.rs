@@ -490,3 +490,66 @@ fn a_lamp_whose_candela_are_all_tiny_is_refused_like_an_all_zero_one() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_street_of_forty_lamps_and_a_sky_give_the_sum_of_their_illuminances() {
+    // More lights than the per-point table holds: the light hierarchy
+    // chooses among them, and its pmf must be exact for the estimate to
+    // be unbiased. 32 point lamps 4 m high every 5 m along x (800 and
+    // 300 cd in turn), 8 spots 6 m high aimed straight down (a receiver
+    // inside a 25° beam sees its full 2000 cd, one outside the 30° cutoff
+    // none) and a uniform sky of 0.05 cd/m² (E = π L facing up).
+    let mut body = String::from(
+        r#"<integrator type="path"><integer name="max_depth" value="2"/></integrator>
+        <emitter type="constant"><spectrum name="radiance" type="d65"><float name="luminance" value="0.05"/></spectrum></emitter>"#,
+    );
+    let lamp = |x: f64, y: f64, z: f64, cd: f64| (x, y, z, cd);
+    let mut lamps = Vec::new();
+    for k in 0..32 {
+        let l = lamp(5.0 * k as f64 - 60.0, 4.0, 0.0, [800.0, 300.0][k % 2]);
+        body += &format!(
+            r#"<emitter type="point"><point name="position" x="{}" y="{}" z="{}"/>
+            <spectrum name="intensity" type="d65"><float name="luminance" value="{}"/></spectrum></emitter>"#,
+            l.0, l.1, l.2, l.3
+        );
+        lamps.push(l);
+    }
+    let mut spots = Vec::new();
+    for k in 0..8 {
+        let l = lamp(10.0 * k as f64 - 35.0, 6.0, 2.0, 2000.0);
+        body += &format!(
+            r#"<emitter type="spot"><spectrum name="intensity" type="d65"><float name="luminance" value="{}"/></spectrum>
+            <float name="cutoff_angle" value="30"/><float name="beam_width" value="25"/>
+            <transform name="to_world"><lookat origin="{x}, {y}, {z}" target="{x}, 0, {z}" up="0, 0, 1"/></transform></emitter>"#,
+            l.3,
+            x = l.0,
+            y = l.1,
+            z = l.2
+        );
+        spots.push(l);
+    }
+    let s = scene("many-lamps", &body);
+    let rs: Vec<Receiver> = [-42.0f32, -7.5, 0.0, 13.0, 31.0, 70.0]
+        .iter()
+        .map(|&x| Receiver {
+            p: Vec3::new(x, 0.0, 2.0),
+            n: Vec3::new(0.0, 1.0, 0.0),
+        })
+        .collect();
+    for (r, m) in rs.iter().zip(run(&s, &rs, 2048)) {
+        let (x, z) = (r.p.x as f64, r.p.z as f64);
+        // I cos θ / d² from a lamp straight above the line at height h.
+        let from = |&(lx, h, lz, cd): &(f64, f64, f64, f64)| {
+            let d2 = (x - lx).powi(2) + h * h + (z - lz).powi(2);
+            cd * h / d2.powf(1.5)
+        };
+        let in_beam = |l: &&(f64, f64, f64, f64)| {
+            let off = ((x - l.0).powi(2) + (z - l.2).powi(2)).sqrt();
+            (off / l.1).atan() < 25f64.to_radians()
+        };
+        let expected = std::f64::consts::PI * 0.05
+            + lamps.iter().map(from).sum::<f64>()
+            + spots.iter().filter(in_beam).map(from).sum::<f64>();
+        assert_close(&format!("x = {x}"), &m, expected);
+    }
+}

@@ -49,6 +49,9 @@ pub struct PathState<const K: usize> {
     pub delta: bool,
     pub bsdf_pdf: f32,
     pub prev: Vec3,
+    /// The previous vertex's geometric normal (`None` in a medium or at
+    /// the camera), for the light choice's density there.
+    pub prev_n: Option<Vec3>,
     /// Segments so far, counting the one being traced.
     pub depth: i32,
     /// Whether the cluster had several wavelengths at the start.
@@ -219,7 +222,8 @@ impl Renderer<'_> {
             let w = if path.delta {
                 1.0
             } else {
-                let p_light = self.lights.probability(path.prev, i) * light.pdf_li_at_infinity(d);
+                let p_light = self.lights.probability(path.prev, path.prev_n, i)
+                    * light.pdf_li_at_infinity(d);
                 power_heuristic(path.bsdf_pdf, p_light)
             };
             path.l += path.beta * le * w;
@@ -249,7 +253,7 @@ impl Renderer<'_> {
                     let w = if path.delta {
                         1.0
                     } else {
-                        let p_light = self.lights.probability(path.prev, li as usize)
+                        let p_light = self.lights.probability(path.prev, path.prev_n, li as usize)
                             * area.pdf_li(path.prev, surface.p, surface.n_geometric);
                         power_heuristic(path.bsdf_pdf, p_light)
                     };
@@ -330,9 +334,12 @@ impl Renderer<'_> {
         // squared distance (`light_choice`).
         let mut shadow = None;
         if !bsdf.is_delta() {
-            let light = self.lights.sample(p, u_light).and_then(|(i, p_choice)| {
-                self.sample_direct(i, p_choice, &now, p, Some(ng), [u_select, u_l0, u_l1])
-            });
+            let light = self
+                .lights
+                .sample(p, Some(ng), u_light)
+                .and_then(|(i, p_choice)| {
+                    self.sample_direct(i, p_choice, &now, p, Some(ng), [u_select, u_l0, u_l1])
+                });
             if let Some(d) = light {
                 let (ls, pdf) = (&d.ls, d.pdf);
                 let wo = frame.to_local(ls.wi);
@@ -383,6 +390,7 @@ impl Renderer<'_> {
             path.delta = bs.delta;
             path.bsdf_pdf = bs.pdf;
             path.prev = p;
+            path.prev_n = Some(ng);
             path.depth += 1;
             frame.to_world(bs.wo)
         };
@@ -432,6 +440,7 @@ impl<const K: usize> PathState<K> {
             delta: true,
             bsdf_pdf: 0.0,
             prev: ray.o,
+            prev_n: None,
             depth,
             whole: !wl.secondary_terminated(),
             medium: None,

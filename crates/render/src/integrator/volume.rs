@@ -145,7 +145,7 @@ impl Renderer<'_> {
         mis: Mis,
     ) -> Option<(Ray, SampledSpectrum<K>)> {
         let wi = -path.ray.d;
-        let (i, p_choice) = self.lights.sample(p, u_light)?;
+        let (i, p_choice) = self.lights.sample(p, None, u_light)?;
         let d = self.sample_direct(i, p_choice, &path.now, p, None, [u_select, u_l0, u_l1])?;
         let f = phase.eval(wi, d.ls.wi);
         if f.is_nan() || f <= 0.0 {
@@ -189,6 +189,7 @@ impl Renderer<'_> {
         // f/√(1 + q²).
         path.bsdf_pdf = pdf / (1.0 + q2).sqrt();
         path.prev = p;
+        path.prev_n = None;
         path.ray = Ray::new(p, wo);
         path.depth += 1;
         self.onwards(path, u_rr, stop)

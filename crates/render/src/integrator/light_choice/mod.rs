@@ -23,15 +23,17 @@
 //! light that can contribute keeps a probability > 0). Both densities the
 //! estimator uses — at the sampled light and, for MIS, when a BSDF-sampled
 //! ray hits an emitter — come from the same function of the point.
-//! Scenes with more than [`MAX_NEAR`] lights keep the power choice (the
-//! per-point table is O(lights)).
+//! Scenes with more than [`MAX_NEAR`] lights choose by the light
+//! hierarchy instead (`light::LightHierarchy`, Conty Estevez & Kulla
+//! 2018): the per-point table is O(lights), the tree's walk O(log lights),
+//! and it also weighs each light's orientation and the point's normal.
 
 mod cluster;
 
 pub(crate) use cluster::ClusterChoice;
 
 use crate::geometry::Shape;
-use crate::light::{Light, SceneExtent};
+use crate::light::{Light, LightHierarchy, SceneExtent};
 use crate::math::Vec3;
 use crate::sampling::distribution::Distribution1D;
 use crate::wavelength::SpectralPdf;
@@ -66,6 +68,8 @@ pub struct LightChoice {
     /// Each light's spectral density (`None`: it emits nothing), for the
     /// choice by cluster.
     spectra: Vec<Option<SpectralPdf>>,
+    /// The choice at a point among more than [`MAX_NEAR`] lights.
+    tree: Option<LightHierarchy>,
 }
 
 impl LightChoice {
@@ -93,6 +97,8 @@ impl LightChoice {
                 .iter()
                 .map(|l| SpectralPdf::new(l.spectrum()))
                 .collect(),
+            tree: (lights.len() > MAX_NEAR)
+                .then(|| LightHierarchy::new(lights, extent.shapes, power, extent.radius)),
         }
     }
 
@@ -122,9 +128,12 @@ impl LightChoice {
         true
     }
 
-    /// A light for next-event estimation at `x` with `u` ∈ [0, 1), and the
-    /// probability it was chosen with.
-    pub fn sample(&self, x: Vec3, u: f32) -> Option<(usize, f32)> {
+    /// A light for next-event estimation at `x` (normal `n`; `None` in a
+    /// medium) with `u` ∈ [0, 1), and the probability it was chosen with.
+    pub fn sample(&self, x: Vec3, n: Option<Vec3>, u: f32) -> Option<(usize, f32)> {
+        if let Some(tree) = &self.tree {
+            return tree.sample(x, n, u);
+        }
         let mut p = [0.0; MAX_NEAR];
         if !self.at(x, &mut p) {
             return self.power.sample_discrete(u).map(|(i, q, _)| (i, q));
@@ -146,8 +155,12 @@ impl LightChoice {
         last
     }
 
-    /// The probability that [`Self::sample`] at `x` chooses light `i`.
-    pub fn probability(&self, x: Vec3, i: usize) -> f32 {
+    /// The probability that [`Self::sample`] at `x` (normal `n`) chooses
+    /// light `i`.
+    pub fn probability(&self, x: Vec3, n: Option<Vec3>, i: usize) -> f32 {
+        if let Some(tree) = &self.tree {
+            return tree.pmf(x, n, i);
+        }
         let mut p = [0.0; MAX_NEAR];
         if self.at(x, &mut p) {
             p.get(i).copied().unwrap_or(0.0)
@@ -235,7 +248,7 @@ mod tests {
         let (shapes, lights, power) = scene();
         let c = choice(&shapes, &lights, &power);
         let x = Vec3::new(-8.0, 5.5, 0.0);
-        let p: Vec<f32> = (0..4).map(|i| c.probability(x, i)).collect();
+        let p: Vec<f32> = (0..4).map(|i| c.probability(x, None, i)).collect();
         assert!((p.iter().sum::<f32>() - 1.0).abs() < 1e-5, "{p:?}");
         assert!(p[0] > 0.85, "{p:?}");
         for (i, &q) in p.iter().enumerate() {
@@ -243,7 +256,7 @@ mod tests {
         }
         // Beside the sphere lamp, no nearer than its surface counts.
         let y = Vec3::new(0.0, 5.0, 0.0);
-        assert!(c.probability(y, 2) < 1.0 && c.probability(y, 2) > 0.85);
+        assert!(c.probability(y, None, 2) < 1.0 && c.probability(y, None, 2) > 0.85);
     }
 
     #[test]
@@ -255,12 +268,12 @@ mod tests {
         let mut counts = [0usize; 4];
         for k in 0..n {
             let u = (k as f32 + 0.5) / n as f32;
-            let (i, q) = c.sample(x, u).unwrap();
-            assert_eq!(q, c.probability(x, i));
+            let (i, q) = c.sample(x, None, u).unwrap();
+            assert_eq!(q, c.probability(x, None, i));
             counts[i] += 1;
         }
         for (i, &m) in counts.iter().enumerate() {
-            let expected = c.probability(x, i) as f64 * n as f64;
+            let expected = c.probability(x, None, i) as f64 * n as f64;
             // Stratified u: each count is within one or two of its share.
             assert!(
                 (m as f64 - expected).abs() <= 2.0,
@@ -270,7 +283,7 @@ mod tests {
     }
 
     #[test]
-    fn many_lights_are_chosen_by_power() {
+    fn many_lights_are_chosen_by_the_hierarchy() {
         let lights: Vec<Light> = (0..MAX_NEAR + 1)
             .map(|i| {
                 Light::Point(PointLight {
@@ -281,9 +294,14 @@ mod tests {
             .collect();
         let power: Vec<f32> = (0..lights.len()).map(|i| 1.0 + i as f32).collect();
         let c = choice(&[], &lights, &power);
+        let tree = LightHierarchy::new(&lights, &[], &power, 30.0);
         let x = Vec3::new(0.1, 0.0, 0.0);
+        let n = Some(Vec3::new(0.0, 1.0, 0.0));
         for i in 0..lights.len() {
-            assert_eq!(c.probability(x, i), c.power.probability(i));
+            assert_eq!(c.probability(x, n, i), tree.pmf(x, n, i));
         }
+        assert_eq!(c.sample(x, n, 0.3), tree.sample(x, n, 0.3));
+        // Beside the first lamp, it is chosen far above its power's share.
+        assert!(c.probability(x, n, 0) > 10.0 * c.power.probability(0));
     }
 }

@@ -8,12 +8,15 @@
 //!
 //! Lights at infinity (directional, constant, environment map — the
 //! directional light too, which `Light::is_infinite` leaves out as rays
-//! never meet it, but which has no place to bound) stay out of the tree:
-//! with `m` of them, each is chosen with probability
-//! 1/(m + 1) and the tree with the remaining 1/(m + 1) (pbrt-v4's rule);
-//! where the tree's importance at the point is 0 (no bounded light can
-//! reach it), each gets 1/m; with neither, `sample` returns `None` and
-//! `pmf` 0. Lights with zero or non-finite power are never chosen.
+//! never meet it, but which has no place to bound) stay out of the tree.
+//! Each has the weight Φ/R² (its power over the scene's squared radius:
+//! the irradiance it gives the scene, up to a constant), the tree the
+//! importance of its root at the point, and one of them is chosen in
+//! proportion. pbrt-v4 gives each light at infinity and the tree equal
+//! shares instead; at night that spends half the samples on a sky a
+//! hundred-thousandth as bright as the lamps. Where no light can be
+//! chosen, `sample` returns `None` and `pmf` 0. Lights with zero or
+//! non-finite power are never chosen.
 //!
 //! `sample` and `pmf` walk the same nodes with the same arithmetic (`pmf`
 //! follows the light's path from the root, kept as bits), so the
@@ -57,8 +60,10 @@ enum Place {
 #[derive(Debug, Clone, PartialEq)]
 pub struct LightHierarchy {
     nodes: Vec<Node>,
-    /// The lights at infinity with power, in scene order.
-    infinite: Vec<u32>,
+    /// The lights at infinity with power, in scene order, with their
+    /// weights Φ/R², and the sum of the weights.
+    infinite: Vec<(u32, f32)>,
+    infinite_weight: f32,
     /// Per light of the scene.
     places: Vec<Place>,
 }
@@ -66,8 +71,10 @@ pub struct LightHierarchy {
 impl LightHierarchy {
     /// The hierarchy over `lights` (area lights' shapes in `shapes`);
     /// `power[i]`: light i's radiant power in W (as `LightChoice::new`
-    /// gets it). A missing power counts as 0.
-    pub fn new(lights: &[Light], shapes: &[Shape], power: &[f32]) -> Self {
+    /// gets it; a missing power counts as 0); `scene_radius`: the radius
+    /// of the scene's bounding sphere.
+    pub fn new(lights: &[Light], shapes: &[Shape], power: &[f32], scene_radius: f32) -> Self {
+        let r2 = (scene_radius * scene_radius).max(f32::MIN_POSITIVE);
         let mut places = vec![Place::Out; lights.len()];
         let mut infinite = Vec::new();
         let mut items = Vec::new();
@@ -79,7 +86,7 @@ impl LightHierarchy {
             match light {
                 Light::Directional(_) | Light::Constant(_) | Light::EnvMap(_) => {
                     places[i] = Place::Infinite;
-                    infinite.push(i as u32);
+                    infinite.push((i as u32, (w / r2).min(f32::MAX)));
                 }
                 _ => {
                     if let Some(b) = light_bounds(light, shapes, w) {
@@ -102,6 +109,7 @@ impl LightHierarchy {
                     leaf: n.leaf,
                 })
                 .collect(),
+            infinite_weight: infinite.iter().map(|&(_, w)| w).sum::<f32>().min(f32::MAX),
             infinite,
             places,
         }
@@ -126,15 +134,15 @@ impl LightHierarchy {
         n.map(Vec3::normalize).filter(|n| n.is_finite())
     }
 
-    /// The shares at `p`: (number of equal shares, whether the tree holds
-    /// one of them).
+    /// The tree's weight at `p` (its root's importance; 0 without a
+    /// tree) and the sum of all weights.
     #[inline]
-    fn shares(&self, p: Vec3, n: Option<Vec3>) -> (usize, bool) {
+    fn shares(&self, p: Vec3, n: Option<Vec3>) -> (f32, f32) {
         let tree = self
             .nodes
             .first()
-            .is_some_and(|root| root.bounds.importance(p, n) > 0.0);
-        (self.infinite.len() + tree as usize, tree)
+            .map_or(0.0, |root| root.bounds.importance(p, n));
+        (tree, (tree + self.infinite_weight).min(f32::MAX))
     }
 
     /// The probabilities of interior node `at`'s two children at `p`, and
@@ -168,18 +176,21 @@ impl LightHierarchy {
             return None;
         }
         let n = Self::clean_normal(n);
-        let (slots, tree) = self.shares(p, n);
-        if slots == 0 {
+        let (tree, total) = self.shares(p, n);
+        if total <= 0.0 {
             return None;
         }
-        let share = 1.0 / slots as f32;
-        let scaled = u.clamp(0.0, ONE_MINUS_EPSILON) * slots as f32;
-        let k = (scaled as usize).min(slots - 1);
-        if k < self.infinite.len() {
-            return Some((self.infinite[k] as usize, share));
+        // The lights at infinity first, then the tree.
+        let mut x = u.clamp(0.0, ONE_MINUS_EPSILON) * total;
+        for (k, &(i, w)) in self.infinite.iter().enumerate() {
+            let last = k + 1 == self.infinite.len() && tree <= 0.0;
+            if x < w || last {
+                return Some((i as usize, w / total));
+            }
+            x -= w;
         }
-        debug_assert!(tree);
-        let mut u = (scaled - k as f32).clamp(0.0, ONE_MINUS_EPSILON);
+        let mut u = (x / tree).clamp(0.0, ONE_MINUS_EPSILON);
+        let share = tree / total;
         let mut pmf = share;
         let mut at = 0;
         loop {
@@ -210,17 +221,18 @@ impl LightHierarchy {
             return 0.0;
         }
         let n = Self::clean_normal(n);
-        let (slots, tree) = self.shares(p, n);
-        if slots == 0 {
+        let (tree, total) = self.shares(p, n);
+        if total <= 0.0 {
             return 0.0;
         }
-        let share = 1.0 / slots as f32;
         let Place::Tree { bits, depth } = place else {
-            return share;
+            let w = self.infinite.iter().find(|&&(i, _)| i as usize == light);
+            return w.map_or(0.0, |&(_, w)| w / total);
         };
-        if !tree {
+        if tree <= 0.0 {
             return 0.0;
         }
+        let share = tree / total;
         let mut pmf = share;
         let mut at = 0;
         for level in 0..depth {

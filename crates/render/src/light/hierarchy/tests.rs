@@ -33,7 +33,7 @@ impl Scene {
     }
 
     fn hierarchy(&self) -> LightHierarchy {
-        LightHierarchy::new(&self.lights, &self.shapes, &self.power)
+        LightHierarchy::new(&self.lights, &self.shapes, &self.power, 10.0)
     }
 }
 
@@ -209,7 +209,7 @@ fn the_probabilities_sum_to_one() {
                     let sum: f64 = (0..size).map(|i| h.pmf(p, n, i) as f64).sum();
                     // No light to choose: none at infinity, and no
                     // bounded light can reach p.
-                    let none = h.shares(p, LightHierarchy::clean_normal(n)).0 == 0;
+                    let none = h.shares(p, LightHierarchy::clean_normal(n)).1 <= 0.0;
                     if none {
                         assert_eq!(sum, 0.0);
                         assert_eq!(h.sample(p, n, 0.5), None);
@@ -351,7 +351,7 @@ fn the_near_lamps_of_a_street_are_chosen() {
         })
         .collect();
     let power = vec![100.0; 40];
-    let h = LightHierarchy::new(&lights, &[], &power);
+    let h = LightHierarchy::new(&lights, &[], &power, 10.0);
     // Beside lamp 7, at the foot of its pole.
     let p = Vec3::new(28.3, 0.5, 1.0);
     for n in [Some(Vec3::new(0.0, 1.0, 0.0)), None] {
@@ -375,7 +375,7 @@ fn the_near_lamps_of_a_street_are_chosen() {
 }
 
 #[test]
-fn lights_at_infinity_share_evenly_with_the_tree() {
+fn lights_at_infinity_weigh_their_power_against_the_tree() {
     let lights = vec![
         Light::Point(PointLight {
             position: Vec3::new(0.0, 3.0, 0.0),
@@ -392,19 +392,27 @@ fn lights_at_infinity_share_evenly_with_the_tree() {
             radiance: constant(1.0),
         }),
     ];
-    let h = LightHierarchy::new(&lights, &[], &[5.0, 1.0, 2.0, 0.0]);
+    // Radius 1: the lights at infinity weigh their power, the point light
+    // (power 5, √10 m away, no normal) its importance 5/10.
+    let h = LightHierarchy::new(&lights, &[], &[5.0, 1.0, 2.0, 0.0], 1.0);
     let p = Vec3::new(1.0, 0.0, 0.0);
-    assert_eq!(h.pmf(p, None, 0), 1.0 / 3.0);
-    assert_eq!(h.pmf(p, None, 1), 1.0 / 3.0);
-    assert_eq!(h.pmf(p, None, 2), 1.0 / 3.0);
+    let total = 0.5 + 1.0 + 2.0;
+    for (i, w) in [(0, 0.5), (1, 1.0), (2, 2.0)] {
+        assert!((h.pmf(p, None, i) - w / total).abs() < 1e-6, "light {i}");
+    }
     assert_eq!(h.pmf(p, None, 3), 0.0);
     assert_eq!(h.pmf(p, None, 4), 0.0);
-    // Without bounded lights the lights at infinity share everything.
-    let h = LightHierarchy::new(&lights[1..], &[], &[1.0, 2.0, 0.0]);
-    assert_eq!(h.pmf(p, None, 0), 0.5);
-    assert_eq!(h.sample(p, None, 0.7), Some((1, 0.5)));
-    // No light at all.
-    let h = LightHierarchy::new(&[], &[], &[]);
+    // u below 1/3.5 picks the constant light, then the directional, then
+    // the tree.
+    assert_eq!(h.sample(p, None, 0.2).map(|s| s.0), Some(1));
+    assert_eq!(h.sample(p, None, 0.5).map(|s| s.0), Some(2));
+    assert_eq!(h.sample(p, None, 0.9).map(|s| s.0), Some(0));
+    // Without bounded lights the lights at infinity share everything, by
+    // their weights.
+    let h = LightHierarchy::new(&lights[1..], &[], &[1.0, 2.0, 0.0], 1.0);
+    assert_eq!(h.pmf(p, None, 0), 1.0 / 3.0);
+    assert_eq!(h.sample(p, None, 0.7), Some((1, 2.0 / 3.0)));
+    let h = LightHierarchy::new(&[], &[], &[], 1.0);
     assert_eq!(h.sample(p, None, 0.5), None);
 }
 
@@ -422,7 +430,7 @@ fn the_tree_is_deterministic_and_deep_lines_stay_within_the_path_bits() {
         })
         .collect();
     let power: Vec<f32> = (0..5000).map(|i| 1.0 + (i % 7) as f32).collect();
-    let h = LightHierarchy::new(&lights, &[], &power);
+    let h = LightHierarchy::new(&lights, &[], &power, 10.0);
     assert_eq!(h.tree_len(), 5000);
     let p = Vec3::new(20.0, 1.0, 0.0);
     let sum: f64 = (0..5000).map(|i| h.pmf(p, None, i) as f64).sum();
@@ -460,7 +468,7 @@ fn cones_cut_off_lights_that_face_away_and_keep_their_edges() {
             intensity: constant(1.0),
         }),
     ];
-    let h = LightHierarchy::new(&lights, &shapes, &[10.0, 10.0, 10.0]);
+    let h = LightHierarchy::new(&lights, &shapes, &[10.0, 10.0, 10.0], 10.0);
     // Each light's own bound (a leaf's importance).
     let leaf = |i: usize, p: Vec3| {
         bounds::light_bounds(&lights[i], &shapes, 10.0)
@@ -517,7 +525,7 @@ fn a_mesh_whose_normals_oppose_its_winding_may_emit_from_its_back() {
             intensity: constant(1.0),
         }),
     ];
-    let h = LightHierarchy::new(&lights, &shapes, &[1.0, 1.0]);
+    let h = LightHierarchy::new(&lights, &shapes, &[1.0, 1.0], 10.0);
     assert!(h.pmf(Vec3::new(0.3, 0.3, -2.0), None, 0) > 0.0);
     assert!(h.pmf(Vec3::new(0.3, 0.3, 2.0), None, 0) > 0.0);
 }
