@@ -192,6 +192,7 @@ bench: python
 	$(PY) bench/vision.py
 	$(PY) bench/distributed.py
 	$(PY) bench/same_speed.py
+	$(PY) bench/many_lights.py
 
 ## Regenerates the Jakob–Hanika coefficient tables in data/rgb2spec.
 tables:

@@ -1,6 +1,7 @@
 """What the bench scripts share: running `scotopia render` and reading its
 summary and image, and the error measures."""
 
+import os
 import re
 import subprocess
 import sys
@@ -27,10 +28,14 @@ def render(binary, scene, params, out, extra, seed, spp=None, seconds=None):
     m = SUMMARY.search(proc.stderr)
     if not m:
         sys.exit(f"{scene}: no summary line in:\n{proc.stderr}")
-    with OpenEXR.File(str(out)) as f:
+    return int(m.group(1)), float(m.group(3)), read_xyzv(out)
+
+
+def read_xyzv(path):
+    """An EXR's X, Y, Z, V channels, stacked last."""
+    with OpenEXR.File(str(path)) as f:
         ch = f.channels()
-        img = np.stack([np.asarray(ch[c].pixels, dtype=np.float64) for c in "XYZV"], -1)
-    return int(m.group(1)), float(m.group(3)), img
+        return np.stack([np.asarray(ch[c].pixels, dtype=np.float64) for c in "XYZV"], -1)
 
 
 def rel_rmse(img, ref, c):
@@ -44,3 +49,24 @@ def rel_mse(img, ref, c):
     r = ref[..., c]
     eps = 1e-4 * np.mean(r) ** 2
     return float(np.mean((img[..., c] - r) ** 2 / (r * r + eps)))
+
+
+def build_revision(rev):
+    """The release binary of git revision `rev`, built once in a worktree
+    under out/bench/ with its own target folder (so that neither build
+    passes for the other)."""
+    base = ROOT / "out" / "bench"
+    tree = base / f"before-{rev}"
+    target = base / f"target-before-{rev}"
+    binary = target / "release" / "scotopia"
+    if binary.exists():
+        return binary
+    base.mkdir(parents=True, exist_ok=True)
+    if not tree.exists():
+        subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", str(tree), rev],
+                       check=True)
+    env = dict(os.environ, CARGO_TARGET_DIR=str(target))
+    print(f"building {rev} (once) ...", file=sys.stderr)
+    subprocess.run(["cargo", "build", "--release", "-q", "-p", "scotopia"], cwd=tree, env=env,
+                   check=True)
+    return binary

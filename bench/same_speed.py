@@ -14,12 +14,13 @@ time the summary line reports (< 1: faster now). Usage:
 """
 
 import argparse
-import os
 import statistics
 import subprocess
 import sys
 import time
 from pathlib import Path
+
+from common import build_revision
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -35,25 +36,6 @@ CASES = [
     ("prism, bdpt", "prism.xml", ["--integrator", "bdpt", "--res", "160", "--spp", "128"]),
     ("foggy street, volpath", "foggy-street.xml", ["--res", "160", "--spp", "32"]),
 ]
-
-
-def build_before(rev):
-    """The release binary of `rev`, built once under out/bench/."""
-    base = ROOT / "out" / "bench"
-    tree = base / f"before-{rev}"
-    target = base / f"target-before-{rev}"
-    binary = target / "release" / "scotopia"
-    if binary.exists():
-        return binary
-    base.mkdir(parents=True, exist_ok=True)
-    if not tree.exists():
-        subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", str(tree), rev],
-                       check=True)
-    env = dict(os.environ, CARGO_TARGET_DIR=str(target))
-    print(f"building {rev} (once) ...", file=sys.stderr)
-    subprocess.run(["cargo", "build", "--release", "-q", "-p", "scotopia"], cwd=tree, env=env,
-                   check=True)
-    return binary
 
 
 def seconds(binary, scene, options, threads, out):
@@ -79,7 +61,7 @@ def main():
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--only", default="", help="the cases whose name holds this text")
     args = parser.parse_args()
-    before = Path(args.before_bin) if args.before_bin else build_before(args.before)
+    before = Path(args.before_bin) if args.before_bin else build_revision(args.before)
     after = Path(args.bin)
     out = ROOT / "out" / "bench"
     out.mkdir(parents=True, exist_ok=True)
