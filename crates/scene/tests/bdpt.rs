@@ -296,3 +296,62 @@ fn aiming_light_paths_at_casters_keeps_the_image_and_lowers_its_noise() {
         "aimed {noise_aimed}, uniform {noise_uniform}"
     );
 }
+
+/// A floor and a wall under 24 small sphere lamps of two spectra, above
+/// the camera and out of its view: more lights than the
+/// per-point table holds, so next-event estimation (s = 1 in the
+/// bidirectional tracer) chooses by the light hierarchy while the light
+/// subpaths choose by the cluster.
+fn many_lamps() -> Scene {
+    let mut lamps = String::new();
+    for k in 0..24 {
+        let (x, z) = ((k % 6) as f32 * 1.6 - 4.0, (k / 6) as f32 * 1.5 - 3.0);
+        // Four bright warm lamps high up and twenty dim ones low down: by
+        // power the light subpaths mostly start at the bright ones, while
+        // next-event estimation at the floor picks the dim ones near it.
+        let (y, spectrum) = if k % 6 == 0 {
+            (3.0, r#"<blackbody name="radiance" temperature="2700"/><float name="scale" value="40"/>"#.to_string())
+        } else {
+            (
+                0.4 + 0.1 * (k % 4) as f32,
+                format!(
+                    r#"<spectrum name="radiance" type="d65"><float name="luminance" value="{}"/></spectrum>"#,
+                    20 + 10 * (k % 5)
+                ),
+            )
+        };
+        lamps += &format!(
+            r#"<shape type="sphere"><point name="center" x="{x}" y="{y}" z="{z}"/><float name="radius" value="0.08"/>
+            <emitter type="area">{spectrum}</emitter></shape>"#
+        );
+    }
+    let xml = format!(
+        r#"<scene version="3.0.0">
+        <integrator type="path"><integer name="max_depth" value="4"/></integrator>
+        <sensor type="perspective"><float name="fov" value="40"/>
+          <transform name="to_world"><lookat origin="0, 0.3, 6" target="0, 0, 4" up="0, 1, 0"/></transform>
+          <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="12"/></film></sensor>
+        <shape type="rectangle"><transform name="to_world"><rotate x="1" angle="-90"/><scale value="8"/></transform>
+          <bsdf type="diffuse"><rgb name="reflectance" value="0.5, 0.45, 0.4"/></bsdf></shape>
+        <shape type="rectangle"><transform name="to_world"><scale value="8"/><translate z="-5"/></transform>
+          <bsdf type="roughconductor"><string name="material" value="Al"/><float name="alpha" value="0.3"/></bsdf></shape>
+        {lamps}</scene>"#
+    );
+    let dir = std::env::temp_dir().join(format!("scotopia-bdpt-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let f = dir.join("many-lamps.xml");
+    std::fs::write(&f, xml).unwrap();
+    let s = load_scene(&f, &Parameters::new()).unwrap();
+    assert!(s.lights.len() > 16);
+    s
+}
+
+#[test]
+fn with_many_lights_the_tracers_differ_only_by_their_noise() {
+    let s = many_lamps();
+    let b = [image(&s, bdpt(2048, 1)), image(&s, bdpt(2048, 3))];
+    let p = [image(&s, path(2048, 2)), image(&s, path(2048, 4))];
+    agree("many lamps", &b[0], &p[0]);
+    let scale = image(&s, path(128, 5));
+    rmse_is_the_noise("many lamps", [&b[0], &b[1]], [&p[0], &p[1]], &scale);
+}

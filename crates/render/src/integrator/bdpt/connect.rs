@@ -33,6 +33,10 @@ pub(super) struct Subpaths<'p, const K: usize> {
     pub choice: &'p ClusterChoice,
     /// Evaluate one strategy alone, unweighted.
     pub unweighted: bool,
+    /// Next-event estimation (s = 1) chooses its light at the camera
+    /// vertex by the light hierarchy (`LightChoice::by_point`), not by the
+    /// cluster as the light subpaths do: see [`Renderer::nee_share`].
+    pub by_point: bool,
 }
 
 /// What one strategy adds: light on the camera cluster's members, and
@@ -127,28 +131,44 @@ impl Renderer<'_> {
     /// infinity in direction `v.wi`).
     pub(super) fn origin_density<const K: usize>(
         &self,
-        choice: &ClusterChoice,
+        choice: impl Fn(usize) -> f32,
         v: &Vertex<K>,
     ) -> f32 {
         let extent = self.extent();
         match v.kind {
             Kind::Infinite => self
                 .infinite_lights()
-                .map(|(i, l)| choice.probability(i) * l.pdf_le(&extent, v.p, Vec3::ZERO, -v.wi).dir)
+                .map(|(i, l)| choice(i) * l.pdf_le(&extent, v.p, Vec3::ZERO, -v.wi).dir)
                 .sum(),
             Kind::Light => {
                 let i = v.index as usize;
-                choice.probability(i) * self.scene.lights[i].pdf_le(&extent, v.p, v.ng, -v.wi).pos
+                choice(i) * self.scene.lights[i].pdf_le(&extent, v.p, v.ng, -v.wi).pos
             }
             Kind::Surface => match self.scene.shape_light[v.index as usize] {
                 Some(i) => {
                     let l = &self.scene.lights[i as usize];
-                    choice.probability(i as usize) * l.pdf_le(&extent, v.p, v.ng, v.ng).pos
+                    choice(i as usize) * l.pdf_le(&extent, v.p, v.ng, v.ng).pos
                 }
                 None => 0.0,
             },
             Kind::Camera | Kind::Medium => 0.0,
         }
+    }
+
+    /// The density with which next-event estimation at `x` would start a
+    /// path at light vertex `v`: the light hierarchy's choice at `x` times
+    /// the light's own density of `v`.
+    fn nee_origin<const K: usize>(&self, x: &Vertex<K>, v: &Vertex<K>) -> f32 {
+        let n = x.on_surface().then_some(x.ng);
+        self.origin_density(|i| self.lights.probability(x.p, n, i), v)
+    }
+
+    /// The light subpaths' origin density of light vertex `v` over next-event
+    /// estimation's from `x` (the path's vertex next to `v`): the factor
+    /// m by which the strategies with s ≥ 2 differ from s = 1 in how the
+    /// path's light was chosen (`mis::weight`). 1 where both choose alike.
+    fn nee_share<const K: usize>(&self, sub_origin: f32, x: &Vertex<K>, v: &Vertex<K>) -> f32 {
+        sub_origin / self.nee_origin(x, v)
     }
 
     /// The light with the emission at vertex `v`, if one.
@@ -215,6 +235,15 @@ impl Renderer<'_> {
     ) -> Option<Contribution<K>> {
         let (light, camera, wl, lanes) = (sub.light, sub.camera, sub.wl, sub.lanes);
         let mut c = Connection::default();
+        // A path of two vertices (an emitter seen from the lens) has no
+        // next-event estimation: s = 1 is then light tracing's (1, 1).
+        let by_point = sub.by_point && s + t > 2;
+        // The light subpaths' origin density of the path's light over
+        // next-event estimation's (1 where both choose alike).
+        let mut share = 1.0f32;
+        if by_point && s >= 2 {
+            share = self.nee_share(light[0].pdf_fwd, &light[1], &light[0]);
+        }
         if let Some(y0) = light.first() {
             c.light_at_infinity = y0.at_infinity;
             c.delta_light = match y0.kind {
@@ -249,7 +278,14 @@ impl Renderer<'_> {
                 return None;
             }
             l = z.beta * le * initial_only(&mut min_s);
-            c.camera_last_rev = self.origin_density(sub.choice, z);
+            let by_cluster = self.origin_density(|i| sub.choice.probability(i), z);
+            c.camera_last_rev = by_cluster;
+            if by_point {
+                // s = 1 would have chosen this light at camera[t − 2].
+                let x = &camera[t - 2];
+                c.camera_last_rev = self.nee_origin(x, z);
+                share = by_cluster / c.camera_last_rev;
+            }
             c.camera_prev_rev = self.emission_density(z, &camera[t - 2]);
             c.delta_light = false;
             c.light_at_infinity = z.kind == Kind::Infinite;
@@ -292,11 +328,15 @@ impl Renderer<'_> {
             if !self.connectible(z) {
                 return None;
             }
-            let (i, q) = sub.choice.sample(u_choice)?;
-            let lt = &self.scene.lights[i];
             // No surface at a medium vertex: the ray leaves along the
             // light's direction.
             let n = z.on_surface().then_some(z.ng);
+            let (i, q) = if by_point {
+                self.lights.sample(z.p, n, u_choice)?
+            } else {
+                sub.choice.sample(u_choice)?
+            };
+            let lt = &self.scene.lights[i];
             let d = self.sample_direct(i, q, wl, z.p, n, [u_select, u0, u1])?;
             let (f, rho) = self.scatter_f(z, wl, d.ls.wi, Transport::Radiance);
             let f = f * rho;
@@ -329,7 +369,14 @@ impl Renderer<'_> {
             y0.ng = ls.n;
             y0.at_infinity = at_infinity;
             y0.wi = ls.wi;
-            c.light_origin = Some(self.origin_density(sub.choice, &y0));
+            let by_cluster = self.origin_density(|j| sub.choice.probability(j), &y0);
+            if by_point {
+                let nee = self.nee_origin(z, &y0);
+                c.light_origin = Some(nee);
+                share = by_cluster / nee;
+            } else {
+                c.light_origin = Some(by_cluster);
+            }
             c.delta_light = ls.delta;
             c.light_at_infinity = at_infinity;
             let pdf_towards = if ls.delta {
@@ -380,15 +427,15 @@ impl Renderer<'_> {
         if !sub.unweighted {
             // One weight per distinct least s (one, without fluorescence).
             let mut cache: Option<(usize, f32)> = None;
-            for (v, &m) in l.0.iter_mut().zip(&min_s) {
+            for (v, &least) in l.0.iter_mut().zip(&min_s) {
                 if *v == 0.0 {
                     continue;
                 }
                 let w = match cache {
-                    Some((cached, w)) if cached == m => w,
+                    Some((cached, w)) if cached == least => w,
                     _ => {
-                        let w = mis::weight(light, camera, s, t, &c, m);
-                        cache = Some((m, w));
+                        let w = mis::weight(light, camera, s, t, &c, least, share);
+                        cache = Some((least, w));
                         w
                     }
                 };

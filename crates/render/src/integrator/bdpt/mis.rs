@@ -40,6 +40,15 @@ fn remap(p: f32) -> f32 {
 /// connection `c`. Strategies with fewer than `min_s` light vertices
 /// cannot build the path (a re-emission on the light subpath) and are
 /// left out.
+///
+/// `share`: the light subpaths' origin density of the path's light over
+/// next-event estimation's, where s = 1 chooses its light at the vertex
+/// next to it by the light hierarchy and the light subpaths by the
+/// cluster (1 where both choose alike). The densities stored on the
+/// vertices are those of the strategy at hand, so the ratio to a strategy
+/// on the other side of s = 1 ↔ s = 2 takes `share` once: ×share from
+/// s ≤ 1 to s ≥ 2, ÷share to s = 1 alone from s ≥ 2 (s = 0 depends on no
+/// light choice, and the two factors cancel on the way there).
 pub(super) fn weight<const K: usize>(
     light: &[Vertex<K>],
     camera: &[Vertex<K>],
@@ -47,6 +56,7 @@ pub(super) fn weight<const K: usize>(
     t: usize,
     c: &Connection,
     min_s: usize,
+    share: f32,
 ) -> f32 {
     let camera_rev = |i: usize| {
         if i + 1 == t {
@@ -80,8 +90,11 @@ pub(super) fn weight<const K: usize>(
         r *= remap(camera_rev(i)) / remap(camera[i].pdf_fwd);
         // (1, 1) from a light at infinity is not a strategy here.
         let excluded = s + t == 2 && i == 1 && c.light_at_infinity;
+        // Strategy s + t − i: past s = 1 its light comes from a subpath.
+        let k = s + t - i;
+        let rk = if s <= 1 && k >= 2 { r * share } else { r };
         if !camera_delta(i) && !camera_delta(i - 1) && !excluded {
-            sum += r * r;
+            sum += rk * rk;
         }
     }
     // Fewer light vertices: light vertices move to the camera subpath.
@@ -96,8 +109,10 @@ pub(super) fn weight<const K: usize>(
         } else {
             c.delta_light
         };
+        // Strategy i: s = 1 chose its light by next-event estimation.
+        let ri = if s >= 2 && i == 1 { r / share } else { r };
         if !light_delta(i) && !before_delta {
-            sum += r * r;
+            sum += ri * ri;
         }
     }
     1.0 / (1.0 + sum)

@@ -123,6 +123,7 @@ impl Renderer<'_> {
             lanes: &lanes,
             choice: &scratch.choice,
             unweighted: bidirectional.only.is_some(),
+            by_point: self.lights.by_point(),
         };
         let mut radiance = SampledSpectrum::<K>::splat(0.0);
         for t in 1..=sub.camera.len() {

@@ -90,7 +90,7 @@ impl Renderer<'_> {
         }
         y0.tex = e.uv.into();
         y0.wi = -e.d;
-        y0.pdf_fwd = self.origin_density(choice, &y0);
+        y0.pdf_fwd = self.origin_density(|i| choice.probability(i), &y0);
         if draw.media {
             // The medium around the light (`media`): an area light on a
             // shape bounding media emits into the medium on its side.

@@ -128,6 +128,13 @@ impl LightChoice {
         true
     }
 
+    /// Whether the choice at a point is the light hierarchy's (more than
+    /// [`MAX_NEAR`] lights): the bidirectional tracer's next-event
+    /// estimation then uses it too.
+    pub fn by_point(&self) -> bool {
+        self.tree.is_some()
+    }
+
     /// A light for next-event estimation at `x` (normal `n`; `None` in a
     /// medium) with `u` ∈ [0, 1), and the probability it was chosen with.
     pub fn sample(&self, x: Vec3, n: Option<Vec3>, u: f32) -> Option<(usize, f32)> {
