@@ -11,6 +11,8 @@ at 320 × 180 they hold most of the error. Usage:
 
     python bench/many_lights.py [--seconds 10] [--seeds 3] [--ref-spp 1024]
                                 [--before db6257e] [--before-bin PATH]
+                                [--scene long-street.xml] [--res 320x180]
+                                [--names "before (power choice)" "this build"]
 """
 
 import argparse
@@ -24,8 +26,6 @@ from common import ROOT, build_revision, read_xyzv, rel_mse, render
 
 # The last commit before the light hierarchy chose lights.
 BEFORE = "db6257e"
-SCENE = "long-street.xml"
-RES = ["--res", "320x180"]
 
 
 def main():
@@ -37,13 +37,18 @@ def main():
     parser.add_argument("--before", default=BEFORE)
     parser.add_argument("--before-bin")
     parser.add_argument("--bin", default=ROOT / "target" / "release" / "scotopia")
+    parser.add_argument("--scene", default="long-street.xml")
+    parser.add_argument("--res", default="320x180")
+    parser.add_argument("--names", nargs=2, default=["before (power choice)", "this build"],
+                        help="what to call the two builds")
     args = parser.parse_args()
+    SCENE, RES = args.scene, ["--res", args.res]
     out = ROOT / "out" / "bench"
     out.mkdir(parents=True, exist_ok=True)
     before = Path(args.before_bin) if args.before_bin else build_revision(args.before)
     after = Path(args.bin)
     threads = ["--threads", str(args.threads)]
-    ref_path = out / f"long-street-ref-{args.ref_spp}.exr"
+    ref_path = out / f"{Path(SCENE).stem}-{args.res}-ref-{args.ref_spp}.exr"
     if ref_path.exists():
         ref = read_xyzv(ref_path)
     else:
@@ -60,7 +65,8 @@ def main():
           f"outside the lamps and sky ({outside.mean():.1%} of pixels) |")
     print("|---|---:|---:|---:|---:|")
     errors, errors_out = {}, {}
-    for name, binary in (("before (power choice)", before), ("this build", after)):
+    b, a = args.names
+    for name, binary in ((b, before), (a, after)):
         e, e_out, rates, spps = [], [], [], []
         for seed in range(1, args.seeds + 1):
             spp, msps, img = render(binary, SCENE, [], out / "many.exr", RES + threads, seed,
@@ -73,7 +79,6 @@ def main():
         errors_out[name] = float(np.mean(e_out))
         print(f"| {name} | {np.mean(rates):.3f} | {np.mean(spps):.0f} | {errors[name]:.4g} "
               f"| {errors_out[name]:.4g} |", flush=True)
-    b, a = "before (power choice)", "this build"
     print(f"\nrelMSE of Y, before / now: {errors[b] / errors[a]:.2f}× (whole image), "
           f"{errors_out[b] / errors_out[a]:.2f}× (outside the lamps and sky)")
 

@@ -117,3 +117,90 @@ pub(super) fn weight<const K: usize>(
     }
     1.0 / (1.0 + sum)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrator::bdpt::vertex::Kind;
+    use crate::math::Vec3;
+    use crate::test_rng::Rng;
+    use scotopia_color::SampledSpectrum;
+
+    /// One path x₀ (on the light) … x₄ (the lens) with made-up densities:
+    /// `from_light[i]` of x_i drawn from the light's side (for x₀ the
+    /// light subpaths' origin density), `from_camera[i]` from the
+    /// camera's side (for x₀ the density of the camera path hitting it),
+    /// and `nee` the origin density of next-event estimation's choice.
+    /// The weight of each strategy, with the densities its subpaths would
+    /// store and its connection's, must be p_s²/Σ_k p_k² with p_k the
+    /// product of the densities strategy k draws the path with.
+    #[test]
+    fn the_weights_are_the_power_heuristic_of_the_strategies_true_densities() {
+        let n = 5;
+        let mut rng = Rng(3);
+        for _ in 0..200 {
+            let mut draw = || 0.05 + 2.0 * rng.next();
+            let from_light: Vec<f32> = (0..n).map(|_| draw()).collect();
+            let from_camera: Vec<f32> = (0..n).map(|_| draw()).collect();
+            let nee = draw();
+            let share = from_light[0] / nee;
+            // Strategy k: light vertices x₀…x_{k−1}, camera vertices the rest;
+            // s = 1 draws x₀ by next-event estimation.
+            let density = |k: usize| -> f64 {
+                (0..n)
+                    .map(|i| {
+                        let p = if i >= k {
+                            from_camera[i]
+                        } else if i == 0 && k == 1 {
+                            nee
+                        } else {
+                            from_light[i]
+                        };
+                        p as f64
+                    })
+                    .product()
+            };
+            let total: f64 = (0..n).map(|k| density(k).powi(2)).sum();
+            let vertex = |fwd: f32, rev: f32| {
+                let mut v =
+                    Vertex::<1>::new(Kind::Surface, Vec3::ZERO, SampledSpectrum::splat(1.0));
+                v.pdf_fwd = fwd;
+                v.pdf_rev = rev;
+                v
+            };
+            let mut sum = 0.0;
+            for s in 0..n {
+                let t = n - s;
+                let light: Vec<_> = (0..s)
+                    .map(|i| vertex(from_light[i], from_camera[i]))
+                    .collect();
+                let camera: Vec<_> = (0..t)
+                    .map(|j| vertex(from_camera[n - 1 - j], from_light[n - 1 - j]))
+                    .collect();
+                let mut c = Connection::default();
+                if s >= 1 {
+                    c.light_last_rev = from_camera[s - 1];
+                }
+                if s >= 2 {
+                    c.light_prev_rev = from_camera[s - 2];
+                }
+                // The camera vertex that meets the light side, and the one
+                // before it; for s = 0 x₀ is the light the camera path hit,
+                // whose density for s = 1 is next-event estimation's.
+                c.camera_last_rev = if s == 0 { nee } else { from_light[s] };
+                c.camera_prev_rev = from_light.get(s + 1).copied().unwrap_or(0.0);
+                if s == 1 {
+                    c.light_origin = Some(nee);
+                }
+                let w = weight(&light, &camera, s, t, &c, 0, share) as f64;
+                let expected = density(s).powi(2) / total;
+                assert!(
+                    (w - expected).abs() < 1e-4,
+                    "s = {s}: {w} against {expected}"
+                );
+                sum += w;
+            }
+            assert!((sum - 1.0).abs() < 1e-4, "Σ w = {sum}");
+        }
+    }
+}
