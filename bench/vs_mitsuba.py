@@ -1,22 +1,39 @@
-"""scotopia against Mitsuba 3 on the bundled Cornell box (`make bench`).
+"""scotopia against Mitsuba 3 on bundled scenes (`make bench`: the Cornell box).
 
-Both render the same file at 256 × 256, max depth 16: Mitsuba with its best
-CPU variant (`llvm_ad_spectral` when its LLVM loads, else `scalar_spectral`),
-its film in XYZ; scotopia with its defaults (SWC, K = 4). Printed:
+Both render the same file: the Cornell box at 256 × 256, max depth 16 by
+default; another scene (`--scene NAME`, a file in scenes/) at `--res` pixels
+wide keeping its aspect and its own max depth unless `--depth` is given.
+Mitsuba runs its best CPU variant (`llvm_ad_spectral` when its LLVM loads,
+else `scalar_spectral`) with its film in XYZ; scotopia its defaults (SWC,
+K = 4). Printed per scene:
 
 - at equal samples per pixel: each one's time and camera samples per second;
 - at equal time (scotopia given Mitsuba's time): the samples each reached;
-- for both: the relative RMSE of luminance Y against a high-spp reference
-  rendered by Mitsuba (so any systematic difference between the renderers
-  counts against scotopia), and the ratio of mean Y.
+- for each: against a high-spp reference of luminance Y, the relative RMSE
+  (√mean (I − R)² / mean R: dominated by the brightest pixels) and the
+  relMSE (bench/common.py's: per pixel (I − R)² / (R² + ε), ε = 1e-4 ×
+  (mean R)², averaged: every pixel weighed by its own level, so a few
+  hundred caustic pixels cannot hide the rest), and the ratio of mean Y.
+
+The reference is rendered by Mitsuba (`--ref-spp`, another seed than the
+timed render): one reference for both, so the two errors are comparable
+figures; Mitsuba's own noise in it is independent of both images, and any
+systematic difference between the renderers counts against scotopia (the
+mean-Y column shows it). The scenes compared use only what both renderers
+implement alike (glass-and-metals.xml gives its ball Mitsuba's constant
+BK7 index, 1.5046, not scotopia's dispersive `bk7`). A scene Mitsuba
+cannot load is reported as such, with Mitsuba's error, and skipped.
 
 Mitsuba's Y is ∫L·ȳ dλ / ∫ȳ dλ; it is multiplied by 683 × 106.857 to be
 absolute like scotopia's (docs/scene-format.md, "Comparing with Mitsuba 3").
 With `--mesh`, the box's floor is replaced by a terrain of 1,002,528
 triangles (the displaced grid of `crates/render/benches/bvh.rs`, written as
-a binary PLY both renderers read): the large-scene comparison.
+a binary PLY both renderers read): the large-scene comparison. `--all`
+runs cornell-box.xml, night-street.xml, long-street.xml and
+glass-and-metals.xml in turn.
 
-Usage: python bench/vs_mitsuba.py [--spp 64] [--ref-spp 1024] [--res 256] [--variant V] [--mesh]
+Usage: python bench/vs_mitsuba.py [--scene cornell-box.xml | --all] [--spp 64]
+       [--ref-spp 1024] [--res 256] [--depth D] [--variant V] [--mesh]
 """
 
 import argparse
@@ -32,20 +49,56 @@ import numpy as np
 import scotopia
 
 ROOT = Path(__file__).resolve().parents[1]
-SCENE = ROOT / "scenes" / "cornell-box.xml"
+SCENES = ROOT / "scenes"
+SCENE = SCENES / "cornell-box.xml"
+ALL = ["cornell-box.xml", "night-street.xml", "long-street.xml", "glass-and-metals.xml"]
 # ∫ ȳ dλ of the CIE 1931 2° observer over 360–830 nm, nm (Mitsuba's normaliser).
 CIE_Y_INTEGRAL = 106.857
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from common import rel_mse as _rel_mse  # noqa: E402
 
-def best_variant():
-    """`llvm_ad_spectral` if it renders here, else `scalar_spectral`. Probed
-    in a child process: with an unsupported LLVM the variant aborts."""
+
+def scene_params(scene_path, res, depth):
+    """The `<default>` overrides both renderers get: `res` (and `max_depth`)
+    for a scene that declares them, as the Cornell box does; else `width`
+    = res and `height` keeping the scene's aspect. Returns (params, pixels,
+    description of the size)."""
+    text = scene_path.read_text()
+    defaults = dict(re.findall(r'<default\s+name="(\w+)"\s+value="([^"]*)"', text))
+    params = {}
+    if "res" in defaults:
+        params["res"] = str(res)
+        w = h = res
+    else:
+        w0, h0 = int(defaults["width"]), int(defaults["height"])
+        w, h = res, max(1, round(res * h0 / w0))
+        params.update(width=str(w), height=str(h))
+    if depth is not None:
+        if "max_depth" not in defaults:
+            sys.exit(f"{scene_path.name} has no max_depth parameter: leave out --depth")
+        params["max_depth"] = str(depth)
+    md = params.get("max_depth", defaults.get("max_depth"))
+    if md is None:
+        found = re.search(r'<integer name="max_depth" value="(\d+)"', text)
+        md = found.group(1) if found else "?"
+    return params, w * h, f"{w}×{h}, max depth {md}"
+
+
+def best_variant(xml, params):
+    """`llvm_ad_spectral` if it renders this scene here, else
+    `scalar_spectral`. Probed in a child process: with an unsupported LLVM
+    (Debian 12's LLVM 15 cannot select `fminimum`, which rough conductors
+    need) the variant aborts the process."""
     probe = (
-        "import mitsuba as mi; mi.set_variant('llvm_ad_spectral'); "
-        "mi.render(mi.load_dict(mi.cornell_box()), spp=1)"
+        "import sys, mitsuba as mi; mi.set_variant('llvm_ad_spectral'); "
+        "mi.file_resolver().prepend(sys.argv[2]); "
+        "p = dict(a.split('=', 1) for a in sys.argv[3:]); "
+        "mi.render(mi.load_file(sys.argv[1], **p), spp=1)"
     )
-    ok = subprocess.run([sys.executable, "-c", probe], capture_output=True).returncode == 0
-    return "llvm_ad_spectral" if ok else "scalar_spectral"
+    args = [f"{k}={v}" for k, v in params.items()]
+    run = subprocess.run([sys.executable, "-c", probe, str(xml), str(SCENES), *args], capture_output=True)
+    return "llvm_ad_spectral" if run.returncode == 0 else "scalar_spectral"
 
 
 # The floor's shape in the bundled scene, replaced by the terrain with --mesh.
@@ -97,13 +150,25 @@ def scene_file(tmp, mesh):
     return out
 
 
-def mitsuba_renderer(variant, res, depth, tmp, scene_path):
+def mitsuba_xml(tmp, scene_path):
+    """A copy of the scene with Mitsuba's film in XYZ (files it names are
+    found through the resolver, which gets scenes/ first)."""
+    xml = Path(tmp) / f"mitsuba-xyz-{scene_path.name}"
+    xml.write_text(scene_path.read_text().replace('value="rgb"', 'value="xyz"'))
+    return xml
+
+
+def mitsuba_renderer(variant, xml, params):
+    """A function spp, seed → (Y in cd/m², seconds), or the reason Mitsuba
+    cannot load the scene (a string)."""
     import mitsuba as mi
 
     mi.set_variant(variant)
-    xml = Path(tmp) / "mitsuba-xyz.xml"
-    xml.write_text(scene_path.read_text().replace('value="rgb"', 'value="xyz"'))
-    scene = mi.load_file(str(xml), res=res, max_depth=depth)
+    mi.file_resolver().prepend(str(SCENES))
+    try:
+        scene = mi.load_file(str(xml), **params)
+    except Exception as err:  # Mitsuba raises RuntimeError naming the line
+        return " ".join(str(err).split())
 
     def render(spp, seed=0):
         start = time.perf_counter()
@@ -115,14 +180,8 @@ def mitsuba_renderer(variant, res, depth, tmp, scene_path):
     return render
 
 
-def scotopia_render(scene_path, res, depth, spp=None, seconds=None):
-    img, meta = scotopia.render(
-        str(scene_path),
-        spp=spp,
-        time=seconds,
-        seed=1,
-        params={"res": str(res), "max_depth": str(depth)},
-    )
+def scotopia_render(scene_path, params, spp=None, seconds=None):
+    img, meta = scotopia.render(str(scene_path), spp=spp, time=seconds, seed=1, params=params)
     return img[..., 1].astype(np.float64), float(meta["renderSeconds"]), int(meta["samplesPerPixel"])
 
 
@@ -130,49 +189,111 @@ def rel_rmse(img, ref):
     return float(np.sqrt(np.mean((img - ref) ** 2)) / np.mean(ref))
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--spp", type=int, default=64)
-    parser.add_argument("--ref-spp", type=int, default=1024)
-    parser.add_argument("--res", type=int, default=256)
-    parser.add_argument("--depth", type=int, default=16)
-    parser.add_argument("--variant", help="Mitsuba variant (default: the best that runs)")
-    parser.add_argument("--mesh", action="store_true", help="a 1M-triangle terrain for a floor")
-    args = parser.parse_args()
-    pixels = args.res * args.res
+def rel_mse(img, ref):
+    """bench/common.py's relMSE of one channel: (I − R)² / (R² + ε)."""
+    return _rel_mse(img[..., None], ref[..., None], 0)
 
-    variant = args.variant or best_variant()
+
+def pixels_holding(img, ref, share=0.9):
+    """How few pixels hold `share` of the relMSE: a handful means rare
+    fireflies decide the figure (then it varies widely between seeds)."""
+    r2 = ref * ref
+    err = np.sort(((img - ref) ** 2 / (r2 + 1e-4 * np.mean(ref) ** 2)).ravel())[::-1]
+    return int(np.searchsorted(np.cumsum(err), share * err.sum()) + 1)
+
+
+def compare(name, args):
+    """One scene: prints its table; returns its summary row, or None when
+    Mitsuba cannot load it."""
+    depth = args.depth if args.depth is not None else (16 if name == "cornell-box.xml" else None)
     with tempfile.TemporaryDirectory() as tmp:
-        scene_path = scene_file(tmp, args.mesh)
-        mitsuba = mitsuba_renderer(variant, args.res, args.depth, tmp, scene_path)
-        print(f"reference: Mitsuba {variant}, {args.ref_spp} spp …", flush=True)
+        if name == "cornell-box.xml":
+            scene_path = scene_file(tmp, args.mesh)
+        else:
+            scene_path = SCENES / name
+            if not scene_path.is_file():
+                sys.exit(f"no scene {scene_path}")
+        params, pixels, size = scene_params(scene_path, args.res, depth)
+        xml = mitsuba_xml(tmp, scene_path)
+        variant = args.variant or best_variant(xml, params)
+        mitsuba = mitsuba_renderer(variant, xml, params)
+        if isinstance(mitsuba, str):
+            print(f"\n{name}: Mitsuba 3 {variant} cannot load it, not compared: {mitsuba}", flush=True)
+            return None
+        print(f"\n{name}: reference: Mitsuba {variant}, {args.ref_spp} spp …", flush=True)
         ref, ref_secs = mitsuba(args.ref_spp, seed=12345)
         theirs, t_m = mitsuba(args.spp)
-        ours, t_s, _ = scotopia_render(scene_path, args.res, args.depth, spp=args.spp)
-        ours_eq, t_eq, spp_eq = scotopia_render(scene_path, args.res, args.depth, seconds=t_m)
+        ours, t_s, _ = scotopia_render(scene_path, params, spp=args.spp)
+        ours_eq, t_eq, spp_eq = scotopia_render(scene_path, params, seconds=t_m)
+
+    if args.save:
+        out = Path(args.save)
+        out.mkdir(parents=True, exist_ok=True)
+        stem = Path(name).stem
+        for tag, img in (("reference", ref), ("mitsuba", theirs), ("scotopia-equal-time", ours_eq)):
+            np.save(out / f"{stem}-{tag}.npy", img.astype(np.float32))
 
     rate = lambda spp, secs: pixels * spp / secs * 1e-6  # noqa: E731
+    title = "Cornell box" if name == "cornell-box.xml" else name
     print(
-        f"\nCornell box{' with the terrain' if args.mesh else ''} {args.res}×{args.res}, max depth {args.depth}; "
+        f"\n{title}{' with the terrain' if args.mesh else ''} {size}; "
         f"reference {args.ref_spp} spp ({ref_secs:.0f} s)\n"
     )
-    print("| renderer | spp | seconds | M camera samples/s | rel. RMSE of Y | mean Y / reference |")
-    print("|---|---:|---:|---:|---:|---:|")
+    print(
+        "| renderer | spp | seconds | M camera samples/s | rel. RMSE of Y | relMSE of Y | mean Y / reference |"
+    )
+    print("|---|---:|---:|---:|---:|---:|---:|")
     rows = [
         (f"Mitsuba 3 {variant}", args.spp, t_m, theirs),
         ("scotopia (equal spp)", args.spp, t_s, ours),
         ("scotopia (equal time)", spp_eq, t_eq, ours_eq),
     ]
-    for name, spp, secs, img in rows:
+    for label, spp, secs, img in rows:
         print(
-            f"| {name} | {spp} | {secs:.2f} | {rate(spp, secs):.2f} | "
-            f"{rel_rmse(img, ref):.4f} | {img.mean() / ref.mean():.4f} |"
+            f"| {label} | {spp} | {secs:.2f} | {rate(spp, secs):.2f} | "
+            f"{rel_rmse(img, ref):.4f} | {rel_mse(img, ref):.4g} | {img.mean() / ref.mean():.4f} |"
         )
+    rmse_ratio = rel_rmse(ours_eq, ref) / rel_rmse(theirs, ref)
+    mse_ratio = rel_mse(ours_eq, ref) / rel_mse(theirs, ref)
     print(f"\nspeed ratio scotopia / Mitsuba at equal spp: {t_m / t_s:.2f}")
+    print(f"equal-time RMSE ratio scotopia / Mitsuba: {rmse_ratio:.2f}")
+    print(f"equal-time relMSE of Y ratio scotopia / Mitsuba: {mse_ratio:.2f}")
     print(
-        "equal-time RMSE ratio scotopia / Mitsuba: "
-        f"{rel_rmse(ours_eq, ref) / rel_rmse(theirs, ref):.2f}"
+        f"pixels holding 90 % of the relMSE (of {pixels:,}): Mitsuba {pixels_holding(theirs, ref):,}, "
+        f"scotopia at equal time {pixels_holding(ours_eq, ref):,}",
+        flush=True,
     )
+    return (name, size, variant, args.spp, t_m, spp_eq, rel_mse(theirs, ref), rel_mse(ours_eq, ref), mse_ratio)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--scene", default="cornell-box.xml", help="a file in scenes/ (default cornell-box.xml)")
+    parser.add_argument("--all", action="store_true", help="the four scenes: " + ", ".join(ALL))
+    parser.add_argument("--spp", type=int, default=64)
+    parser.add_argument("--ref-spp", type=int, default=1024)
+    parser.add_argument("--res", type=int, default=256, help="width in pixels (the Cornell box is square)")
+    parser.add_argument("--depth", type=int, help="max depth (default: 16 for the Cornell box, else the scene's)")
+    parser.add_argument("--variant", help="Mitsuba variant (default: the best that runs)")
+    parser.add_argument("--mesh", action="store_true", help="a 1M-triangle terrain for the Cornell box's floor")
+    parser.add_argument("--save", metavar="DIR", help="write each scene's Y images (reference, Mitsuba, scotopia at equal time) as .npy")
+    args = parser.parse_args()
+    names = ALL if args.all else [Path(args.scene).name]
+    if args.mesh and names != ["cornell-box.xml"]:
+        sys.exit("--mesh is for the Cornell box alone")
+
+    summary, skipped = [], []
+    for name in names:
+        row = compare(name, args)
+        (summary if row else skipped).append(row or name)
+    if len(names) > 1:
+        print("\nEqual time (scotopia given Mitsuba's seconds), relMSE of Y against Mitsuba's reference:\n")
+        print("| scene | size | Mitsuba variant | Mitsuba spp | seconds | scotopia spp | relMSE Mitsuba | relMSE scotopia | scotopia / Mitsuba |")
+        print("|---|---|---|---:|---:|---:|---:|---:|---:|")
+        for name, size, variant, spp, secs, spp_eq, m, s, r in summary:
+            print(f"| {name} | {size} | {variant} | {spp} | {secs:.2f} | {spp_eq} | {m:.4g} | {s:.4g} | {r:.2f} |")
+        for name in skipped:
+            print(f"| {name} | | Mitsuba cannot load it (above) | | | | | | |")
 
 
 if __name__ == "__main__":
