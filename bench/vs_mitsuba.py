@@ -12,8 +12,12 @@ K = 4). Printed per scene:
 - for each: against a high-spp reference of luminance Y, the relative RMSE
   (√mean (I − R)² / mean R: dominated by the brightest pixels) and the
   relMSE (bench/common.py's: per pixel (I − R)² / (R² + ε), ε = 1e-4 ×
-  (mean R)², averaged: every pixel weighed by its own level, so a few
-  hundred caustic pixels cannot hide the rest), and the ratio of mean Y.
+  (mean R)², averaged: every pixel weighed by its own level, so dim
+  regions count as much as bright ones), and the ratio of mean Y;
+- how few pixels hold 90 % of each relMSE: where a handful do, rare
+  fireflies decide it and one pair of images says little, so `--seeds N`
+  repeats the equal-time pair with N seeds and reports the mean relMSE
+  (the summary table of `--all` gives those means).
 
 The reference is rendered by Mitsuba (`--ref-spp`, another seed than the
 timed render): one reference for both, so the two errors are comparable
