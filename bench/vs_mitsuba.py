@@ -92,8 +92,8 @@ def scene_params(scene_path, res, depth):
 def best_variant(xml, params):
     """`llvm_ad_spectral` if it renders this scene here, else
     `scalar_spectral`. Probed in a child process: with an unsupported LLVM
-    (Debian 12's LLVM 15 cannot select `fminimum`, which rough conductors
-    need) the variant aborts the process."""
+    (Debian 12's LLVM 15 "cannot select fminimum" in a kernel of
+    glass-and-metals.xml) the variant aborts the process."""
     probe = (
         "import sys, mitsuba as mi; mi.set_variant('llvm_ad_spectral'); "
         "mi.file_resolver().prepend(sys.argv[2]); "
