@@ -7,7 +7,9 @@ the whole image and outside the lamps: pixels whose light comes partly
 straight from an emitter seen by the camera (in a render of depth 1,
 grown by two pixels for the filter) have the noise of where a sample
 lands on a lens smaller than a pixel, which no light choice changes, and
-at 320 × 180 they hold most of the error. Usage:
+at 320 × 180 they hold most of the error. The scene needs a `max_depth`
+parameter for that render of depth 1 (the script stops if it has none).
+Usage:
 
     python bench/many_lights.py [--seconds 10] [--seeds 3] [--ref-spp 1024]
                                 [--before db6257e] [--before-bin PATH]
@@ -59,6 +61,8 @@ def main():
     _, _, direct = render(after, SCENE, ["max_depth=1"], out / "many-direct.exr", RES + threads,
                           99, spp=64)
     lamps = direct[..., 1] > 0.02 * ref[..., 1]
+    if lamps.mean() > 0.9:
+        sys.exit(f"{SCENE}: -D max_depth=1 changed nothing (no max_depth parameter?)")
     lamps = ndimage.binary_dilation(lamps, iterations=2)
     outside = ~lamps
     print(f"| build | Msamples/s | spp in {args.seconds:g} s | relMSE of Y | "

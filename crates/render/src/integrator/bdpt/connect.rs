@@ -35,7 +35,7 @@ pub(super) struct Subpaths<'p, const K: usize> {
     pub unweighted: bool,
     /// Next-event estimation (s = 1) chooses its light at the camera
     /// vertex by the light hierarchy (`LightChoice::by_point`), not by the
-    /// cluster as the light subpaths do: see [`Renderer::nee_share`].
+    /// cluster as the light subpaths do (the weights' `share`, `mis::weight`).
     pub by_point: bool,
 }
 
@@ -163,14 +163,6 @@ impl Renderer<'_> {
         self.origin_density(|i| self.lights.probability(x.p, n, i), v)
     }
 
-    /// The light subpaths' origin density of light vertex `v` over next-event
-    /// estimation's from `x` (the path's vertex next to `v`): the factor
-    /// m by which the strategies with s ≥ 2 differ from s = 1 in how the
-    /// path's light was chosen (`mis::weight`). 1 where both choose alike.
-    fn nee_share<const K: usize>(&self, sub_origin: f32, x: &Vertex<K>, v: &Vertex<K>) -> f32 {
-        sub_origin / self.nee_origin(x, v)
-    }
-
     /// The light with the emission at vertex `v`, if one.
     fn light_of<const K: usize>(&self, v: &Vertex<K>) -> Option<&Light> {
         match v.kind {
@@ -239,11 +231,9 @@ impl Renderer<'_> {
         // next-event estimation: s = 1 is then light tracing's (1, 1).
         let by_point = sub.by_point && s + t > 2;
         // The light subpaths' origin density of the path's light over
-        // next-event estimation's (1 where both choose alike).
+        // next-event estimation's (1 where both choose alike; for s ≥ 2
+        // found only once the contribution is known not to be zero).
         let mut share = 1.0f32;
-        if by_point && s >= 2 {
-            share = self.nee_share(light[0].pdf_fwd, &light[1], &light[0]);
-        }
         if let Some(y0) = light.first() {
             c.light_at_infinity = y0.at_infinity;
             c.delta_light = match y0.kind {
@@ -425,6 +415,10 @@ impl Renderer<'_> {
             return None;
         }
         if !sub.unweighted {
+            if by_point && s >= 2 {
+                // s = 1 would have chosen this light at light[1].
+                share = light[0].pdf_fwd / self.nee_origin(&light[1], &light[0]);
+            }
             // One weight per distinct least s (one, without fluorescence).
             let mut cache: Option<(usize, f32)> = None;
             for (v, &least) in l.0.iter_mut().zip(&min_s) {
