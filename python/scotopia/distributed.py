@@ -54,6 +54,7 @@ _SHARD_OPTIONS = (
     "cluster",
     "tracer",
     "quantity",
+    "guiding",
 )
 
 
@@ -469,7 +470,7 @@ def render(
     bit-identical for the path tracer but unbalanced where rows differ in
     cost. Each shard task takes ``cpus_per_shard`` CPUs (and as many core
     threads). ``render_options``: params, res, integrator, wavelengths,
-    cluster, tracer, quantity.
+    cluster, tracer, quantity, guiding.
 
     ``output`` also writes the merged image as the OpenEXR ``scotopia.render``
     writes (``scotopia.write_exr``), after an interruption too.
@@ -555,6 +556,7 @@ def _main(argv=None):
     p.add_argument("--wavelengths", default="swc")
     p.add_argument("--cluster", type=int, default=4)
     p.add_argument("--tracer", default="scalar")
+    p.add_argument("--guiding", default="off", choices=["on", "off"])
     p.add_argument("--quantity", default="radiance")
     p.add_argument("-D", action="append", default=[], metavar="NAME=VALUE")
     p.add_argument("-o", "--output", help="write the X, Y, Z, V′ image (.exr, or .npy)")
@@ -568,6 +570,7 @@ def _main(argv=None):
         a.scene, spp=a.spp, seed=a.seed, shards=a.shards, address=a.address,
         split=a.split, res=a.res, integrator=a.integrator, params=params, output=exr,
         wavelengths=a.wavelengths, cluster=a.cluster, tracer=a.tracer, quantity=a.quantity,
+        guiding=a.guiding,
     )
     meta["wallSeconds"] = time.perf_counter() - t
     meta.pop("squares", None)  # an array, not for JSON

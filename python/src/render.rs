@@ -14,7 +14,7 @@ use scotopia_image::Meta;
 use scotopia_render::film::Checkpoint;
 use scotopia_render::integrator::{
     checkpoint_interval, render_with, time_limit, Checkpointing, ClusterSize, Hooks, Quantity,
-    RenderError, RenderOptions, Shard, Tracer,
+    Guiding, RenderError, RenderOptions, Shard, Tracer,
 };
 use scotopia_render::output::{
     render_metadata, write_spectral_exr, write_xyzv_exr, write_xyzv_pixels,
@@ -44,7 +44,7 @@ use crate::scene::load_options;
 /// it has, then KeyboardInterrupt is raised, as the CLI exits. `resume`
 /// without `checkpoint` is a ValueError.
 #[pyfunction]
-#[pyo3(signature = (path, spp = None, time = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, output = None, spectral = None, bands = 47, integrator = None, res = None, checkpoint = None, checkpoint_every = 60.0, resume = false, tracer = "scalar", quantity = "radiance"))]
+#[pyo3(signature = (path, spp = None, time = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, output = None, spectral = None, bands = 47, integrator = None, res = None, checkpoint = None, checkpoint_every = 60.0, resume = false, tracer = "scalar", quantity = "radiance", guiding = "off"))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
@@ -65,9 +65,10 @@ fn render<'py>(
     resume: bool,
     tracer: &str,
     quantity: &str,
+    guiding: &str,
 ) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
     let err = |e: String| PyValueError::new_err(e);
-    let named = Named::parse(wavelengths, cluster, integrator, tracer, quantity)?;
+    let named = Named::parse(wavelengths, cluster, integrator, [tracer, quantity, guiding])?;
     let time_limit = match time {
         Some(t) => Some(time_limit(t).map_err(|e| err(format!("time {e}")))?),
         None => None,
@@ -169,6 +170,7 @@ struct Named {
     integrator: Option<IntegratorKind>,
     tracer: Tracer,
     quantity: Quantity,
+    guiding: Guiding,
 }
 
 impl Named {
@@ -176,8 +178,7 @@ impl Named {
         wavelengths: &str,
         cluster: usize,
         integrator: Option<&str>,
-        tracer: &str,
-        quantity: &str,
+        [tracer, quantity, guiding]: [&str; 3],
     ) -> PyResult<Self> {
         Ok(Self {
             strategy: wavelength_strategy(wavelengths)?,
@@ -185,6 +186,7 @@ impl Named {
             integrator: integrator.map(parsed).transpose()?,
             tracer: parsed(tracer)?,
             quantity: parsed(quantity)?,
+            guiding: parsed(guiding)?,
         })
     }
 
@@ -196,6 +198,7 @@ impl Named {
             integrator: self.integrator,
             tracer: self.tracer,
             quantity: self.quantity,
+            guiding: self.guiding,
             ..RenderOptions::default()
         }
     }
@@ -240,7 +243,7 @@ fn meta_dict<'py>(
 /// "collapsed", "rays", "seconds", "width", "height", "samples", "rows"
 /// and "meta" (the render's metadata). `merge_shards` adds shards up.
 #[pyfunction]
-#[pyo3(signature = (path, samples, rows = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, integrator = None, res = None, tracer = "scalar", quantity = "radiance"))]
+#[pyo3(signature = (path, samples, rows = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, integrator = None, res = None, tracer = "scalar", quantity = "radiance", guiding = "off"))]
 #[allow(clippy::too_many_arguments)]
 fn render_shard<'py>(
     py: Python<'py>,
@@ -255,9 +258,10 @@ fn render_shard<'py>(
     res: Option<Bound<'py, PyAny>>,
     tracer: &str,
     quantity: &str,
+    guiding: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let err = |e: String| PyValueError::new_err(e);
-    let named = Named::parse(wavelengths, cluster, integrator, tracer, quantity)?;
+    let named = Named::parse(wavelengths, cluster, integrator, [tracer, quantity, guiding])?;
     if samples.0 >= samples.1 {
         return Err(err(format!(
             "samples ({}, {}): give sample indices i0 < i1",

@@ -53,6 +53,7 @@ pub fn render(args: &Args, address: &str) -> Result<()> {
         .args(["--wavelengths", &s.wavelengths.to_string()])
         .args(["--cluster", &s.cluster.to_string()])
         .args(["--tracer", &s.tracer.to_string()])
+        .args(["--guiding", &s.guiding.to_string()])
         .args(["--quantity", &s.quantity.to_string()]);
     let optional = [
         ("--spp", s.spp.map(|n| n.to_string())),

@@ -12,7 +12,7 @@ use scotopia_image::{preview_srgb8, write_png_rgb8};
 use scotopia_render::film::{Checkpoint, Film};
 use scotopia_render::integrator::{
     checkpoint_interval, render_with, BdptStrategy, Checkpointing, ClusterSize, Hooks, Observer,
-    Quantity, RenderError, RenderOptions, RunFacts, Tracer,
+    Guiding, Quantity, RenderError, RenderOptions, RunFacts, Tracer,
 };
 use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_pixels};
 use scotopia_render::scene::IntegratorKind;
@@ -134,6 +134,12 @@ pub struct Setup {
     /// or an irradiance meter it is an error.
     #[arg(long, default_value = "scalar", value_name = "scalar|wavefront")]
     pub(crate) tracer: Tracer,
+    /// Path guiding: on draws half of each diffuse bounce (and medium
+    /// scattering) from the light field learned in the first 16 spp
+    /// (docs/guiding.md); the scalar path tracer and media only. Resumed
+    /// renders and shards learn it again over the whole film first.
+    #[arg(long, default_value = "off", value_name = "on|off")]
+    pub(crate) guiding: Guiding,
     /// Wavelengths per path: 1, 2, 4, 8 or 16.
     #[arg(long, default_value = "4", value_name = "K")]
     pub(crate) cluster: ClusterSize,
@@ -184,6 +190,7 @@ impl Setup {
             tracer: self.tracer,
             quantity: self.quantity,
             shard: None,
+            guiding: self.guiding,
         };
         let total = options.spp.unwrap_or(if self.time.is_some() {
             0

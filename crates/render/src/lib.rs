@@ -19,6 +19,8 @@
 //!   media);
 //! - `bsdf` (surfaces, fluorescent ones among them) and `light` (emitters,
 //!   luminaires among them);
+//! - `guiding`: the light field learned while rendering, that bounces
+//!   draw their directions from;
 //! - `wavelength`: the strategies that choose a path's wavelengths (SWC,
 //!   hero, single);
 //! - `scene`: what a scene holds, ready to render;
@@ -32,6 +34,7 @@ pub mod bsdf;
 pub mod camera;
 pub mod film;
 pub mod geometry;
+pub mod guiding;
 pub mod integrator;
 pub mod light;
 pub mod math;

@@ -28,6 +28,7 @@ pub fn render_metadata(
             Meta::Text(rendered.integrator.name().into()),
         ),
         ("clusterSize", Meta::I32(options.cluster.get() as i32)),
+        ("guiding", Meta::Text(options.guiding.name().into())),
         ("seed", Meta::I32(options.seed as i32)),
         ("renderSeconds", Meta::F32(rendered.elapsed.as_secs_f32())),
         ("raysTraced", Meta::Text(rendered.rays.to_string())),

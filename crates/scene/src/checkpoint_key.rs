@@ -6,7 +6,7 @@ use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use scotopia_render::film::{fingerprint, Source};
-use scotopia_render::integrator::RenderOptions;
+use scotopia_render::integrator::{Guiding, RenderOptions};
 
 use crate::mitsuba::Parameters;
 use crate::LoadOptions;
@@ -49,7 +49,7 @@ pub fn checkpoint_key(
     }
     let mut sorted: Vec<_> = params.iter().collect();
     sorted.sort();
-    let text = format!(
+    let mut text = format!(
         "{sorted:?} {:?} {} {:?} {} {:?} {:?} {:?} {:?}",
         load.resolution,
         options.seed,
@@ -62,6 +62,10 @@ pub fn checkpoint_key(
         options.only_strategy.map(|s| s.pair()),
         options.quantity,
     );
+    // Guiding changes the samples; off keeps the keys saved before it.
+    if options.guiding == Guiding::On {
+        text.push_str(" guiding");
+    }
     // The contents in the order read, not the paths: a project moved
     // whole to another folder still resumes.
     let hashes: Vec<u8> = sources.iter().flat_map(|s| s.hash.to_le_bytes()).collect();

@@ -6,6 +6,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use crate::film::{Bands, Checkpoint, Film, SampleCounts};
+use crate::guiding::{iteration, next_boundary, Stats, BOUNDARIES, LEARNED};
 use crate::scene::{IntegratorKind, Scene};
 
 use super::{ClusterSize, Quantity, RenderError, RenderOptions, Renderer};
@@ -246,6 +247,14 @@ fn render_k<const K: usize>(
         }
     };
     let resumed_at = state.done;
+    // A resumed render or a shard learns the guide's fields again, over
+    // the whole film, before its own samples: it then uses the very fields
+    // the uninterrupted, unsharded render learned and used.
+    let relearn = renderer.guiding.is_some() && (state.done > 0 || options.shard.is_some());
+    if relearn {
+        learn_again::<K>(&mut renderer, options.seed, total, cancel)?;
+    }
+    let mut stats: Option<Stats> = None;
     let mut cancelled = false;
     let mut last_save = Instant::now();
     let mut last_seen = Instant::now();
@@ -275,9 +284,28 @@ fn render_k<const K: usize>(
                 count = count.min(fits);
             }
         }
-        let c = renderer.pass::<K>(options.seed, &mut state.film, done, count);
+        // Passes end at the guide's boundaries, where it learns.
+        let mut learning = false;
+        if let Some(g) = renderer.guiding.as_mut() {
+            g.now = iteration(done);
+            if let Some(b) = next_boundary(done) {
+                count = count.min(b - done);
+                learning = !relearn;
+            }
+            g.learning = learning;
+            if learning && stats.is_none() {
+                stats = Some(Stats::new(g.guide.field_at(g.now)));
+            }
+        }
+        let record = stats.as_mut().filter(|_| learning);
+        let c = renderer.pass::<K>(options.seed, &mut state.film, done, count, record);
         state.counts += c;
         state.done += count;
+        if learning && BOUNDARIES.contains(&state.done) {
+            if let (Some(g), Some(s)) = (renderer.guiding.as_mut(), stats.take()) {
+                g.guide.advance(&s);
+            }
+        }
         if let Some(progress) = progress {
             progress(state.done, total);
         }
@@ -333,4 +361,42 @@ fn render_k<const K: usize>(
         (o.see)(&rendered.film, &rendered.facts());
     }
     Ok(rendered)
+}
+
+/// Learns the guide's fields as an uninterrupted render of `total`
+/// samples per pixel does in its first [`LEARNED`], over every row, into
+/// a film that is thrown away: the same passes, so the same records,
+/// summed in the same order. Stops early when `cancel` is set.
+fn learn_again<const K: usize>(
+    renderer: &mut Renderer,
+    seed: u32,
+    total: u32,
+    cancel: &AtomicBool,
+) -> Result<(), RenderError> {
+    let (width, height) = (renderer.scene.camera.width, renderer.scene.camera.height);
+    let mut film =
+        Film::try_new(width, height, None).map_err(|e| RenderError::TooLarge(Box::new(e)))?;
+    let rows = std::mem::replace(&mut renderer.rows, 0..u32::MAX);
+    let end = total.min(LEARNED);
+    let mut done = 0;
+    while done < end && !cancel.load(Ordering::Relaxed) {
+        let Some(g) = renderer.guiding.as_mut() else {
+            break;
+        };
+        let b = next_boundary(done).unwrap_or(end);
+        let count = b.min(end) - done;
+        g.now = iteration(done);
+        g.learning = true;
+        let mut stats = Stats::new(g.guide.field_at(g.now));
+        renderer.pass::<K>(seed, &mut film, done, count, Some(&mut stats));
+        done += count;
+        if let Some(g) = renderer.guiding.as_mut() {
+            if done == b {
+                g.guide.advance(&stats);
+            }
+            g.learning = false;
+        }
+    }
+    renderer.rows = rows;
+    Ok(())
 }

@@ -14,12 +14,14 @@
 //! - what they share: `direct.rs` (next-event estimation, shadow rays and
 //!   their transmittance, MIS), `light_choice/` (which light a path
 //!   samples), `reflectors.rs` (aiming diffuse bounces at lamp-lit glossy
-//!   surfaces) and `equiangular.rs` (distances aimed at lights in media).
+//!   surfaces), `equiangular.rs` (distances aimed at lights in media) and
+//!   `guided.rs` (bounces drawn from the learned light field, `guiding`).
 
 mod bdpt;
 mod direct;
 mod driver;
 mod equiangular;
+mod guided;
 mod light_choice;
 mod measure;
 mod options;
@@ -36,7 +38,7 @@ pub use light_choice::LightChoice;
 pub use measure::{measure, Measured, Receiver};
 pub use options::{
     checkpoint_interval, time_limit, BdptStrategy, ClusterSize, OptionError, Quantity, RenderError,
-    RenderOptions, Shard, Tracer, CLUSTER_SIZES, MAX_TIME_LIMIT_SECONDS,
+    RenderOptions, Shard, Tracer, Guiding, CLUSTER_SIZES, MAX_TIME_LIMIT_SECONDS,
 };
 pub use path::CameraSample;
 pub use reflectors::Reflectors;

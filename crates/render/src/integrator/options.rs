@@ -40,6 +40,9 @@ pub struct RenderOptions {
     /// Render only part of the work (distributed rendering): the film
     /// holds that part's raw sums, to be merged with the others'.
     pub shard: Option<Shard>,
+    /// Whether bounces draw directions from the light learned while
+    /// rendering (`guiding`).
+    pub guiding: Guiding,
 }
 
 /// A part of a render: sample indices `samples` of the pixels in `rows`
@@ -118,6 +121,35 @@ impl Tracer {
     }
 }
 
+/// Path guiding (`crate::guiding`): bounces in the path and volume path
+/// tracers draw half their directions from the light field learned in the
+/// first 16 samples per pixel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Guiding {
+    #[default]
+    Off,
+    On,
+}
+
+impl Guiding {
+    /// `on` or `off`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "on" => Some(Self::On),
+            "off" => Some(Self::Off),
+            _ => None,
+        }
+    }
+
+    /// Its name, as `from_name` reads it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::On => "on",
+            Self::Off => "off",
+        }
+    }
+}
+
 impl Default for RenderOptions {
     fn default() -> Self {
         Self {
@@ -132,6 +164,7 @@ impl Default for RenderOptions {
             tracer: Tracer::default(),
             quantity: Quantity::default(),
             shard: None,
+            guiding: Guiding::default(),
         }
     }
 }
@@ -255,6 +288,7 @@ macro_rules! named_option {
 
 named_option!(Quantity, "a quantity", "radiance or illuminance");
 named_option!(Tracer, "a tracer", "wavefront or scalar");
+named_option!(Guiding, "a guiding setting", "on or off");
 named_option!(
     WavelengthStrategy,
     "a wavelength strategy",
@@ -310,6 +344,8 @@ pub enum RenderError {
     Strategy(BdptStrategy),
     #[error("the wavefront tracer runs the path tracer between surfaces only, not {0}: render with the scalar tracer")]
     Wavefront(&'static str),
+    #[error("path guiding serves the scalar path and volume path tracers' radiance, not {0}: render with --guiding off")]
+    Guiding(&'static str),
     #[error("the bidirectional tracer needs a perspective or thin-lens camera (an orthographic camera cannot be reached from a light); render with path")]
     BdptProjection,
     #[error("{0}")]
@@ -371,6 +407,7 @@ mod text_tests {
     fn every_option_prints_to_the_text_it_reads() {
         round_trips([Quantity::Radiance, Quantity::Illuminance]);
         round_trips([Tracer::Wavefront, Tracer::Scalar]);
+        round_trips([Guiding::On, Guiding::Off]);
         round_trips(WavelengthStrategy::ALL);
         round_trips(IntegratorKind::ALL);
         round_trips(ClusterSize::ALL);

@@ -8,6 +8,7 @@ use scotopia_color::photometry::estimate_xyzv;
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::direct::{power_heuristic, spawn};
+use super::guided::{Pending, Trail};
 use super::renderer::SampleStart;
 use super::select::Media;
 use super::Renderer;
@@ -66,6 +67,9 @@ pub struct PathState<const K: usize> {
     pub ratio: SampledSpectrum<K>,
     /// Numbers for tracking walks through heterogeneous media.
     pub rng: SplitMix,
+    /// The vertices waiting for their record while the guide learns
+    /// (`guided.rs`).
+    pub trail: Trail,
 }
 
 /// Where a path scatters at a surface: the point, its geometric normal,
@@ -85,6 +89,8 @@ pub struct Bounce<const K: usize> {
     /// The medium the shadow ray starts in.
     pub shadow_medium: Option<u32>,
     pub goes_on: bool,
+    /// The bounce's mark, while the guide learns (`guided.rs`).
+    pub record: Option<Pending>,
 }
 
 impl<const K: usize> Bounce<K> {
@@ -93,6 +99,7 @@ impl<const K: usize> Bounce<K> {
         shadow: None,
         shadow_medium: None,
         goes_on: false,
+        record: None,
     };
 }
 
@@ -100,7 +107,8 @@ impl Renderer<'_> {
     /// One camera sample of `pixel`, traced in clear air or through
     /// `media`: its X, Y, Z, V′ estimate and the cluster's radiance, or
     /// `None` when the estimate is not finite (counted by the caller).
-    /// Adds the rays it traced to `rays`.
+    /// Adds the rays it traced to `rays`, and while the guide learns, the
+    /// path's records to `records`.
     pub(super) fn sample_pixel<const K: usize>(
         &self,
         media: Option<&Media>,
@@ -108,13 +116,18 @@ impl Renderer<'_> {
         pixel: [u32; 2],
         index: u32,
         rays: &mut u64,
+        records: &mut Vec<(u32, f32)>,
     ) -> Option<CameraSample<K>> {
         let mut path = self.start_path::<K>(sampler, pixel, index);
         match media {
             None => self.trace(sampler, &mut path, rays),
             Some(media) => self.trace_media(media, sampler, &mut path, rays),
         }
-        Self::finish(&path)
+        let sample = Self::finish(&path);
+        if sample.is_some() {
+            path.trail.records(path.l.0.iter().sum(), records);
+        }
+        sample
     }
 
     /// Follows `path` from its ray to its end, in clear air.
@@ -168,6 +181,9 @@ impl Renderer<'_> {
             } else if self.visible(&shadow, rays) {
                 path.l += contribution;
             }
+        }
+        if let Some(r) = b.record {
+            path.trail.push(r, path.l.0.iter().sum());
         }
         b.goes_on
     }
@@ -329,6 +345,8 @@ impl Renderer<'_> {
             }
         }
         let now = path.now;
+        let spot = self.spot(p);
+        let guide = self.surface_guide(spot, bsdf);
 
         // Next-event estimation: one light, chosen by its power over its
         // squared distance (`light_choice`).
@@ -350,22 +368,24 @@ impl Renderer<'_> {
                         1.0
                     } else {
                         let p_bsdf = bsdf.pdf_at(&now, at, wi, wo);
-                        power_heuristic(pdf, self.reflectors.pdf(bsdf, p, ls.wi, p_bsdf))
+                        power_heuristic(pdf, self.bounce_pdf(guide, bsdf, p, ls.wi, p_bsdf))
                     };
                     shadow = Some((ray, path.beta * f * ls.radiance * (w / pdf)));
                 }
             }
         }
-        let stop = Bounce {
+        let mut stop = Bounce {
             shadow,
             shadow_medium: path.medium,
             goes_on: false,
+            record: None,
         };
 
         // Continue by sampling the BSDF (at diffuse vertices, partly
-        // towards lamp-lit glossy surfaces: `reflectors`).
+        // towards lamp-lit glossy surfaces: `reflectors`; where guided,
+        // half from the guide: `guided`).
         let u_b = [u_b0, u_b1];
-        let Some(bs) = self.reflectors.sample(bsdf, &now, point, wi, u_lobe, u_b) else {
+        let Some(bs) = self.sample_bounce(guide, bsdf, &now, point, wi, u_lobe, u_b) else {
             return stop;
         };
         if bs.collapse {
@@ -394,6 +414,9 @@ impl Renderer<'_> {
             path.depth += 1;
             frame.to_world(bs.wo)
         };
+        if !passes && !bs.delta {
+            stop.record = self.pending(spot, d, bs.pdf, &path.beta);
+        }
         path.ray = spawn(p, ng, d, scene.geometry.offset_unit());
         self.onwards(path, u_rr, stop)
     }
@@ -446,6 +469,7 @@ impl<const K: usize> PathState<K> {
             medium: None,
             ratio: SampledSpectrum::splat(1.0),
             rng: SplitMix(0),
+            trail: Trail::default(),
         }
     }
 }

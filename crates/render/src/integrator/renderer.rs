@@ -14,11 +14,13 @@ use crate::sampling::sobol::Sampler;
 use crate::scene::{IntegratorKind, Scene};
 use crate::wavelength::{WavelengthSampler, WavelengthStrategy};
 
+use super::guided::GuideState;
 use super::select::{Integrator, Receivers};
 use super::{
-    bdpt, wavefront, CameraSample, LightChoice, Reflectors, RenderError, RenderOptions, Splat,
-    Tracer,
+    bdpt, wavefront, CameraSample, Guiding, LightChoice, Reflectors, RenderError, RenderOptions,
+    Splat, Tracer,
 };
+use crate::guiding::{Guide, RowStats, Stats};
 
 /// The bounding spheres of the shapes (outside shape groups) whose BSDF
 /// casts caustics: where lights at infinity aim part of their light
@@ -133,6 +135,8 @@ pub struct Renderer<'a> {
     pub(super) kind: IntegratorKind,
     /// The film rows a pass renders (a shard's; all by default).
     pub(super) rows: std::ops::Range<u32>,
+    /// The light field learned so far, with `--guiding on`.
+    pub(super) guiding: Option<GuideState>,
 }
 
 impl<'a> Renderer<'a> {
@@ -141,7 +145,32 @@ impl<'a> Renderer<'a> {
     pub fn new(scene: &'a Scene, options: &RenderOptions) -> Result<Self, RenderError> {
         let lit = SceneLights::of(scene);
         let (kind, integrator) = Integrator::new(scene, options, &lit.choice, lit.bounds.radius)?;
-        Ok(Self::with(scene, options.strategy, kind, integrator, lit))
+        let mut renderer = Self::with(scene, options.strategy, kind, integrator, lit);
+        if options.guiding == Guiding::On {
+            let refused = match &renderer.integrator {
+                Integrator::Path(Tracer::Scalar) | Integrator::VolPath(_) => None,
+                Integrator::Path(Tracer::Wavefront) => Some("the wavefront tracer"),
+                Integrator::Bdpt(_) => Some("the bidirectional tracer"),
+                Integrator::Illuminance(_) | Integrator::Meter(_) => Some("illuminance"),
+            };
+            if let Some(what) = refused {
+                return Err(RenderError::Guiding(what));
+            }
+            let b = scene.geometry.bounds();
+            let (lo, hi) = if b.is_empty() {
+                (Vec3::splat(-1.0), Vec3::splat(1.0))
+            } else {
+                // A margin, so points on the box's faces fall inside.
+                let m = b.extent() * 1e-3 + Vec3::splat(1e-4);
+                (b.min - m, b.max + m)
+            };
+            renderer.guiding = Some(GuideState {
+                guide: Guide::new(lo, hi),
+                now: 0,
+                learning: false,
+            });
+        }
+        Ok(renderer)
     }
 
     /// The illuminance at virtual receivers (`measure`): the path tracer's
@@ -192,6 +221,7 @@ impl<'a> Renderer<'a> {
             integrator,
             kind,
             rows: 0..u32::MAX,
+            guiding: None,
             filter: FilterSampler::new(scene.filter),
             infinite: (0..scene.lights.len())
                 .filter(|&i| scene.lights[i].is_infinite())
@@ -258,20 +288,23 @@ impl<'a> Renderer<'a> {
         self.infinite.iter().map(|&i| (i, &self.scene.lights[i]))
     }
 
-    /// Adds samples `first..first + count` to every pixel of the film.
+    /// Adds samples `first..first + count` to every pixel of the film;
+    /// while the guide learns, their records to `stats`.
     pub(super) fn pass<const K: usize>(
         &self,
         seed: u32,
         film: &mut Film,
         first: u32,
         count: u32,
+        stats: Option<&mut Stats>,
     ) -> SampleCounts {
+        let learning = stats.is_some();
         let width = film.width as usize;
         let stride = film.row_stride();
         let moment_stride = film.moment_stride();
         let moments_kept = film.kept_moments().is_some();
         let bands = film.bands;
-        let rows: Vec<(SampleCounts, Vec<Splat<K>>)> = film
+        let rows: Vec<(SampleCounts, Vec<Splat<K>>, RowStats)> = film
             .pixels
             .par_chunks_mut(width)
             .zip(film.spectral.par_chunks_mut(stride))
@@ -279,12 +312,13 @@ impl<'a> Renderer<'a> {
             .enumerate()
             .map(|(y, ((row, spectral), moments))| {
                 if !self.rows.contains(&(y as u32)) {
-                    return (SampleCounts::default(), Vec::new());
+                    return (SampleCounts::default(), Vec::new(), RowStats::default());
                 }
                 let mut sampler = Sampler::new(seed);
                 let mut counts = SampleCounts::default();
                 let mut scratch = bdpt::Scratch::<K>::default();
                 let mut splats = Vec::new();
+                let mut records = Vec::new();
                 let mut batch = matches!(self.integrator, Integrator::Path(Tracer::Wavefront))
                     .then(|| {
                         let work = wavefront::RowWork {
@@ -306,6 +340,7 @@ impl<'a> Renderer<'a> {
                                     scratch: &mut scratch,
                                     splats: &mut splats,
                                     counts: &mut counts,
+                                    records: &mut records,
                                 };
                                 self.estimate::<K>(&mut sampler, pixel, i, to)
                             }
@@ -328,14 +363,24 @@ impl<'a> Renderer<'a> {
                         }
                     }
                 }
-                (counts, splats)
+                let stats = if learning {
+                    RowStats::of(records)
+                } else {
+                    RowStats::default()
+                };
+                (counts, splats, stats)
             })
             .collect();
         // Light-tracing splats land on any pixel: added after the pass, row
         // by row in order, so the sums do not depend on the threads.
+        // So are the guide's records.
         let mut total = SampleCounts::default();
-        for (c, splats) in rows {
+        let mut stats = stats;
+        for (c, splats, row_stats) in rows {
             total += c;
+            if let Some(stats) = stats.as_deref_mut() {
+                stats.add(&row_stats);
+            }
             for sp in &splats {
                 film.splat(&self.filter, sp.raster, sp.xyzv, &sp.radiance, &sp.wl);
             }
@@ -354,14 +399,22 @@ impl<'a> Renderer<'a> {
         to: Scratchpad<'_, K>,
     ) -> Option<CameraSample<K>> {
         let rays = &mut to.counts.rays;
+        let records = to.records;
         match &self.integrator {
             Integrator::Meter(r) => self.sample_meter::<K>(r, sampler, pixel, index, rays),
             Integrator::Illuminance(r) => {
                 self.sample_illuminance::<K>(r, sampler, pixel, index, rays)
             }
-            Integrator::Path(_) => self.sample_pixel::<K>(None, sampler, pixel, index, rays),
-            Integrator::VolPath(m) => self.sample_pixel::<K>(Some(m), sampler, pixel, index, rays),
-            Integrator::Bdpt(b) => self.sample_pixel_bdpt::<K>(b, sampler, pixel, index, to),
+            Integrator::Path(_) => {
+                self.sample_pixel::<K>(None, sampler, pixel, index, rays, records)
+            }
+            Integrator::VolPath(m) => {
+                self.sample_pixel::<K>(Some(m), sampler, pixel, index, rays, records)
+            }
+            Integrator::Bdpt(b) => {
+                let to = Scratchpad { records, ..to };
+                self.sample_pixel_bdpt::<K>(b, sampler, pixel, index, to)
+            }
         }
     }
 }
@@ -386,4 +439,6 @@ pub(super) struct Scratchpad<'a, const K: usize> {
     pub scratch: &'a mut bdpt::Scratch<K>,
     pub splats: &'a mut Vec<Splat<K>>,
     pub counts: &'a mut SampleCounts,
+    /// The guide's records, while it learns.
+    pub records: &'a mut Vec<(u32, f32)>,
 }

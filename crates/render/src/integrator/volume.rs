@@ -22,6 +22,7 @@ use scotopia_color::SampledSpectrum;
 use super::path::{Bounce, PathState};
 use super::select::Media;
 use super::{equiangular, Renderer};
+use crate::guiding::DTree;
 use crate::math::{Ray, Vec3};
 use crate::medium::{Homogeneous, Medium, MediumEvent, Phase, ShapeMedia};
 use crate::sampling::sobol::Sampler;
@@ -126,7 +127,9 @@ impl Renderer<'_> {
             return;
         }
         let p = ray.o + ray.d * t;
-        if let Some((shadow, c)) = self.medium_nee(path, beta, p, h.phase, nee, Mis::Aimed(q2)) {
+        let guide = self.spot(p).and_then(|s| s.guide());
+        let aimed = Mis::Aimed(q2);
+        if let Some((shadow, c)) = self.medium_nee(path, beta, p, h.phase, guide, nee, aimed) {
             let tr = self.through_media(shadow, path.medium, &path.now, &mut path.rng, rays);
             path.l += c * tr;
         }
@@ -141,6 +144,7 @@ impl Renderer<'_> {
         beta: SampledSpectrum<K>,
         p: Vec3,
         phase: Phase,
+        guide: Option<&DTree>,
         [u_light, u_select, u_l0, u_l1]: [f32; 4],
         mis: Mis,
     ) -> Option<(Ray, SampledSpectrum<K>)> {
@@ -151,7 +155,7 @@ impl Renderer<'_> {
         if f.is_nan() || f <= 0.0 {
             return None;
         }
-        let w = mis.light_weight(d.pdf, f, d.ls.delta);
+        let w = mis.light_weight(d.pdf, self.phase_pdf(guide, f, d.ls.wi), d.ls.delta);
         let unit = self.scene.geometry.offset_unit();
         (w > 0.0).then(|| (d.ray(unit), beta * d.ls.radiance * (f * w / d.pdf)))
     }
@@ -172,21 +176,35 @@ impl Renderer<'_> {
         if !self.within(path.depth + 1) {
             return Bounce::STOP;
         }
-        let [nee, [u_p0, u_rr, u_p1, _]] = u;
+        let [nee, [u_p0, u_rr, u_p1, u_pick]] = u;
         let wi = -path.ray.d;
-        let shadow = self.medium_nee(path, path.beta, p, *phase, nee, Mis::Free(q2));
-        let stop = Bounce {
+        let spot = self.spot(p);
+        let guide = spot.and_then(|s| s.guide());
+        let shadow = self.medium_nee(path, path.beta, p, *phase, guide, nee, Mis::Free(q2));
+        let mut stop = Bounce {
             shadow,
             shadow_medium: path.medium,
             goes_on: false,
+            record: None,
         };
-        // The phase function is sampled exactly: f/pdf = 1.
-        let (wo, pdf) = phase.sample(wi, [u_p0, u_p1]);
+        // The phase function's direction, or where guided, half of them
+        // the guide's (`guided`): f/q, 1 unguided.
+        let Some((wo, f, pdf)) = self.sample_phase(guide, phase, wi, u_pick, [u_p0, u_p1]) else {
+            return stop;
+        };
+        if guide.is_some() {
+            path.beta *= f / pdf;
+            if path.beta.is_zero() || !path.beta.max_value().is_finite() {
+                return stop;
+            }
+        }
+        stop.record = self.pending(spot, wo, pdf, &path.beta);
         path.delta = false;
         // A light this direction hits weighs it against next-event
         // estimation from both distance strategies: the power heuristic
-        // f²/(f² + p_l²(1 + q²)), which `bounce` and `escape` compute from
-        // f/√(1 + q²).
+        // q²/(q² + p_l²(1 + q_d²)) with q the direction's density and q_d
+        // the distances' ratio, which `bounce` and `escape` compute from
+        // q/√(1 + q_d²).
         path.bsdf_pdf = pdf / (1.0 + q2).sqrt();
         path.prev = p;
         path.prev_n = None;

@@ -69,6 +69,7 @@ impl Renderer<'_> {
             scratch,
             splats,
             counts,
+            ..
         } = to;
         let SampleStart {
             film,

@@ -1,0 +1,242 @@
+//! A density of directions on the sphere: a quadtree over the unit square
+//! of the equal-area cylindrical map, u = (cos θ + 1)/2, v = φ/2π
+//! (Müller, Gross & Novák 2017, "Practical Path Guiding", §3.1). Each
+//! node holds the energy of its four quadrants; a quadrant is a leaf or
+//! the root of a subtree. The map's Jacobian is the constant 4π, so a
+//! leaf's density in solid angle is its share of the energy over its
+//! area, over 4π.
+
+use std::f32::consts::{PI, TAU};
+
+use crate::math::Vec3;
+
+/// A quadrant holding more than this share of the tree's energy is
+/// subdivided for the next iteration, one holding less is merged
+/// (Müller et al. 2017, §3.3: ρ = 0.01).
+pub const RHO: f64 = 0.01;
+
+/// Deepest level a quadrant is subdivided to (Müller et al. 2017, §3.3).
+pub const MAX_DEPTH: u32 = 20;
+
+/// One node: its four quadrants, numbered `ix + 2·iy` (ix: the u half,
+/// iy: the v half).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct Node {
+    /// The node holding each quadrant's subtree; 0 where it is a leaf
+    /// (the root, node 0, is no one's child).
+    child: [u32; 4],
+    /// Each quadrant's energy (the sum over its subtree).
+    sum: [f32; 4],
+}
+
+/// A quadtree of directions: the topology, and the energy that makes it
+/// a density.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DTree {
+    nodes: Vec<Node>,
+}
+
+impl Default for DTree {
+    /// The root alone: four leaves, no energy.
+    fn default() -> Self {
+        Self {
+            nodes: vec![Node::default()],
+        }
+    }
+}
+
+/// The point of the unit square that `d` (unit, world) maps to.
+pub fn to_square(d: Vec3) -> [f32; 2] {
+    let u = ((d.z + 1.0) * 0.5).clamp(0.0, 1.0);
+    let phi = d.y.atan2(d.x);
+    let v = if phi < 0.0 { phi + TAU } else { phi } / TAU;
+    [u, v.clamp(0.0, 1.0)]
+}
+
+/// The unit direction at point `s` of the unit square.
+pub fn from_square(s: [f32; 2]) -> Vec3 {
+    let z = 2.0 * s[0] - 1.0;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let (sin, cos) = (TAU * s[1]).sin_cos();
+    Vec3::new(r * cos, r * sin, z)
+}
+
+/// The quadrant of `s` in a node, and `s` within it.
+#[inline]
+fn quadrant(s: [f32; 2]) -> (usize, [f32; 2]) {
+    let ix = (s[0] >= 0.5) as usize;
+    let iy = (s[1] >= 0.5) as usize;
+    let inner = [
+        (2.0 * s[0] - ix as f32).clamp(0.0, 1.0),
+        (2.0 * s[1] - iy as f32).clamp(0.0, 1.0),
+    ];
+    (ix + 2 * iy, inner)
+}
+
+/// Picks one of two with weights `a` and `b` by `u`, and `u` rescaled to
+/// [0, 1) within the pick.
+#[inline]
+fn pick(a: f32, b: f32, u: f32) -> (usize, f32) {
+    let p = a / (a + b);
+    if u < p {
+        (0, (u / p).min(1.0 - f32::EPSILON))
+    } else {
+        (1, ((u - p) / (1.0 - p)).clamp(0.0, 1.0 - f32::EPSILON))
+    }
+}
+
+impl DTree {
+    /// How many leaf slots it has: four per node (inner quadrants' slots
+    /// stay unused), the size of its statistics.
+    pub fn slots(&self) -> usize {
+        4 * self.nodes.len()
+    }
+
+    /// The total energy.
+    pub fn energy(&self) -> f32 {
+        self.nodes[0].sum.iter().sum()
+    }
+
+    /// The slot of the leaf quadrant holding direction `d`.
+    pub fn slot(&self, d: Vec3) -> u32 {
+        let mut s = to_square(d);
+        let mut node = 0;
+        loop {
+            let (q, inner) = quadrant(s);
+            let child = self.nodes[node].child[q];
+            if child == 0 {
+                return (4 * node + q) as u32;
+            }
+            node = child as usize;
+            s = inner;
+        }
+    }
+
+    /// The density in solid angle of [`Self::sample`] drawing `d`; 0 with
+    /// no energy.
+    pub fn pdf(&self, d: Vec3) -> f32 {
+        let mut s = to_square(d);
+        let mut node = 0;
+        let mut p = 1.0 / (4.0 * PI);
+        loop {
+            let n = &self.nodes[node];
+            let total: f32 = n.sum.iter().sum();
+            if !(total > 0.0) {
+                return 0.0;
+            }
+            let (q, inner) = quadrant(s);
+            p *= 4.0 * n.sum[q] / total;
+            if n.child[q] == 0 || p == 0.0 {
+                return p;
+            }
+            node = n.child[q] as usize;
+            s = inner;
+        }
+    }
+
+    /// A direction drawn in proportion to the energy, with `u`, and its
+    /// density in solid angle; `None` with no energy.
+    pub fn sample(&self, u: [f32; 2]) -> Option<(Vec3, f32)> {
+        let [mut u0, mut u1] = u;
+        let (mut lo, mut size) = ([0.0f32, 0.0f32], 1.0f32);
+        let mut node = 0;
+        let mut p = 1.0 / (4.0 * PI);
+        loop {
+            let n = &self.nodes[node];
+            let total: f32 = n.sum.iter().sum();
+            if !(total > 0.0) {
+                return None;
+            }
+            // The u half by its marginal, then the v half within it.
+            let s = &n.sum;
+            let (ix, r0) = pick(s[0] + s[2], s[1] + s[3], u0);
+            let (iy, r1) = pick(s[ix], s[ix + 2], u1);
+            let q = ix + 2 * iy;
+            (u0, u1) = (r0, r1);
+            p *= 4.0 * s[q] / total;
+            size *= 0.5;
+            lo = [lo[0] + size * ix as f32, lo[1] + size * iy as f32];
+            if n.child[q] == 0 {
+                let d = from_square([lo[0] + size * u0, lo[1] + size * u1]);
+                return (p > 0.0 && p.is_finite()).then_some((d, p));
+            }
+            node = n.child[q] as usize;
+        }
+    }
+
+    /// The same tree with each leaf's energy from `stats` (indexed by
+    /// [`Self::slot`]) and each inner quadrant's the sum below it.
+    pub fn with_energy(&self, stats: &[f64]) -> Self {
+        let mut nodes = self.nodes.clone();
+        // Children come after their parents: fill from the last node back.
+        for i in (0..nodes.len()).rev() {
+            for q in 0..4 {
+                let c = nodes[i].child[q] as usize;
+                nodes[i].sum[q] = if c == 0 {
+                    stats.get(4 * i + q).copied().unwrap_or(0.0).max(0.0) as f32
+                } else {
+                    nodes[c].sum.iter().sum()
+                };
+            }
+        }
+        Self { nodes }
+    }
+
+    /// The topology for the next iteration, without energy: quadrants
+    /// holding more than [`RHO`] of the energy are subdivided (a leaf by
+    /// one level), the others are leaves.
+    pub fn refined(&self) -> Self {
+        let total = f64::from(self.energy());
+        let mut out = vec![Node::default()];
+        if total > 0.0 {
+            self.refine_into(0, 0, 1, total, &mut out);
+        }
+        Self { nodes: out }
+    }
+
+    fn refine_into(&self, from: usize, to: usize, depth: u32, total: f64, out: &mut Vec<Node>) {
+        let n = self.nodes[from];
+        for q in 0..4 {
+            if depth >= MAX_DEPTH || f64::from(n.sum[q]) / total <= RHO {
+                continue;
+            }
+            let at = out.len();
+            out.push(Node::default());
+            out[to].child[q] = at as u32;
+            if n.child[q] != 0 {
+                self.refine_into(n.child[q] as usize, at, depth + 1, total, out);
+            }
+        }
+    }
+
+    /// Quadrants in the tree (leaves), for reports and tests.
+    pub fn leaves(&self) -> usize {
+        self.nodes
+            .iter()
+            .map(|n| n.child.iter().filter(|&&c| c == 0).count())
+            .sum()
+    }
+
+    /// Every leaf quadrant: its corner, side and probability.
+    #[cfg(test)]
+    pub(super) fn leaf_squares(&self) -> Vec<([f64; 2], f64, f64)> {
+        let mut out = Vec::new();
+        self.leaves_below(0, [0.0, 0.0], 1.0, 1.0, &mut out);
+        out
+    }
+
+    #[cfg(test)]
+    fn leaves_below(&self, node: usize, lo: [f64; 2], size: f64, p: f64, out: &mut Vec<([f64; 2], f64, f64)>) {
+        let n = &self.nodes[node];
+        let total: f64 = n.sum.iter().map(|&s| f64::from(s)).sum();
+        let half = 0.5 * size;
+        for q in 0..4 {
+            let lo = [lo[0] + half * (q & 1) as f64, lo[1] + half * (q >> 1) as f64];
+            let pq = p * f64::from(n.sum[q]) / total;
+            match n.child[q] {
+                0 => out.push((lo, half, pq)),
+                c => self.leaves_below(c as usize, lo, half, pq, out),
+            }
+        }
+    }
+}

@@ -1,0 +1,301 @@
+//! Path guiding: the light arriving at each part of the scene, learned
+//! while the render runs, to draw bounce directions from (Müller, Gross &
+//! Novák 2017, "Practical Path Guiding for Efficient Light-Transport
+//! Simulation"). A binary tree over space ([`SpatialTree`]) holds in each
+//! cell a quadtree over directions ([`DTree`]) whose energy is the
+//! radiance that paths found arriving there from each direction.
+//!
+//! **Learning in iterations.** The render's first [`LEARNED`] samples per
+//! pixel are cut into iterations at [`BOUNDARIES`] (1, 1, 2, 4 and 8 spp).
+//! Samples of iteration k draw from the field that iterations before k
+//! learned and record, at every vertex that sampled a direction, the
+//! radiance the path then found along it over that direction's density
+//! (an unbiased estimate of each quadrant's ∫L dω). At the end of an
+//! iteration the records become the next field: each cell's quadtree takes
+//! the recorded energy, cells that received many records are halved, and
+//! each quadtree's topology is refined where its energy is. Samples from
+//! [`LEARNED`] spp on use the last field, unchanged.
+//!
+//! **Deterministic.** A field depends only on the records of the samples
+//! before its boundary, and those only on (seed, sample index, pixel).
+//! Each row's records are summed in sample order and the rows' sums added
+//! in row order, so the field, and the image, are the same on any number
+//! of threads. A render resumed from a checkpoint, or a shard, learns the
+//! fields again over the whole film before it renders its own samples
+//! (`integrator/driver.rs`), so it uses the very fields the uninterrupted
+//! render used.
+//!
+//! The integrators draw from a field in a one-sample mixture with the
+//! BSDF or phase function and weigh by the mixture's density (MIS, Veach
+//! 1997 §9.2.2), so the estimate stays unbiased whatever the field holds.
+
+mod dtree;
+mod spatial;
+#[cfg(test)]
+mod tests;
+
+pub use dtree::{from_square, to_square, DTree};
+pub use spatial::SpatialTree;
+
+use crate::math::Vec3;
+
+/// The sample counts at which an iteration ends and a new field is
+/// learned: iterations of 1, 1, 2, 4 and 8 spp (Müller et al. 2017, §5.1:
+/// each iteration twice the samples of the one before).
+pub const BOUNDARIES: [u32; 6] = [0, 1, 2, 4, 8, 16];
+
+/// Samples per pixel after which the field no longer changes.
+pub const LEARNED: u32 = 16;
+
+/// A cell is halved when an iteration of n spp recorded more than c·√n
+/// vertices in it (Müller et al. 2017, §3.2: c·√(2^k) for iteration k of
+/// 2^k spp, c = 12 000).
+pub const SPLIT: f64 = 12_000.0;
+
+/// Most halvings of one cell after one iteration.
+const MAX_HALVINGS: u32 = 12;
+
+/// Share of guided directions at a guided vertex: the other half comes
+/// from the BSDF or phase function (Müller et al. 2017, §5: 50 %).
+pub const SHARE: f32 = 0.5;
+
+/// The iteration sample index `sample` belongs to: k with
+/// `BOUNDARIES[k] <= sample < BOUNDARIES[k + 1]`, the last from
+/// [`LEARNED`] on.
+pub fn iteration(sample: u32) -> usize {
+    BOUNDARIES.iter().rposition(|&b| b <= sample).unwrap_or(0)
+}
+
+/// The end of the iteration `done` samples lie in, while learning goes on.
+pub fn next_boundary(done: u32) -> Option<u32> {
+    BOUNDARIES.iter().copied().find(|&b| b > done)
+}
+
+/// One cell: the density it guides with and the topology it records in.
+#[derive(Debug, Clone, PartialEq)]
+struct Cell {
+    /// What the iterations before learned (no energy: not guided yet).
+    sampling: DTree,
+    /// Where this iteration's records go.
+    building: DTree,
+    /// Its first slot among the field's.
+    offset: u32,
+}
+
+/// The learned light field of one iteration.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Field {
+    tree: SpatialTree,
+    cells: Vec<Cell>,
+    slots: usize,
+}
+
+/// A cell of a field, found from a point.
+#[derive(Debug, Clone, Copy)]
+pub struct Spot<'a> {
+    field: &'a Field,
+    cell: u32,
+}
+
+impl Field {
+    /// Nothing learned, one cell over the box `lo`..`hi`.
+    pub fn new(lo: Vec3, hi: Vec3) -> Self {
+        let building = DTree::default();
+        Self {
+            tree: SpatialTree::new(lo, hi),
+            slots: building.slots(),
+            cells: vec![Cell {
+                sampling: DTree::default(),
+                building,
+                offset: 0,
+            }],
+        }
+    }
+
+    /// The cell at `p`.
+    #[inline]
+    pub fn at(&self, p: Vec3) -> Spot<'_> {
+        Spot {
+            field: self,
+            cell: self.tree.cell(p),
+        }
+    }
+
+    /// Slots of statistics an iteration records into.
+    pub fn slots(&self) -> usize {
+        self.slots
+    }
+
+    /// Cells and their quadtrees' leaves, for reports.
+    pub fn size(&self) -> (usize, usize) {
+        let leaves = self.cells.iter().map(|c| c.sampling.leaves()).sum();
+        (self.cells.len(), leaves)
+    }
+
+    /// The field learned from `stats`, recorded into this one's slots by
+    /// an iteration of `spp` samples per pixel.
+    pub fn next(&self, stats: &Stats, spp: u32) -> Self {
+        let threshold = SPLIT * f64::from(spp.max(1)).sqrt();
+        let learned: Vec<(DTree, u64)> = self
+            .cells
+            .iter()
+            .map(|c| {
+                let range = c.offset as usize..c.offset as usize + c.building.slots();
+                let count = stats.count[range.clone()].iter().sum();
+                let tree = c.building.with_energy(&stats.energy[range]);
+                // A cell that found no light keeps what it knew.
+                let sampling = if tree.energy() > 0.0 {
+                    tree
+                } else {
+                    c.sampling.clone()
+                };
+                (sampling, count)
+            })
+            .collect();
+        let halvings = |cell: u32| {
+            let mut n = learned[cell as usize].1 as f64;
+            let mut k = 0;
+            while n > threshold && k < MAX_HALVINGS {
+                n *= 0.5;
+                k += 1;
+            }
+            k
+        };
+        let (tree, origin) = self.tree.split(halvings);
+        let mut offset = 0;
+        let cells = origin
+            .iter()
+            .map(|&old| {
+                let sampling = learned[old as usize].0.clone();
+                let building = if sampling.energy() > 0.0 {
+                    sampling.refined()
+                } else {
+                    self.cells[old as usize].building.clone()
+                };
+                let cell = Cell {
+                    offset,
+                    sampling,
+                    building,
+                };
+                offset += cell.building.slots() as u32;
+                cell
+            })
+            .collect();
+        Self {
+            tree,
+            cells,
+            slots: offset as usize,
+        }
+    }
+}
+
+impl<'a> Spot<'a> {
+    /// The density this cell guides with; `None` before it learned any
+    /// light (the integrator then samples as it would unguided).
+    #[inline]
+    pub fn guide(&self) -> Option<&'a DTree> {
+        let c = &self.field.cells[self.cell as usize];
+        (c.sampling.energy() > 0.0).then_some(&c.sampling)
+    }
+
+    /// The slot a record of direction `d` (unit, world) goes to.
+    #[inline]
+    pub fn slot(&self, d: Vec3) -> u32 {
+        let c = &self.field.cells[self.cell as usize];
+        c.offset + c.building.slot(d)
+    }
+}
+
+/// What an iteration recorded: per slot, the energy and the number of
+/// records.
+#[derive(Debug, Clone, Default)]
+pub struct Stats {
+    energy: Vec<f64>,
+    count: Vec<u64>,
+}
+
+impl Stats {
+    /// Empty statistics for `field`.
+    pub fn new(field: &Field) -> Self {
+        Self {
+            energy: vec![0.0; field.slots()],
+            count: vec![0; field.slots()],
+        }
+    }
+
+    /// Adds one row's records (rows must come in the same order on every
+    /// run for the sums to be the same).
+    pub fn add(&mut self, row: &RowStats) {
+        for &(slot, e, n) in &row.0 {
+            if let Some(s) = self.energy.get_mut(slot as usize) {
+                *s += e;
+                self.count[slot as usize] += u64::from(n);
+            }
+        }
+    }
+}
+
+/// One row's records summed per slot, in the order the row made them.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RowStats(Vec<(u32, f64, u32)>);
+
+impl RowStats {
+    /// Sums `records` (slot, energy) per slot; a stable sort keeps each
+    /// slot's records in the order they were made.
+    pub fn of(mut records: Vec<(u32, f32)>) -> Self {
+        records.sort_by_key(|r| r.0);
+        let mut out: Vec<(u32, f64, u32)> = Vec::new();
+        for (slot, e) in records {
+            match out.last_mut() {
+                Some(last) if last.0 == slot => {
+                    last.1 += f64::from(e);
+                    last.2 += 1;
+                }
+                _ => out.push((slot, f64::from(e), 1)),
+            }
+        }
+        Self(out)
+    }
+}
+
+/// The fields learned so far, one per iteration: `fields[k]` guides the
+/// samples of iteration k.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Guide {
+    fields: Vec<Field>,
+}
+
+impl Guide {
+    /// Nothing learned yet, over the box `lo`..`hi` (the scene's).
+    pub fn new(lo: Vec3, hi: Vec3) -> Self {
+        Self {
+            fields: vec![Field::new(lo, hi)],
+        }
+    }
+
+    /// The field that guides sample index `sample`.
+    pub fn field(&self, sample: u32) -> &Field {
+        &self.fields[iteration(sample).min(self.fields.len() - 1)]
+    }
+
+    /// Field `k` (the last learned, if fewer).
+    pub fn field_at(&self, k: usize) -> &Field {
+        &self.fields[k.min(self.fields.len() - 1)]
+    }
+
+    /// Iterations learned so far.
+    pub fn learned(&self) -> usize {
+        self.fields.len() - 1
+    }
+
+    /// Learns the next field from what the last iteration recorded.
+    pub fn advance(&mut self, stats: &Stats) {
+        let k = self.learned();
+        if k + 1 >= BOUNDARIES.len() {
+            return;
+        }
+        let spp = BOUNDARIES[k + 1] - BOUNDARIES[k];
+        let next = self.fields[k].next(stats, spp);
+        self.fields.push(next);
+    }
+}

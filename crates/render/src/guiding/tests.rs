@@ -1,0 +1,191 @@
+use super::*;
+use crate::test_rng::Rng;
+
+/// A lobe around `axis` (exp(κ(cos − 1))) over a constant floor: the
+/// radiance a guide learns in the tests.
+fn radiance(d: Vec3, axis: Vec3, kappa: f32) -> f32 {
+    0.05 + (kappa * (d.dot(axis) - 1.0)).exp()
+}
+
+fn uniform_direction(rng: &mut Rng) -> Vec3 {
+    from_square([rng.next(), rng.next()])
+}
+
+/// A quadtree learned over `iterations` from `n` uniform records each.
+fn learned_tree(axis: Vec3, kappa: f32, iterations: usize, n: usize, seed: u64) -> DTree {
+    let mut rng = Rng(seed);
+    let mut building = DTree::default();
+    let mut sampling = DTree::default();
+    for _ in 0..iterations {
+        let mut stats = vec![0.0f64; building.slots()];
+        for _ in 0..n {
+            let d = uniform_direction(&mut rng);
+            // L over the uniform density 1/4π.
+            stats[building.slot(d) as usize] += f64::from(radiance(d, axis, kappa)) * 4.0 * std::f64::consts::PI;
+        }
+        sampling = building.with_energy(&stats);
+        building = sampling.refined();
+    }
+    sampling
+}
+
+/// Upper tail probability of χ² below 1e-3 where z > 3.0902 (the
+/// Wilson–Hilferty transform, as in the light hierarchy's test).
+fn chi2_z(chi2: f64, dof: usize) -> f64 {
+    let k = dof as f64;
+    let v = 2.0 / (9.0 * k);
+    ((chi2 / k).cbrt() - (1.0 - v)) / v.sqrt()
+}
+
+#[test]
+fn the_map_is_a_bijection_of_the_sphere() {
+    let mut rng = Rng(1);
+    for _ in 0..1000 {
+        let s = [rng.next(), rng.next()];
+        let d = from_square(s);
+        assert!((d.length() - 1.0).abs() < 1e-5);
+        let t = to_square(d);
+        assert!((t[0] - s[0]).abs() < 1e-4, "{s:?} → {t:?}");
+        let dv = (t[1] - s[1]).abs();
+        assert!(dv < 1e-4 || (1.0 - dv) < 1e-4, "{s:?} → {t:?}");
+    }
+}
+
+#[test]
+fn learning_refines_where_the_light_is() {
+    let axis = Vec3::new(0.3, -0.5, 0.81).normalize();
+    let t = learned_tree(axis, 40.0, 6, 100_000, 3);
+    assert!(t.leaves() > 40, "{} leaves", t.leaves());
+    // The lobe (21× the radiance of the opposite side at its peak) is
+    // far denser there, though averaged over its leaves.
+    assert!(t.pdf(axis) > 10.0 * t.pdf(-axis), "{} vs {}", t.pdf(axis), t.pdf(-axis));
+}
+
+#[test]
+fn the_density_integrates_to_one() {
+    let axis = Vec3::new(-0.2, 0.9, 0.1).normalize();
+    let t = learned_tree(axis, 60.0, 6, 50_000, 5);
+    let p: f64 = t.leaf_squares().iter().map(|l| l.2).sum();
+    assert!((p - 1.0).abs() < 1e-5, "leaf probabilities sum to {p}");
+    // The density in solid angle, integrated on a fine grid of the square
+    // (Jacobian 4π), is one too.
+    let n = 512;
+    let mut sum = 0.0f64;
+    for i in 0..n {
+        for j in 0..n {
+            let s = [(i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32];
+            sum += f64::from(t.pdf(from_square(s)));
+        }
+    }
+    let integral = sum * 4.0 * std::f64::consts::PI / (n * n) as f64;
+    assert!((integral - 1.0).abs() < 0.01, "∫pdf dω = {integral}");
+}
+
+#[test]
+fn samples_come_with_their_density_and_its_frequencies() {
+    for (axis, kappa, seed) in [
+        (Vec3::new(0.0, 0.0, 1.0), 30.0, 7u64),
+        (Vec3::new(0.6, 0.64, -0.48).normalize(), 200.0, 8),
+        (Vec3::new(-1.0, 0.0, 0.0), 5.0, 9),
+    ] {
+        let t = learned_tree(axis, kappa, 6, 60_000, seed);
+        // Bins: a 16 × 16 grid of the square, expected counts from the
+        // leaves' probabilities by area of overlap (exact: the density is
+        // constant on each leaf).
+        let g = 16usize;
+        let mut expected = vec![0.0f64; g * g];
+        for (lo, size, p) in t.leaf_squares() {
+            let (i0, i1) = ((lo[0] * g as f64) as usize, ((lo[0] + size) * g as f64).ceil() as usize);
+            let (j0, j1) = ((lo[1] * g as f64) as usize, ((lo[1] + size) * g as f64).ceil() as usize);
+            for i in i0..i1.min(g) {
+                for j in j0..j1.min(g) {
+                    let (a0, a1) = (i as f64 / g as f64, (i + 1) as f64 / g as f64);
+                    let (b0, b1) = (j as f64 / g as f64, (j + 1) as f64 / g as f64);
+                    let w = (a1.min(lo[0] + size) - a0.max(lo[0])).max(0.0)
+                        * (b1.min(lo[1] + size) - b0.max(lo[1])).max(0.0);
+                    expected[i + g * j] += p * w / (size * size);
+                }
+            }
+        }
+        let count = 200_000usize;
+        let mut hits = vec![0u64; g * g];
+        let mut rng = Rng(seed + 100);
+        // A direction on a quadrant's edge may map back to its neighbour
+        // (f32 rounding of the map): rare, and the integrators weigh by
+        // `pdf(d)` on both strategies, so it costs nothing but a bit of
+        // efficiency.
+        let mut edges = 0;
+        for _ in 0..count {
+            let (d, pdf) = t.sample([rng.next(), rng.next()]).expect("energy");
+            let p = t.pdf(d);
+            edges += usize::from((pdf - p).abs() > 1e-3 * p.max(1e-3));
+            let s = to_square(d);
+            let (i, j) = (((s[0] * g as f32) as usize).min(g - 1), ((s[1] * g as f32) as usize).min(g - 1));
+            hits[i + g * j] += 1;
+        }
+        assert!(edges * 2000 < count, "{edges} samples without their density");
+        let (mut chi2, mut bins) = (0.0f64, 0usize);
+        let (mut pooled_e, mut pooled_o) = (0.0f64, 0.0f64);
+        for (e, &o) in expected.iter().zip(&hits) {
+            let e = e * count as f64;
+            if e < 5.0 {
+                pooled_e += e;
+                pooled_o += o as f64;
+            } else {
+                chi2 += (o as f64 - e).powi(2) / e;
+                bins += 1;
+            }
+        }
+        if pooled_e > 0.0 {
+            chi2 += (pooled_o - pooled_e).powi(2) / pooled_e;
+            bins += 1;
+        }
+        let z = chi2_z(chi2, bins - 1);
+        assert!(z < 3.0902, "κ = {kappa}: χ² = {chi2} over {} dof", bins - 1);
+    }
+}
+
+#[test]
+fn a_cell_with_many_records_is_halved_and_keeps_its_light() {
+    let lo = Vec3::new(-10.0, 0.0, -1.0);
+    let hi = Vec3::new(10.0, 2.0, 1.0);
+    let field = Field::new(lo, hi);
+    let mut stats = Stats::new(&field);
+    let mut rng = Rng(11);
+    let mut records = Vec::new();
+    let axis = Vec3::new(0.0, 1.0, 0.0);
+    let spot = field.at(Vec3::new(0.0, 1.0, 0.0));
+    for _ in 0..100_000 {
+        let d = uniform_direction(&mut rng);
+        records.push((spot.slot(d), radiance(d, axis, 20.0)));
+    }
+    stats.add(&RowStats::of(records));
+    let next = field.next(&stats, 1);
+    // 100 000 records over c = 12 000: halved 4 times, into 16 cells.
+    assert_eq!(next.size().0, 16);
+    for p in [lo, hi, Vec3::new(3.0, 0.5, 0.2)] {
+        let g = next.at(p).guide().expect("every cell learned the light");
+        assert!(g.pdf(axis) > g.pdf(-axis));
+    }
+    // Cells along the long side: x splits first.
+    assert_ne!(next.at(Vec3::new(-9.0, 1.0, 0.0)).cell, next.at(Vec3::new(9.0, 1.0, 0.0)).cell);
+}
+
+#[test]
+fn rows_sum_their_records_in_order() {
+    let a = RowStats::of(vec![(3, 1.0), (1, 2.0), (3, 0.5), (0, 0.25)]);
+    assert_eq!(a.0, vec![(0, 0.25, 1), (1, 2.0, 1), (3, 1.5, 2)]);
+}
+
+#[test]
+fn the_schedule_ends_iterations_at_its_boundaries() {
+    assert_eq!(iteration(0), 0);
+    assert_eq!(iteration(1), 1);
+    assert_eq!(iteration(3), 2);
+    assert_eq!(iteration(15), 4);
+    assert_eq!(iteration(16), 5);
+    assert_eq!(iteration(1000), 5);
+    assert_eq!(next_boundary(0), Some(1));
+    assert_eq!(next_boundary(5), Some(8));
+    assert_eq!(next_boundary(16), None);
+}

@@ -1,0 +1,247 @@
+//! Path guiding in the path and volume path tracers: bounces drawn half
+//! from the light field learned so far (`crate::guiding`), half as they
+//! would be unguided, weighed by the mixture's density (one-sample MIS,
+//! Veach 1997 §9.2.2, balance heuristic); next-event estimation and
+//! emitters hit weigh against the same density. While the guide learns,
+//! every vertex that drew a direction leaves a mark on its path, and the
+//! light the path finds after it becomes that vertex's record.
+
+use scotopia_color::{SampledSpectrum, SampledWavelengths};
+
+use super::path::ScatterPoint;
+use super::Renderer;
+use crate::bsdf::{Bsdf, BsdfSample, Transport};
+use crate::guiding::{DTree, Field, Guide, Spot, SHARE};
+use crate::math::Vec3;
+use crate::medium::Phase;
+
+/// A render's guiding state: the fields learned, which one guides the
+/// pass that runs, and whether that pass records.
+#[derive(Debug, Clone)]
+pub(super) struct GuideState {
+    pub guide: Guide,
+    /// The index of the field the pass draws from.
+    pub now: usize,
+    pub learning: bool,
+}
+
+/// Vertices of a path that wait for their record: at most this many (the
+/// first ones: deeper vertices carry little light and many records).
+const MAX_MARKS: usize = 8;
+
+/// A vertex's record to be: where it goes, and what turns the light the
+/// path finds after it into the record (1/(Σβ·q): the throughput after the
+/// vertex summed over the cluster, and the density of its direction).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Mark {
+    slot: u32,
+    inv: f32,
+    /// The path's light (summed over the cluster) when the vertex was left.
+    at: f32,
+}
+
+/// A path's marks.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Trail {
+    n: u8,
+    marks: [Mark; MAX_MARKS],
+}
+
+/// A mark before the path's light at the vertex is known.
+#[derive(Debug, Clone, Copy)]
+pub struct Pending {
+    slot: u32,
+    inv: f32,
+}
+
+impl Trail {
+    /// Leaves `p`'s mark with the path's light so far, `light`.
+    #[inline]
+    pub(super) fn push(&mut self, p: Pending, light: f32) {
+        if let Some(m) = self.marks.get_mut(self.n as usize) {
+            *m = Mark {
+                slot: p.slot,
+                inv: p.inv,
+                at: light,
+            };
+            self.n += 1;
+        }
+    }
+
+    /// Each mark's record, from the path's final light `light`: the
+    /// incident radiance along its direction over the direction's density.
+    pub(super) fn records(&self, light: f32, out: &mut Vec<(u32, f32)>) {
+        for m in &self.marks[..self.n as usize] {
+            let e = (light - m.at).max(0.0) * m.inv;
+            if e.is_finite() {
+                out.push((m.slot, e));
+            }
+        }
+    }
+}
+
+/// Whether a vertex of `bsdf` draws from the guide: surfaces with a
+/// diffuse part. Glossy metals and glass keep their own sampling, which
+/// a field of 1 % quadrants cannot beat.
+fn guided(bsdf: &Bsdf) -> bool {
+    match bsdf {
+        Bsdf::Diffuse(_)
+        | Bsdf::Plastic(_)
+        | Bsdf::RoughPlastic(_)
+        | Bsdf::PolarizedPlastic(_)
+        | Bsdf::Principled(_) => true,
+        Bsdf::TwoSided(inner) => guided(inner),
+        Bsdf::Mask(b) => guided(&b.inner),
+        Bsdf::NormalMap(b) => guided(&b.inner),
+        Bsdf::BumpMap(b) => guided(&b.inner),
+        Bsdf::Blend(b) => guided(&b.first) || guided(&b.second),
+        _ => false,
+    }
+}
+
+/// The guided mixture's density from the unguided density `p` and the
+/// guide's `g`.
+#[inline]
+fn mixed(p: f32, g: f32) -> f32 {
+    (1.0 - SHARE) * p + SHARE * g
+}
+
+impl Renderer<'_> {
+    /// The field the pass draws from, when guiding.
+    #[inline]
+    pub(super) fn field(&self) -> Option<&Field> {
+        self.guiding.as_ref().map(|g| g.guide.field_at(g.now))
+    }
+
+    /// The cell of the field at `p`, when guiding.
+    #[inline]
+    pub(super) fn spot(&self, p: Vec3) -> Option<Spot<'_>> {
+        self.field().map(|f| f.at(p))
+    }
+
+    /// The guide a vertex of `bsdf` draws from at `spot`, if any.
+    #[inline]
+    pub(super) fn surface_guide<'f>(&self, spot: Option<Spot<'f>>, bsdf: &Bsdf) -> Option<&'f DTree> {
+        spot.and_then(|s| s.guide()).filter(|_| guided(bsdf))
+    }
+
+    /// The density of a bounce from `x` at a vertex of `bsdf` in world
+    /// direction `d`, given the BSDF's own `bsdf_pdf`: what next-event
+    /// estimation weighs a light against.
+    #[inline]
+    pub(super) fn bounce_pdf(
+        &self,
+        guide: Option<&DTree>,
+        bsdf: &Bsdf,
+        x: Vec3,
+        d: Vec3,
+        bsdf_pdf: f32,
+    ) -> f32 {
+        let p = self.reflectors.pdf(bsdf, x, d, bsdf_pdf);
+        match guide {
+            Some(g) => mixed(p, g.pdf(d)),
+            None => p,
+        }
+    }
+
+    /// The path tracer's bounce at `point`: unguided (`reflectors`), or
+    /// with probability [`SHARE`] a direction from `guide`; its weight
+    /// f·cos/q and density q.
+    #[allow(clippy::too_many_arguments)] // the bounce's own arguments and its guide
+    pub(super) fn sample_bounce<const K: usize>(
+        &self,
+        guide: Option<&DTree>,
+        bsdf: &Bsdf,
+        wl: &SampledWavelengths<K>,
+        point: &ScatterPoint,
+        wi: Vec3,
+        u_lobe: f32,
+        u: [f32; 2],
+    ) -> Option<BsdfSample<K>> {
+        let Some(g) = guide else {
+            return self.reflectors.sample(bsdf, wl, point, wi, u_lobe, u);
+        };
+        let ScatterPoint { p: x, frame, at, .. } = *point;
+        let (wo, d) = if u_lobe < SHARE {
+            let (d, _) = g.sample(u)?;
+            (frame.to_local(d), d)
+        } else {
+            let u_lobe = ((u_lobe - SHARE) / (1.0 - SHARE)).min(1.0 - f32::EPSILON);
+            let mut bs = self.reflectors.sample(bsdf, wl, point, wi, u_lobe, u)?;
+            if bs.delta {
+                // The guide draws no delta direction: this lobe was
+                // chosen with the unguided share only.
+                bs.weight *= 1.0 / (1.0 - SHARE);
+                return Some(bs);
+            }
+            (bs.wo, frame.to_world(bs.wo))
+        };
+        let f = bsdf.eval(wl, at, wi, wo, Transport::Radiance);
+        let q = self.bounce_pdf(guide, bsdf, x, d, bsdf.pdf_at(wl, at, wi, wo));
+        if q.is_nan() || q <= 0.0 || f.is_zero() {
+            return None;
+        }
+        Some(BsdfSample {
+            wo,
+            weight: f * (1.0 / q),
+            pdf: q,
+            delta: false,
+            collapse: false,
+        })
+    }
+
+    /// A direction from phase function `phase` at a medium point, drawn
+    /// half from `guide` when there is one: the direction, the phase
+    /// function's value f there and the mixture's density q.
+    pub(super) fn sample_phase(
+        &self,
+        guide: Option<&DTree>,
+        phase: &Phase,
+        wi: Vec3,
+        u_pick: f32,
+        u: [f32; 2],
+    ) -> Option<(Vec3, f32, f32)> {
+        let Some(g) = guide else {
+            // The phase function is sampled exactly: f = pdf.
+            let (wo, pdf) = phase.sample(wi, u);
+            return Some((wo, pdf, pdf));
+        };
+        let wo = if u_pick < SHARE {
+            g.sample(u)?.0
+        } else {
+            phase.sample(wi, u).0
+        };
+        let f = phase.eval(wi, wo);
+        let q = mixed(f, g.pdf(wo));
+        (f > 0.0 && q > 0.0 && q.is_finite()).then_some((wo, f, q))
+    }
+
+    /// The density a medium point's bounce has in direction `d`, where the
+    /// phase function's value is `f`.
+    #[inline]
+    pub(super) fn phase_pdf(&self, guide: Option<&DTree>, f: f32, d: Vec3) -> f32 {
+        match guide {
+            Some(g) => mixed(f, g.pdf(d)),
+            None => f,
+        }
+    }
+
+    /// The mark a vertex at `spot` leaves for a bounce along world
+    /// direction `d` drawn with density `q`, its throughput after the
+    /// bounce `beta`: only while the guide learns.
+    #[inline]
+    pub(super) fn pending<const K: usize>(
+        &self,
+        spot: Option<Spot<'_>>,
+        d: Vec3,
+        q: f32,
+        beta: &SampledSpectrum<K>,
+    ) -> Option<Pending> {
+        let spot = spot.filter(|_| self.guiding.as_ref().is_some_and(|g| g.learning))?;
+        let inv = 1.0 / (beta.0.iter().sum::<f32>() * q);
+        inv.is_finite().then(|| Pending {
+            slot: spot.slot(d),
+            inv,
+        })
+    }
+}
