@@ -13,8 +13,8 @@ use pyo3::types::PyDict;
 use scotopia_image::Meta;
 use scotopia_render::film::Checkpoint;
 use scotopia_render::integrator::{
-    checkpoint_interval, render_with, time_limit, Checkpointing, ClusterSize, Hooks, Quantity,
-    Guiding, RenderError, RenderOptions, Shard, Tracer,
+    checkpoint_interval, render_with, time_limit, Checkpointing, ClusterSize, Guiding, Hooks,
+    Quantity, RenderError, RenderOptions, Shard, Tracer,
 };
 use scotopia_render::output::{
     render_metadata, write_spectral_exr, write_xyzv_exr, write_xyzv_pixels,
@@ -68,7 +68,12 @@ fn render<'py>(
     guiding: &str,
 ) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
     let err = |e: String| PyValueError::new_err(e);
-    let named = Named::parse(wavelengths, cluster, integrator, [tracer, quantity, guiding])?;
+    let named = Named::parse(
+        wavelengths,
+        cluster,
+        integrator,
+        [tracer, quantity, guiding],
+    )?;
     let time_limit = match time {
         Some(t) => Some(time_limit(t).map_err(|e| err(format!("time {e}")))?),
         None => None,
@@ -261,7 +266,12 @@ fn render_shard<'py>(
     guiding: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let err = |e: String| PyValueError::new_err(e);
-    let named = Named::parse(wavelengths, cluster, integrator, [tracer, quantity, guiding])?;
+    let named = Named::parse(
+        wavelengths,
+        cluster,
+        integrator,
+        [tracer, quantity, guiding],
+    )?;
     if samples.0 >= samples.1 {
         return Err(err(format!(
             "samples ({}, {}): give sample indices i0 < i1",

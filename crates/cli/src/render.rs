@@ -11,8 +11,8 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use scotopia_image::{preview_srgb8, write_png_rgb8};
 use scotopia_render::film::{Checkpoint, Film};
 use scotopia_render::integrator::{
-    checkpoint_interval, render_with, BdptStrategy, Checkpointing, ClusterSize, Hooks, Observer,
-    Guiding, Quantity, RenderError, RenderOptions, RunFacts, Tracer,
+    checkpoint_interval, render_with, BdptStrategy, Checkpointing, ClusterSize, Guiding, Hooks,
+    Observer, Quantity, RenderError, RenderOptions, RunFacts, Tracer,
 };
 use scotopia_render::output::{render_metadata, write_spectral_exr, write_xyzv_pixels};
 use scotopia_render::scene::IntegratorKind;

@@ -18,6 +18,13 @@ pub const RHO: f64 = 0.01;
 /// Deepest level a quadrant is subdivided to (Müller et al. 2017, §3.3).
 pub const MAX_DEPTH: u32 = 20;
 
+/// Records that found light a quadrant must have had to be subdivided:
+/// where light was found by few paths, the density stays coarse, so that
+/// it spreads over the directions near theirs instead of pointing at
+/// theirs alone (a rule of ours: Müller et al. subdivide by energy alone,
+/// with millions of records).
+pub const MIN_SPLIT_LIT: u32 = 8;
+
 /// One node: its four quadrants, numbered `ix + 2·iy` (ix: the u half,
 /// iy: the v half).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -25,8 +32,9 @@ struct Node {
     /// The node holding each quadrant's subtree; 0 where it is a leaf
     /// (the root, node 0, is no one's child).
     child: [u32; 4],
-    /// Each quadrant's energy (the sum over its subtree).
-    sum: [f32; 4],
+    /// Each quadrant's share of the node's energy (kept as shares, so
+    /// that a density is a product along the walk, without divisions).
+    share: [f32; 4],
 }
 
 /// A quadtree of directions: the topology, and the energy that makes it
@@ -34,6 +42,11 @@ struct Node {
 #[derive(Debug, Clone, PartialEq)]
 pub struct DTree {
     nodes: Vec<Node>,
+    /// The energy of the whole tree (0: not a density yet).
+    energy: f32,
+    /// Per node, each quadrant's records that found light (what
+    /// [`Self::refined`] may subdivide; empty where not learned).
+    lit: Vec<[u32; 4]>,
 }
 
 impl Default for DTree {
@@ -41,6 +54,8 @@ impl Default for DTree {
     fn default() -> Self {
         Self {
             nodes: vec![Node::default()],
+            energy: 0.0,
+            lit: Vec::new(),
         }
     }
 }
@@ -94,7 +109,7 @@ impl DTree {
 
     /// The total energy.
     pub fn energy(&self) -> f32 {
-        self.nodes[0].sum.iter().sum()
+        self.energy
     }
 
     /// The slot of the leaf quadrant holding direction `d`.
@@ -115,17 +130,16 @@ impl DTree {
     /// The density in solid angle of [`Self::sample`] drawing `d`; 0 with
     /// no energy.
     pub fn pdf(&self, d: Vec3) -> f32 {
+        if !(self.energy > 0.0) {
+            return 0.0;
+        }
         let mut s = to_square(d);
         let mut node = 0;
         let mut p = 1.0 / (4.0 * PI);
         loop {
             let n = &self.nodes[node];
-            let total: f32 = n.sum.iter().sum();
-            if !(total > 0.0) {
-                return 0.0;
-            }
             let (q, inner) = quadrant(s);
-            p *= 4.0 * n.sum[q] / total;
+            p *= 4.0 * n.share[q];
             if n.child[q] == 0 || p == 0.0 {
                 return p;
             }
@@ -137,23 +151,22 @@ impl DTree {
     /// A direction drawn in proportion to the energy, with `u`, and its
     /// density in solid angle; `None` with no energy.
     pub fn sample(&self, u: [f32; 2]) -> Option<(Vec3, f32)> {
+        if !(self.energy > 0.0) {
+            return None;
+        }
         let [mut u0, mut u1] = u;
         let (mut lo, mut size) = ([0.0f32, 0.0f32], 1.0f32);
         let mut node = 0;
         let mut p = 1.0 / (4.0 * PI);
         loop {
             let n = &self.nodes[node];
-            let total: f32 = n.sum.iter().sum();
-            if !(total > 0.0) {
-                return None;
-            }
             // The u half by its marginal, then the v half within it.
-            let s = &n.sum;
+            let s = &n.share;
             let (ix, r0) = pick(s[0] + s[2], s[1] + s[3], u0);
             let (iy, r1) = pick(s[ix], s[ix + 2], u1);
             let q = ix + 2 * iy;
             (u0, u1) = (r0, r1);
-            p *= 4.0 * s[q] / total;
+            p *= 4.0 * s[q];
             size *= 0.5;
             lo = [lo[0] + size * ix as f32, lo[1] + size * iy as f32];
             if n.child[q] == 0 {
@@ -164,48 +177,88 @@ impl DTree {
         }
     }
 
-    /// The same tree with each leaf's energy from `stats` (indexed by
-    /// [`Self::slot`]) and each inner quadrant's the sum below it.
-    pub fn with_energy(&self, stats: &[f64]) -> Self {
+    /// The same tree with each leaf's energy from `stats` and its records
+    /// that found light from `lit` (both indexed by [`Self::slot`]), and
+    /// each inner quadrant's the sums below it.
+    pub fn with_energy(&self, stats: &[f64], lit: &[u64]) -> Self {
         let mut nodes = self.nodes.clone();
-        // Children come after their parents: fill from the last node back.
+        // Each node's quadrants' energy; children come after their
+        // parents, so fill from the last node back.
+        let mut sums = vec![[0.0f64; 4]; nodes.len()];
+        let mut found = vec![[0u32; 4]; nodes.len()];
         for i in (0..nodes.len()).rev() {
             for q in 0..4 {
                 let c = nodes[i].child[q] as usize;
-                nodes[i].sum[q] = if c == 0 {
-                    stats.get(4 * i + q).copied().unwrap_or(0.0).max(0.0) as f32
+                (sums[i][q], found[i][q]) = if c == 0 {
+                    let l = lit.get(4 * i + q).copied().unwrap_or(0);
+                    let e = stats.get(4 * i + q).copied().unwrap_or(0.0).max(0.0);
+                    (e, l.min(u64::from(u32::MAX)) as u32)
                 } else {
-                    nodes[c].sum.iter().sum()
+                    let l = found[c].iter().fold(0u32, |a, &b| a.saturating_add(b));
+                    (sums[c].iter().sum(), l)
                 };
             }
         }
-        Self { nodes }
+        for (n, s) in nodes.iter_mut().zip(&sums) {
+            let total: f64 = s.iter().sum();
+            n.share = if total > 0.0 {
+                s.map(|e| (e / total) as f32)
+            } else {
+                [0.0; 4]
+            };
+        }
+        let energy = sums[0].iter().sum::<f64>() as f32;
+        Self {
+            nodes,
+            energy: if energy.is_finite() { energy } else { 0.0 },
+            lit: found,
+        }
     }
 
     /// The topology for the next iteration, without energy: quadrants
-    /// holding more than [`RHO`] of the energy are subdivided (a leaf by
-    /// one level), the others are leaves.
+    /// holding more than [`RHO`] of the energy are subdivided, the others
+    /// are leaves; a leaf subdivided goes on as deep as its energy, spread
+    /// evenly over its quarters, stays above [`RHO`] (Müller et al. 2017,
+    /// §3.3).
     pub fn refined(&self) -> Self {
-        let total = f64::from(self.energy());
         let mut out = vec![Node::default()];
-        if total > 0.0 {
-            self.refine_into(0, 0, 1, total, &mut out);
+        if self.energy > 0.0 {
+            self.refine_into(Some(0), 0, 1, 1.0, &mut out);
         }
-        Self { nodes: out }
+        Self {
+            nodes: out,
+            energy: 0.0,
+            lit: Vec::new(),
+        }
     }
 
-    fn refine_into(&self, from: usize, to: usize, depth: u32, total: f64, out: &mut Vec<Node>) {
-        let n = self.nodes[from];
+    /// Refines node `from` (`None`: a leaf of this tree, its energy spread
+    /// evenly), holding share `of` of the energy, into `to`.
+    fn refine_into(
+        &self,
+        from: Option<usize>,
+        to: usize,
+        depth: u32,
+        of: f64,
+        out: &mut Vec<Node>,
+    ) {
         for q in 0..4 {
-            if depth >= MAX_DEPTH || f64::from(n.sum[q]) / total <= RHO {
+            let (share, child, lit) = match from {
+                Some(f) => {
+                    let n = &self.nodes[f];
+                    let c = n.child[q] as usize;
+                    let lit = self.lit.get(f).map_or(u32::MAX, |l| l[q]);
+                    (of * f64::from(n.share[q]), (c != 0).then_some(c), lit)
+                }
+                None => (of * 0.25, None, u32::MAX),
+            };
+            if depth >= MAX_DEPTH || share <= RHO || lit < MIN_SPLIT_LIT {
                 continue;
             }
             let at = out.len();
             out.push(Node::default());
             out[to].child[q] = at as u32;
-            if n.child[q] != 0 {
-                self.refine_into(n.child[q] as usize, at, depth + 1, total, out);
-            }
+            self.refine_into(child, at, depth + 1, share, out);
         }
     }
 
@@ -226,13 +279,22 @@ impl DTree {
     }
 
     #[cfg(test)]
-    fn leaves_below(&self, node: usize, lo: [f64; 2], size: f64, p: f64, out: &mut Vec<([f64; 2], f64, f64)>) {
+    fn leaves_below(
+        &self,
+        node: usize,
+        lo: [f64; 2],
+        size: f64,
+        p: f64,
+        out: &mut Vec<([f64; 2], f64, f64)>,
+    ) {
         let n = &self.nodes[node];
-        let total: f64 = n.sum.iter().map(|&s| f64::from(s)).sum();
         let half = 0.5 * size;
         for q in 0..4 {
-            let lo = [lo[0] + half * (q & 1) as f64, lo[1] + half * (q >> 1) as f64];
-            let pq = p * f64::from(n.sum[q]) / total;
+            let lo = [
+                lo[0] + half * (q & 1) as f64,
+                lo[1] + half * (q >> 1) as f64,
+            ];
+            let pq = p * f64::from(n.share[q]);
             match n.child[q] {
                 0 => out.push((lo, half, pq)),
                 c => self.leaves_below(c as usize, lo, half, pq, out),

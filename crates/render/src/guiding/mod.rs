@@ -5,25 +5,30 @@
 //! cell a quadtree over directions ([`DTree`]) whose energy is the
 //! radiance that paths found arriving there from each direction.
 //!
-//! **Learning in iterations.** The render's first [`LEARNED`] samples per
-//! pixel are cut into iterations at [`BOUNDARIES`] (1, 1, 2, 4 and 8 spp).
-//! Samples of iteration k draw from the field that iterations before k
-//! learned and record, at every vertex that sampled a direction, the
-//! radiance the path then found along it over that direction's density
-//! (an unbiased estimate of each quadrant's ∫L dω). At the end of an
-//! iteration the records become the next field: each cell's quadtree takes
-//! the recorded energy, cells that received many records are halved, and
-//! each quadtree's topology is refined where its energy is. Samples from
-//! [`LEARNED`] spp on use the last field, unchanged.
+//! **Learning in iterations, before the image.** With guiding on, a
+//! render first traces [`LEARNED`] samples per pixel that the image does
+//! not keep (`integrator/driver.rs`), cut into iterations at
+//! [`BOUNDARIES`] (1, 1, 2, 4 and 8 spp). Samples of iteration k draw from
+//! the field that iterations before k learned and record, at every vertex
+//! that sampled a direction, the radiance the path then found along it
+//! over that direction's density (an unbiased estimate of each quadrant's
+//! ∫L dω). At the end of an iteration the records become the next field:
+//! each cell's quadtree takes the recorded energy, cells that received
+//! many records are halved, and each quadtree's topology is refined where
+//! its energy is. Every sample of the image then draws from the last
+//! field. The learning samples are kept out of the image because the
+//! first iterations' guides are poor: averaged in, their noise would
+//! dominate a short render's (Müller et al. 2017, §5.2, discard them too).
+//! They use another seed than the image's, so that no sample of the image
+//! repeats the random numbers the guide learned from.
 //!
 //! **Deterministic.** A field depends only on the records of the samples
 //! before its boundary, and those only on (seed, sample index, pixel).
 //! Each row's records are summed in sample order and the rows' sums added
 //! in row order, so the field, and the image, are the same on any number
-//! of threads. A render resumed from a checkpoint, or a shard, learns the
-//! fields again over the whole film before it renders its own samples
-//! (`integrator/driver.rs`), so it uses the very fields the uninterrupted
-//! render used.
+//! of threads. A render resumed from a checkpoint, and every shard, learns
+//! the same way over the whole film before its own samples, so it uses
+//! the very field the uninterrupted render used.
 //!
 //! The integrators draw from a field in a one-sample mixture with the
 //! BSDF or phase function and weigh by the mixture's density (MIS, Veach
@@ -44,7 +49,7 @@ use crate::math::Vec3;
 /// each iteration twice the samples of the one before).
 pub const BOUNDARIES: [u32; 6] = [0, 1, 2, 4, 8, 16];
 
-/// Samples per pixel after which the field no longer changes.
+/// Samples per pixel the guide learns from.
 pub const LEARNED: u32 = 16;
 
 /// A cell is halved when an iteration of n spp recorded more than c·√n
@@ -54,6 +59,11 @@ pub const SPLIT: f64 = 12_000.0;
 
 /// Most halvings of one cell after one iteration.
 const MAX_HALVINGS: u32 = 12;
+
+/// Records that found light a cell's density must have learned from
+/// before it guides: a handful of lucky paths would otherwise send half
+/// of every bounce in the cell where those few found light.
+pub const MIN_LIT: u64 = 32;
 
 /// Share of guided directions at a guided vertex: the other half comes
 /// from the BSDF or phase function (Müller et al. 2017, §5: 50 %).
@@ -76,6 +86,9 @@ pub fn next_boundary(done: u32) -> Option<u32> {
 struct Cell {
     /// What the iterations before learned (no energy: not guided yet).
     sampling: DTree,
+    /// Whether `sampling` learned from [`MIN_LIT`] records or more that
+    /// found light.
+    guides: bool,
     /// Where this iteration's records go.
     building: DTree,
     /// Its first slot among the field's.
@@ -106,6 +119,7 @@ impl Field {
             slots: building.slots(),
             cells: vec![Cell {
                 sampling: DTree::default(),
+                guides: false,
                 building,
                 offset: 0,
             }],
@@ -136,27 +150,38 @@ impl Field {
     /// an iteration of `spp` samples per pixel.
     pub fn next(&self, stats: &Stats, spp: u32) -> Self {
         let threshold = SPLIT * f64::from(spp.max(1)).sqrt();
-        let learned: Vec<(DTree, u64)> = self
+        let learned: Vec<(DTree, bool, u64, u64)> = self
             .cells
             .iter()
             .map(|c| {
                 let range = c.offset as usize..c.offset as usize + c.building.slots();
                 let count = stats.count[range.clone()].iter().sum();
-                let tree = c.building.with_energy(&stats.energy[range]);
-                // A cell that found no light keeps what it knew.
-                let sampling = if tree.energy() > 0.0 {
-                    tree
+                let lit: u64 = stats.lit[range.clone()].iter().sum();
+                let tree = c
+                    .building
+                    .with_energy(&stats.energy[range.clone()], &stats.lit[range]);
+                // A cell that found too little light keeps what it knew.
+                if tree.energy() > 0.0 && lit >= MIN_LIT {
+                    (tree, true, count, lit)
+                } else if c.guides || tree.energy() <= 0.0 {
+                    (c.sampling.clone(), c.guides, count, lit)
                 } else {
-                    c.sampling.clone()
-                };
-                (sampling, count)
+                    // Not enough to guide by, but enough to refine where
+                    // the next iteration records.
+                    (tree, false, count, lit)
+                }
             })
             .collect();
+        // Halved while the records are many, but not so far that the next
+        // iteration (twice as long) leaves a half with fewer than
+        // [`MIN_LIT`] records that found light.
         let halvings = |cell: u32| {
-            let mut n = learned[cell as usize].1 as f64;
+            let (_, _, count, lit) = learned[cell as usize];
+            let (mut n, mut lit) = (count as f64, lit as f64);
             let mut k = 0;
-            while n > threshold && k < MAX_HALVINGS {
+            while n > threshold && lit >= MIN_LIT as f64 && k < MAX_HALVINGS {
                 n *= 0.5;
+                lit *= 0.5;
                 k += 1;
             }
             k
@@ -166,7 +191,7 @@ impl Field {
         let cells = origin
             .iter()
             .map(|&old| {
-                let sampling = learned[old as usize].0.clone();
+                let (sampling, guides, _, _) = learned[old as usize].clone();
                 let building = if sampling.energy() > 0.0 {
                     sampling.refined()
                 } else {
@@ -175,6 +200,7 @@ impl Field {
                 let cell = Cell {
                     offset,
                     sampling,
+                    guides,
                     building,
                 };
                 offset += cell.building.slots() as u32;
@@ -195,7 +221,7 @@ impl<'a> Spot<'a> {
     #[inline]
     pub fn guide(&self) -> Option<&'a DTree> {
         let c = &self.field.cells[self.cell as usize];
-        (c.sampling.energy() > 0.0).then_some(&c.sampling)
+        c.guides.then_some(&c.sampling)
     }
 
     /// The slot a record of direction `d` (unit, world) goes to.
@@ -206,12 +232,13 @@ impl<'a> Spot<'a> {
     }
 }
 
-/// What an iteration recorded: per slot, the energy and the number of
-/// records.
+/// What an iteration recorded: per slot, the energy, the number of
+/// records and of those that found light.
 #[derive(Debug, Clone, Default)]
 pub struct Stats {
     energy: Vec<f64>,
     count: Vec<u64>,
+    lit: Vec<u64>,
 }
 
 impl Stats {
@@ -220,16 +247,18 @@ impl Stats {
         Self {
             energy: vec![0.0; field.slots()],
             count: vec![0; field.slots()],
+            lit: vec![0; field.slots()],
         }
     }
 
     /// Adds one row's records (rows must come in the same order on every
     /// run for the sums to be the same).
     pub fn add(&mut self, row: &RowStats) {
-        for &(slot, e, n) in &row.0 {
+        for &(slot, e, n, lit) in &row.0 {
             if let Some(s) = self.energy.get_mut(slot as usize) {
                 *s += e;
                 self.count[slot as usize] += u64::from(n);
+                self.lit[slot as usize] += u64::from(lit);
             }
         }
     }
@@ -237,21 +266,23 @@ impl Stats {
 
 /// One row's records summed per slot, in the order the row made them.
 #[derive(Debug, Clone, Default, PartialEq)]
-pub struct RowStats(Vec<(u32, f64, u32)>);
+pub struct RowStats(Vec<(u32, f64, u32, u32)>);
 
 impl RowStats {
     /// Sums `records` (slot, energy) per slot; a stable sort keeps each
     /// slot's records in the order they were made.
     pub fn of(mut records: Vec<(u32, f32)>) -> Self {
         records.sort_by_key(|r| r.0);
-        let mut out: Vec<(u32, f64, u32)> = Vec::new();
+        let mut out: Vec<(u32, f64, u32, u32)> = Vec::new();
         for (slot, e) in records {
+            let lit = u32::from(e > 0.0);
             match out.last_mut() {
                 Some(last) if last.0 == slot => {
                     last.1 += f64::from(e);
                     last.2 += 1;
+                    last.3 += lit;
                 }
-                _ => out.push((slot, f64::from(e), 1)),
+                _ => out.push((slot, f64::from(e), 1, lit)),
             }
         }
         Self(out)
@@ -271,11 +302,6 @@ impl Guide {
         Self {
             fields: vec![Field::new(lo, hi)],
         }
-    }
-
-    /// The field that guides sample index `sample`.
-    pub fn field(&self, sample: u32) -> &Field {
-        &self.fields[iteration(sample).min(self.fields.len() - 1)]
     }
 
     /// Field `k` (the last learned, if fewer).

@@ -109,7 +109,15 @@ impl SpatialTree {
         hi0[a] = mid;
         lo1[a] = mid;
         self.copy_node(n.child as usize, first, lo, hi0, times, nodes, origin);
-        self.copy_node(n.child as usize + 1, first + 1, lo1, hi, times, nodes, origin);
+        self.copy_node(
+            n.child as usize + 1,
+            first + 1,
+            lo1,
+            hi,
+            times,
+            nodes,
+            origin,
+        );
     }
 
     /// Makes node `at` (box `lo`..`hi`) a cell of old cell `old`, halved

@@ -18,12 +18,15 @@ fn learned_tree(axis: Vec3, kappa: f32, iterations: usize, n: usize, seed: u64) 
     let mut sampling = DTree::default();
     for _ in 0..iterations {
         let mut stats = vec![0.0f64; building.slots()];
+        let mut lit = vec![0u64; building.slots()];
         for _ in 0..n {
             let d = uniform_direction(&mut rng);
             // L over the uniform density 1/4π.
-            stats[building.slot(d) as usize] += f64::from(radiance(d, axis, kappa)) * 4.0 * std::f64::consts::PI;
+            let slot = building.slot(d) as usize;
+            stats[slot] += f64::from(radiance(d, axis, kappa)) * 4.0 * std::f64::consts::PI;
+            lit[slot] += 1;
         }
-        sampling = building.with_energy(&stats);
+        sampling = building.with_energy(&stats, &lit);
         building = sampling.refined();
     }
     sampling
@@ -58,7 +61,12 @@ fn learning_refines_where_the_light_is() {
     assert!(t.leaves() > 40, "{} leaves", t.leaves());
     // The lobe (21× the radiance of the opposite side at its peak) is
     // far denser there, though averaged over its leaves.
-    assert!(t.pdf(axis) > 10.0 * t.pdf(-axis), "{} vs {}", t.pdf(axis), t.pdf(-axis));
+    assert!(
+        t.pdf(axis) > 10.0 * t.pdf(-axis),
+        "{} vs {}",
+        t.pdf(axis),
+        t.pdf(-axis)
+    );
 }
 
 #[test]
@@ -95,8 +103,14 @@ fn samples_come_with_their_density_and_its_frequencies() {
         let g = 16usize;
         let mut expected = vec![0.0f64; g * g];
         for (lo, size, p) in t.leaf_squares() {
-            let (i0, i1) = ((lo[0] * g as f64) as usize, ((lo[0] + size) * g as f64).ceil() as usize);
-            let (j0, j1) = ((lo[1] * g as f64) as usize, ((lo[1] + size) * g as f64).ceil() as usize);
+            let (i0, i1) = (
+                (lo[0] * g as f64) as usize,
+                ((lo[0] + size) * g as f64).ceil() as usize,
+            );
+            let (j0, j1) = (
+                (lo[1] * g as f64) as usize,
+                ((lo[1] + size) * g as f64).ceil() as usize,
+            );
             for i in i0..i1.min(g) {
                 for j in j0..j1.min(g) {
                     let (a0, a1) = (i as f64 / g as f64, (i + 1) as f64 / g as f64);
@@ -120,10 +134,16 @@ fn samples_come_with_their_density_and_its_frequencies() {
             let p = t.pdf(d);
             edges += usize::from((pdf - p).abs() > 1e-3 * p.max(1e-3));
             let s = to_square(d);
-            let (i, j) = (((s[0] * g as f32) as usize).min(g - 1), ((s[1] * g as f32) as usize).min(g - 1));
+            let (i, j) = (
+                ((s[0] * g as f32) as usize).min(g - 1),
+                ((s[1] * g as f32) as usize).min(g - 1),
+            );
             hits[i + g * j] += 1;
         }
-        assert!(edges * 2000 < count, "{edges} samples without their density");
+        assert!(
+            edges * 2000 < count,
+            "{edges} samples without their density"
+        );
         let (mut chi2, mut bins) = (0.0f64, 0usize);
         let (mut pooled_e, mut pooled_o) = (0.0f64, 0.0f64);
         for (e, &o) in expected.iter().zip(&hits) {
@@ -168,13 +188,18 @@ fn a_cell_with_many_records_is_halved_and_keeps_its_light() {
         assert!(g.pdf(axis) > g.pdf(-axis));
     }
     // Cells along the long side: x splits first.
-    assert_ne!(next.at(Vec3::new(-9.0, 1.0, 0.0)).cell, next.at(Vec3::new(9.0, 1.0, 0.0)).cell);
+    assert_ne!(
+        next.at(Vec3::new(-9.0, 1.0, 0.0)).cell,
+        next.at(Vec3::new(9.0, 1.0, 0.0)).cell
+    );
 }
 
 #[test]
 fn rows_sum_their_records_in_order() {
     let a = RowStats::of(vec![(3, 1.0), (1, 2.0), (3, 0.5), (0, 0.25)]);
-    assert_eq!(a.0, vec![(0, 0.25, 1), (1, 2.0, 1), (3, 1.5, 2)]);
+    let b = RowStats::of(vec![(3, 1.0), (1, 0.0), (3, 0.5), (0, 0.25)]);
+    assert_eq!(a.0, vec![(0, 0.25, 1, 1), (1, 2.0, 1, 1), (3, 1.5, 2, 2)]);
+    assert_eq!(b.0[1], (1, 0.0, 1, 0));
 }
 
 #[test]

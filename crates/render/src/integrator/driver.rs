@@ -6,7 +6,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use crate::film::{Bands, Checkpoint, Film, SampleCounts};
-use crate::guiding::{iteration, next_boundary, Stats, BOUNDARIES, LEARNED};
+use crate::guiding::{iteration, next_boundary, Stats, LEARNED};
 use crate::scene::{IntegratorKind, Scene};
 
 use super::{ClusterSize, Quantity, RenderError, RenderOptions, Renderer};
@@ -247,14 +247,13 @@ fn render_k<const K: usize>(
         }
     };
     let resumed_at = state.done;
-    // A resumed render or a shard learns the guide's fields again, over
-    // the whole film, before its own samples: it then uses the very fields
-    // the uninterrupted, unsharded render learned and used.
-    let relearn = renderer.guiding.is_some() && (state.done > 0 || options.shard.is_some());
-    if relearn {
-        learn_again::<K>(&mut renderer, options.seed, total, cancel)?;
+    // With guiding, the guide learns first, over the whole film (every
+    // render the same way: fresh, resumed or a shard, so each uses the
+    // same field).
+    if renderer.guiding.is_some() {
+        learn::<K>(&mut renderer, options.seed, cancel)?;
     }
-    let mut stats: Option<Stats> = None;
+    let rendering = Instant::now();
     let mut cancelled = false;
     let mut last_save = Instant::now();
     let mut last_seen = Instant::now();
@@ -276,7 +275,7 @@ fn render_k<const K: usize>(
                 break;
             }
             if done > resumed_at {
-                let per_spp = elapsed.as_secs_f64() / (done - resumed_at) as f64;
+                let per_spp = rendering.elapsed().as_secs_f64() / (done - resumed_at) as f64;
                 let fits = ((limit - elapsed).as_secs_f64() / per_spp) as u32;
                 if fits == 0 {
                     break;
@@ -284,28 +283,9 @@ fn render_k<const K: usize>(
                 count = count.min(fits);
             }
         }
-        // Passes end at the guide's boundaries, where it learns.
-        let mut learning = false;
-        if let Some(g) = renderer.guiding.as_mut() {
-            g.now = iteration(done);
-            if let Some(b) = next_boundary(done) {
-                count = count.min(b - done);
-                learning = !relearn;
-            }
-            g.learning = learning;
-            if learning && stats.is_none() {
-                stats = Some(Stats::new(g.guide.field_at(g.now)));
-            }
-        }
-        let record = stats.as_mut().filter(|_| learning);
-        let c = renderer.pass::<K>(options.seed, &mut state.film, done, count, record);
+        let c = renderer.pass::<K>(options.seed, &mut state.film, done, count, None);
         state.counts += c;
         state.done += count;
-        if learning && BOUNDARIES.contains(&state.done) {
-            if let (Some(g), Some(s)) = (renderer.guiding.as_mut(), stats.take()) {
-                g.guide.advance(&s);
-            }
-        }
         if let Some(progress) = progress {
             progress(state.done, total);
         }
@@ -363,38 +343,37 @@ fn render_k<const K: usize>(
     Ok(rendered)
 }
 
-/// Learns the guide's fields as an uninterrupted render of `total`
-/// samples per pixel does in its first [`LEARNED`], over every row, into
-/// a film that is thrown away: the same passes, so the same records,
-/// summed in the same order. Stops early when `cancel` is set.
-fn learn_again<const K: usize>(
+/// Learns the guide (`crate::guiding`): [`LEARNED`] samples per pixel in
+/// iterations, over every row, into a film that is thrown away. Their
+/// sample sequence is another seed's, so that no sample of the image
+/// shares its random numbers with the samples the guide learned from.
+/// Stops early when `cancel` is set.
+fn learn<const K: usize>(
     renderer: &mut Renderer,
     seed: u32,
-    total: u32,
     cancel: &AtomicBool,
 ) -> Result<(), RenderError> {
     let (width, height) = (renderer.scene.camera.width, renderer.scene.camera.height);
     let mut film =
         Film::try_new(width, height, None).map_err(|e| RenderError::TooLarge(Box::new(e)))?;
     let rows = std::mem::replace(&mut renderer.rows, 0..u32::MAX);
-    let end = total.min(LEARNED);
+    // The golden ratio's 32-bit fraction: another seed, fixed.
+    let seed = seed ^ 0x9E37_79B9;
     let mut done = 0;
-    while done < end && !cancel.load(Ordering::Relaxed) {
+    while done < LEARNED && !cancel.load(Ordering::Relaxed) {
         let Some(g) = renderer.guiding.as_mut() else {
             break;
         };
-        let b = next_boundary(done).unwrap_or(end);
-        let count = b.min(end) - done;
+        let b = next_boundary(done).unwrap_or(LEARNED);
         g.now = iteration(done);
         g.learning = true;
         let mut stats = Stats::new(g.guide.field_at(g.now));
-        renderer.pass::<K>(seed, &mut film, done, count, Some(&mut stats));
-        done += count;
+        renderer.pass::<K>(seed, &mut film, done, b - done, Some(&mut stats));
+        done = b;
         if let Some(g) = renderer.guiding.as_mut() {
-            if done == b {
-                g.guide.advance(&stats);
-            }
+            g.guide.advance(&stats);
             g.learning = false;
+            g.now = iteration(done);
         }
     }
     renderer.rows = rows;

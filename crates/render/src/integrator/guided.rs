@@ -121,7 +121,11 @@ impl Renderer<'_> {
 
     /// The guide a vertex of `bsdf` draws from at `spot`, if any.
     #[inline]
-    pub(super) fn surface_guide<'f>(&self, spot: Option<Spot<'f>>, bsdf: &Bsdf) -> Option<&'f DTree> {
+    pub(super) fn surface_guide<'f>(
+        &self,
+        spot: Option<Spot<'f>>,
+        bsdf: &Bsdf,
+    ) -> Option<&'f DTree> {
         spot.and_then(|s| s.guide()).filter(|_| guided(bsdf))
     }
 
@@ -161,7 +165,9 @@ impl Renderer<'_> {
         let Some(g) = guide else {
             return self.reflectors.sample(bsdf, wl, point, wi, u_lobe, u);
         };
-        let ScatterPoint { p: x, frame, at, .. } = *point;
+        let ScatterPoint {
+            p: x, frame, at, ..
+        } = *point;
         let (wo, d) = if u_lobe < SHARE {
             let (d, _) = g.sample(u)?;
             (frame.to_local(d), d)

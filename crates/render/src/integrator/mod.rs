@@ -37,8 +37,8 @@ pub use driver::{render, render_with, Checkpointing, Hooks, Observer, Rendered, 
 pub use light_choice::LightChoice;
 pub use measure::{measure, Measured, Receiver};
 pub use options::{
-    checkpoint_interval, time_limit, BdptStrategy, ClusterSize, OptionError, Quantity, RenderError,
-    RenderOptions, Shard, Tracer, Guiding, CLUSTER_SIZES, MAX_TIME_LIMIT_SECONDS,
+    checkpoint_interval, time_limit, BdptStrategy, ClusterSize, Guiding, OptionError, Quantity,
+    RenderError, RenderOptions, Shard, Tracer, CLUSTER_SIZES, MAX_TIME_LIMIT_SECONDS,
 };
 pub use path::CameraSample;
 pub use reflectors::Reflectors;

@@ -1,0 +1,303 @@
+//! Path guiding (`--guiding on`): it changes the noise, not the image
+//! (guided and unguided renders agree within standard errors, in clear
+//! air and in fog); it lowers the noise where bounces must find a small
+//! bright patch; and it is exact in the ways renders must be: the same on
+//! any number of threads, resumed from a checkpoint, and split into
+//! shards of rows.
+
+mod common;
+
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Mutex;
+use std::time::Duration;
+
+use common::agree;
+use scotopia_render::film::{Checkpoint, Film};
+use scotopia_render::integrator::{
+    render, render_with, Checkpointing, Guiding, Hooks, Quantity, RenderError, RenderOptions,
+    Shard, Tracer,
+};
+use scotopia_render::scene::{IntegratorKind, Scene};
+use scotopia_scene::load_scene;
+use scotopia_scene::mitsuba::Parameters;
+
+fn scene(name: &str, params: &[(&str, &str)]) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenes")
+        .join(name);
+    let mut p = Parameters::new();
+    for (k, v) in params {
+        p.insert(k.to_string(), v.to_string());
+    }
+    load_scene(&path, &p).unwrap()
+}
+
+fn options(spp: u32, seed: u32, guiding: Guiding) -> RenderOptions {
+    RenderOptions {
+        spp: Some(spp),
+        seed,
+        guiding,
+        ..RenderOptions::default()
+    }
+}
+
+fn film(scene: &Scene, options: &RenderOptions) -> Film {
+    render(scene, options, &AtomicBool::new(false), &|_, _| {})
+        .unwrap()
+        .film
+}
+
+/// A floor that sees no lamp: a spot light 50 cm under a high ceiling
+/// shines up in a 30° cone, so the floor is lit only by the bright disc
+/// of ceiling it lights, 4 m up. A cosine-sampled bounce from the floor
+/// seldom finds it; the guide learns where it is.
+const HIDDEN_LAMP: &str = r#"<scene version="3.0.0">
+    <integrator type="path"><integer name="max_depth" value="3"/></integrator>
+    <sensor type="perspective">
+        <float name="fov" value="40"/>
+        <transform name="to_world"><lookat origin="0, 1.5, 2" target="0, 0, 0" up="0, 1, 0"/></transform>
+        <sampler type="independent"><integer name="sample_count" value="16"/></sampler>
+        <film type="hdrfilm">
+            <integer name="width" value="96"/><integer name="height" value="72"/>
+            <rfilter type="box"/>
+        </film>
+    </sensor>
+    <shape type="rectangle">
+        <transform name="to_world"><scale value="0.6"/><rotate x="1" angle="-90"/></transform>
+        <bsdf type="diffuse"><float name="reflectance" value="0.5"/></bsdf>
+    </shape>
+    <shape type="rectangle">
+        <transform name="to_world"><scale value="4"/><rotate x="1" angle="90"/><translate y="4"/></transform>
+        <bsdf type="diffuse"><float name="reflectance" value="0.8"/></bsdf>
+    </shape>
+    <emitter type="spot">
+        <transform name="to_world"><lookat origin="1, 3.5, -1" target="1, 4, -1" up="0, 0, 1"/></transform>
+        <float name="cutoff_angle" value="30"/>
+        <float name="beam_width" value="25"/>
+        <spectrum name="intensity" value="1000"/>
+    </emitter>
+</scene>
+"#;
+
+fn hidden_lamp() -> Scene {
+    let file = std::env::temp_dir().join(format!("scotopia-guiding-{}.xml", std::process::id()));
+    std::fs::write(&file, HIDDEN_LAMP).unwrap();
+    let s = load_scene(&file, &Parameters::new()).unwrap();
+    let _ = std::fs::remove_file(&file);
+    s
+}
+
+/// Relative MSE of Y against `reference`, each pixel over its own level,
+/// over the pixels the reference sees lit (above 5 % of its mean: the
+/// floor, not the black around it, where a relative error means nothing).
+fn rel_mse(image: &[[f32; 4]], reference: &[[f32; 4]]) -> f64 {
+    let n = reference.len() as f64;
+    let mean = reference.iter().map(|p| p[1] as f64).sum::<f64>() / n;
+    let lit: Vec<(f64, f64)> = image
+        .iter()
+        .zip(reference)
+        .map(|(a, r)| (a[1] as f64, r[1] as f64))
+        .filter(|&(_, r)| r > 0.05 * mean)
+        .collect();
+    lit.iter().map(|(a, r)| ((a - r) / r).powi(2)).sum::<f64>() / lit.len() as f64
+}
+
+#[test]
+fn guided_and_unguided_renders_agree() {
+    let cases: [(&str, &[(&str, &str)], u32); 3] = [
+        ("cornell-box.xml", &[("res", "16")], 1024),
+        (
+            "night-street.xml",
+            &[("width", "24"), ("height", "16")],
+            512,
+        ),
+        // The volume path tracer: guided phase sampling in the fog.
+        (
+            "foggy-street.xml",
+            &[("width", "24"), ("height", "16")],
+            512,
+        ),
+    ];
+    for (name, params, spp) in cases {
+        let s = scene(name, params);
+        let off = film(&s, &options(spp, 1, Guiding::Off)).xyzv();
+        let on = film(&s, &options(spp, 2, Guiding::On)).xyzv();
+        agree(&format!("{name}, guided"), &on, &off);
+    }
+    let s = hidden_lamp();
+    let off = film(&s, &options(1024, 1, Guiding::Off)).xyzv();
+    let on = film(&s, &options(1024, 2, Guiding::On)).xyzv();
+    agree("hidden lamp, guided", &on, &off);
+}
+
+#[test]
+fn the_guide_finds_a_hidden_lamp_and_lowers_the_noise() {
+    let s = hidden_lamp();
+    let reference = film(&s, &options(4096, 100, Guiding::Off)).xyzv();
+    let off = rel_mse(&film(&s, &options(64, 1, Guiding::Off)).xyzv(), &reference);
+    let on = rel_mse(&film(&s, &options(64, 1, Guiding::On)).xyzv(), &reference);
+    eprintln!("hidden lamp, 64 spp: relMSE of Y {off:.4} unguided, {on:.4} guided");
+    assert!(on < 0.25 * off, "guided {on}, unguided {off}");
+}
+
+#[test]
+fn the_guide_is_the_same_on_any_number_of_threads() {
+    let s = scene("cornell-box.xml", &[("res", "24")]);
+    let o = options(40, 5, Guiding::On);
+    let on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| film(&s, &o))
+    };
+    assert!(on(1) == on(3), "the image depends on the thread count");
+    // And guiding changed the samples.
+    assert!(on(2) != film(&s, &options(40, 5, Guiding::Off)));
+}
+
+#[test]
+fn a_resumed_guided_render_is_bit_identical_to_an_uninterrupted_one() {
+    // Fog too: guided phase sampling.
+    let small = [("width", "16"), ("height", "12")];
+    for (name, stop_at) in [
+        ("cornell-box.xml", 3),
+        ("cornell-box.xml", 20),
+        ("foggy-street.xml", 5),
+    ] {
+        let s = scene(name, &small);
+        let opts = RenderOptions {
+            bands: Some(4),
+            ..options(40, 3, Guiding::On)
+        };
+        let whole = render(&s, &opts, &AtomicBool::new(false), &|_, _| {}).unwrap();
+        let cancel = AtomicBool::new(false);
+        let last = Mutex::new(None);
+        let save = |c: &Checkpoint| {
+            *last.lock().unwrap() = Some(c.clone());
+            Ok(())
+        };
+        let stop = |done: u32, _: u32| {
+            if done >= stop_at {
+                cancel.store(true, Ordering::Relaxed);
+            }
+        };
+        let first = render_with(
+            &s,
+            &opts,
+            Hooks {
+                progress: Some(&stop),
+                checkpoints: Some(Checkpointing {
+                    key: 7,
+                    resume: None,
+                    every: Duration::ZERO,
+                    save: &save,
+                }),
+                ..Hooks::new(&cancel)
+            },
+        )
+        .unwrap();
+        assert!(first.cancelled && first.spp < 40, "{name}: {}", first.spp);
+        let saved = last.lock().unwrap().take().unwrap();
+        let resumed = render_with(
+            &s,
+            &opts,
+            Hooks {
+                checkpoints: Some(Checkpointing {
+                    key: 7,
+                    resume: Some(saved),
+                    every: Duration::from_secs(3600),
+                    save: &|_| Ok(()),
+                }),
+                ..Hooks::new(&AtomicBool::new(false))
+            },
+        )
+        .unwrap();
+        assert!(
+            resumed.film == whole.film,
+            "{name}, stopped at {}: the resumed film differs",
+            first.spp
+        );
+        assert_eq!(resumed.rays, whole.rays, "{name}");
+    }
+}
+
+#[test]
+fn guided_shards_of_rows_are_the_rows_of_the_whole() {
+    let s = scene("cornell-box.xml", &[("res", "16")]);
+    let o = options(24, 9, Guiding::On);
+    let whole = film(&s, &o);
+    let w = whole.width as usize;
+    for rows in [0..5u32, 5..16] {
+        let part = film(
+            &s,
+            &RenderOptions {
+                shard: Some(Shard {
+                    samples: 0..24,
+                    rows: Some(rows.clone()),
+                }),
+                ..o.clone()
+            },
+        );
+        for y in rows {
+            let r = y as usize * w..(y as usize + 1) * w;
+            assert!(part.pixels[r.clone()] == whole.pixels[r], "row {y}");
+        }
+    }
+    // A shard of later samples uses the fields the whole render learned.
+    let late = film(
+        &s,
+        &RenderOptions {
+            shard: Some(Shard {
+                samples: 10..24,
+                rows: None,
+            }),
+            ..o.clone()
+        },
+    );
+    let early = film(
+        &s,
+        &RenderOptions {
+            shard: Some(Shard {
+                samples: 0..10,
+                rows: None,
+            }),
+            ..o
+        },
+    );
+    for ((a, b), c) in early.pixels.iter().zip(&late.pixels).zip(&whole.pixels) {
+        for k in 0..4 {
+            let sum = a.xyzv[k] + b.xyzv[k];
+            assert!(
+                (sum - c.xyzv[k]).abs() <= 1e-9 * c.xyzv[k].abs().max(1e-30),
+                "{sum} vs {}",
+                c.xyzv[k]
+            );
+        }
+    }
+}
+
+#[test]
+fn guiding_is_refused_where_it_does_not_run() {
+    let s = scene("cornell-box.xml", &[("res", "8")]);
+    let cases = [
+        RenderOptions {
+            integrator: Some(IntegratorKind::Bdpt),
+            ..options(4, 0, Guiding::On)
+        },
+        RenderOptions {
+            tracer: Tracer::Wavefront,
+            ..options(4, 0, Guiding::On)
+        },
+        RenderOptions {
+            quantity: Quantity::Illuminance,
+            ..options(4, 0, Guiding::On)
+        },
+    ];
+    for o in cases {
+        let e = render(&s, &o, &AtomicBool::new(false), &|_, _| {}).unwrap_err();
+        assert!(matches!(e, RenderError::Guiding(_)), "{e}");
+        assert!(e.to_string().contains("--guiding off"), "{e}");
+    }
+}
