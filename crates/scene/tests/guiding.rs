@@ -103,9 +103,12 @@ fn rel_mse(image: &[[f32; 4]], reference: &[[f32; 4]]) -> f64 {
     lit.iter().map(|(a, r)| ((a - r) / r).powi(2)).sum::<f64>() / lit.len() as f64
 }
 
+/// A bundled scene, its parameters and samples per pixel.
+type Case<'a> = (&'a str, &'a [(&'a str, &'a str)], u32);
+
 #[test]
 fn guided_and_unguided_renders_agree() {
-    let cases: [(&str, &[(&str, &str)], u32); 3] = [
+    let cases: [Case; 3] = [
         ("cornell-box.xml", &[("res", "16")], 1024),
         (
             "night-street.xml",

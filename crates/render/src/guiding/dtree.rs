@@ -130,7 +130,7 @@ impl DTree {
     /// The density in solid angle of [`Self::sample`] drawing `d`; 0 with
     /// no energy.
     pub fn pdf(&self, d: Vec3) -> f32 {
-        if !(self.energy > 0.0) {
+        if self.energy <= 0.0 {
             return 0.0;
         }
         let mut s = to_square(d);
@@ -151,7 +151,7 @@ impl DTree {
     /// A direction drawn in proportion to the energy, with `u`, and its
     /// density in solid angle; `None` with no energy.
     pub fn sample(&self, u: [f32; 2]) -> Option<(Vec3, f32)> {
-        if !(self.energy > 0.0) {
+        if self.energy <= 0.0 {
             return None;
         }
         let [mut u0, mut u1] = u;

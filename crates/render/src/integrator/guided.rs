@@ -150,8 +150,8 @@ impl Renderer<'_> {
 
     /// The path tracer's bounce at `point`: unguided (`reflectors`), or
     /// with probability [`SHARE`] a direction from `guide`; its weight
-    /// f·cos/q and density q.
-    #[allow(clippy::too_many_arguments)] // the bounce's own arguments and its guide
+    /// f·cos/q and density q. `u`: the lobe's number, then the
+    /// direction's two.
     pub(super) fn sample_bounce<const K: usize>(
         &self,
         guide: Option<&DTree>,
@@ -159,9 +159,9 @@ impl Renderer<'_> {
         wl: &SampledWavelengths<K>,
         point: &ScatterPoint,
         wi: Vec3,
-        u_lobe: f32,
-        u: [f32; 2],
+        [u_lobe, u0, u1]: [f32; 3],
     ) -> Option<BsdfSample<K>> {
+        let u = [u0, u1];
         let Some(g) = guide else {
             return self.reflectors.sample(bsdf, wl, point, wi, u_lobe, u);
         };

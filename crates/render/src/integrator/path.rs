@@ -384,8 +384,8 @@ impl Renderer<'_> {
         // Continue by sampling the BSDF (at diffuse vertices, partly
         // towards lamp-lit glossy surfaces: `reflectors`; where guided,
         // half from the guide: `guided`).
-        let u_b = [u_b0, u_b1];
-        let Some(bs) = self.sample_bounce(guide, bsdf, &now, point, wi, u_lobe, u_b) else {
+        let u_b = [u_lobe, u_b0, u_b1];
+        let Some(bs) = self.sample_bounce(guide, bsdf, &now, point, wi, u_b) else {
             return stop;
         };
         if bs.collapse {

@@ -129,7 +129,7 @@ impl Renderer<'_> {
         let p = ray.o + ray.d * t;
         let guide = self.spot(p).and_then(|s| s.guide());
         let aimed = Mis::Aimed(q2);
-        if let Some((shadow, c)) = self.medium_nee(path, beta, p, h.phase, guide, nee, aimed) {
+        if let Some((shadow, c)) = self.medium_nee(path, beta, p, (h.phase, guide), nee, aimed) {
             let tr = self.through_media(shadow, path.medium, &path.now, &mut path.rng, rays);
             path.l += c * tr;
         }
@@ -143,8 +143,7 @@ impl Renderer<'_> {
         path: &PathState<K>,
         beta: SampledSpectrum<K>,
         p: Vec3,
-        phase: Phase,
-        guide: Option<&DTree>,
+        (phase, guide): (Phase, Option<&DTree>),
         [u_light, u_select, u_l0, u_l1]: [f32; 4],
         mis: Mis,
     ) -> Option<(Ray, SampledSpectrum<K>)> {
@@ -180,7 +179,7 @@ impl Renderer<'_> {
         let wi = -path.ray.d;
         let spot = self.spot(p);
         let guide = spot.and_then(|s| s.guide());
-        let shadow = self.medium_nee(path, path.beta, p, *phase, guide, nee, Mis::Free(q2));
+        let shadow = self.medium_nee(path, path.beta, p, (*phase, guide), nee, Mis::Free(q2));
         let mut stop = Bounce {
             shadow,
             shadow_medium: path.medium,
