@@ -80,12 +80,53 @@ const HIDDEN_LAMP: &str = r#"<scene version="3.0.0">
 </scene>
 "#;
 
-fn hidden_lamp() -> Scene {
-    let file = std::env::temp_dir().join(format!("scotopia-guiding-{}.xml", std::process::id()));
-    std::fs::write(&file, HIDDEN_LAMP).unwrap();
+/// A lamp in haze that scatters alike in every direction, over a floor:
+/// guided phase sampling (the foggy street's forward phase function is
+/// not guided, `integrator/guided.rs`).
+const ISOTROPIC_HAZE: &str = r#"<scene version="3.0.0">
+    <integrator type="volpath"><integer name="max_depth" value="6"/></integrator>
+    <medium type="homogeneous" id="haze">
+        <float name="sigma_t" value="0.4"/>
+        <float name="albedo" value="0.9"/>
+        <phase type="isotropic"/>
+    </medium>
+    <sensor type="perspective">
+        <float name="fov" value="60"/>
+        <transform name="to_world"><lookat origin="0, 1, 4" target="0, 0.8, 0" up="0, 1, 0"/></transform>
+        <sampler type="independent"><integer name="sample_count" value="16"/></sampler>
+        <film type="hdrfilm">
+            <integer name="width" value="24"/><integer name="height" value="16"/>
+            <rfilter type="box"/>
+        </film>
+    </sensor>
+    <shape type="cube">
+        <transform name="to_world"><scale x="2" y="1.5" z="2"/><translate y="1.5"/></transform>
+        <bsdf type="null"/>
+        <ref name="interior" id="haze"/>
+    </shape>
+    <shape type="rectangle">
+        <transform name="to_world"><scale value="3"/><rotate x="1" angle="-90"/></transform>
+        <bsdf type="diffuse"><float name="reflectance" value="0.5"/></bsdf>
+    </shape>
+    <shape type="sphere">
+        <point name="center" x="0.5" y="1.6" z="-0.5"/>
+        <float name="radius" value="0.1"/>
+        <emitter type="area"><spectrum name="radiance" value="50"/></emitter>
+    </shape>
+</scene>
+"#;
+
+/// The scene in `xml`.
+fn inline(name: &str, xml: &str) -> Scene {
+    let file = std::env::temp_dir().join(format!("scotopia-{name}-{}.xml", std::process::id()));
+    std::fs::write(&file, xml).unwrap();
     let s = load_scene(&file, &Parameters::new()).unwrap();
     let _ = std::fs::remove_file(&file);
     s
+}
+
+fn hidden_lamp() -> Scene {
+    inline("hidden-lamp", HIDDEN_LAMP)
 }
 
 /// Relative MSE of Y against `reference`, each pixel over its own level,
@@ -128,10 +169,14 @@ fn guided_and_unguided_renders_agree() {
         let on = film(&s, &options(spp, 2, Guiding::On)).xyzv();
         agree(&format!("{name}, guided"), &on, &off);
     }
-    let s = hidden_lamp();
-    let off = film(&s, &options(1024, 1, Guiding::Off)).xyzv();
-    let on = film(&s, &options(1024, 2, Guiding::On)).xyzv();
-    agree("hidden lamp, guided", &on, &off);
+    for (name, s) in [
+        ("hidden lamp", hidden_lamp()),
+        ("isotropic haze", inline("haze", ISOTROPIC_HAZE)),
+    ] {
+        let off = film(&s, &options(1024, 1, Guiding::Off)).xyzv();
+        let on = film(&s, &options(1024, 2, Guiding::On)).xyzv();
+        agree(&format!("{name}, guided"), &on, &off);
+    }
 }
 
 #[test]

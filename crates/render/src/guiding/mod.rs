@@ -81,7 +81,34 @@ pub fn next_boundary(done: u32) -> Option<u32> {
     BOUNDARIES.iter().copied().find(|&b| b > done)
 }
 
-/// One cell: the density it guides with and the topology it records in.
+/// The sides a cell keeps a density for: surfaces facing +x, −x, +y, −y,
+/// +z, −z (by their normal's largest component, on the side the path
+/// is), and points in media. A surface's vertices see light from the
+/// hemisphere it faces alone; a density shared by a cell's floor and wall
+/// would send half its samples into each (a rule of ours, after the
+/// normal-aware guiding of later work: Müller et al. 2017 keep one
+/// density per cell).
+pub const SIDES: usize = 7;
+
+/// The side (of [`SIDES`]) of a vertex whose normal, turned to the side
+/// the path is on, is `n`; `None` in a medium.
+pub fn side(n: Option<Vec3>) -> usize {
+    let Some(n) = n else {
+        return SIDES - 1;
+    };
+    let a = n.abs();
+    let axis = if a.x >= a.y && a.x >= a.z {
+        0
+    } else if a.y >= a.z {
+        1
+    } else {
+        2
+    };
+    2 * axis + usize::from(n.to_array()[axis] < 0.0)
+}
+
+/// One cell's density for one side: the density it guides with and the
+/// topology it records in.
 #[derive(Debug, Clone, PartialEq)]
 struct Cell {
     /// What the iterations before learned (no energy: not guided yet).
@@ -114,24 +141,27 @@ impl Field {
     /// Nothing learned, one cell over the box `lo`..`hi`.
     pub fn new(lo: Vec3, hi: Vec3) -> Self {
         let building = DTree::default();
+        let slots = building.slots();
         Self {
             tree: SpatialTree::new(lo, hi),
-            slots: building.slots(),
-            cells: vec![Cell {
-                sampling: DTree::default(),
-                guides: false,
-                building,
-                offset: 0,
-            }],
+            slots: SIDES * slots,
+            cells: (0..SIDES)
+                .map(|s| Cell {
+                    sampling: DTree::default(),
+                    guides: false,
+                    building: building.clone(),
+                    offset: (s * slots) as u32,
+                })
+                .collect(),
         }
     }
 
-    /// The cell at `p`.
+    /// The density at `p` for a vertex on side `side` ([`side`]).
     #[inline]
-    pub fn at(&self, p: Vec3) -> Spot<'_> {
+    pub fn at(&self, p: Vec3, side: usize) -> Spot<'_> {
         Spot {
             field: self,
-            cell: self.tree.cell(p),
+            cell: self.tree.cell(p) * SIDES as u32 + side.min(SIDES - 1) as u32,
         }
     }
 
@@ -143,7 +173,7 @@ impl Field {
     /// Cells and their quadtrees' leaves, for reports.
     pub fn size(&self) -> (usize, usize) {
         let leaves = self.cells.iter().map(|c| c.sampling.leaves()).sum();
-        (self.cells.len(), leaves)
+        (self.cells.len() / SIDES, leaves)
     }
 
     /// The field learned from `stats`, recorded into this one's slots by
@@ -176,7 +206,9 @@ impl Field {
         // iteration (twice as long) leaves a half with fewer than
         // [`MIN_LIT`] records that found light.
         let halvings = |cell: u32| {
-            let (_, _, count, lit) = learned[cell as usize];
+            let sides = &learned[cell as usize * SIDES..(cell as usize + 1) * SIDES];
+            let count: u64 = sides.iter().map(|l| l.2).sum();
+            let lit: u64 = sides.iter().map(|l| l.3).sum();
             let (mut n, mut lit) = (count as f64, lit as f64);
             let mut k = 0;
             while n > threshold && lit >= MIN_LIT as f64 && k < MAX_HALVINGS {
@@ -190,12 +222,13 @@ impl Field {
         let mut offset = 0;
         let cells = origin
             .iter()
-            .map(|&old| {
-                let (sampling, guides, _, _) = learned[old as usize].clone();
+            .flat_map(|&old| (0..SIDES).map(move |s| old as usize * SIDES + s))
+            .map(|old| {
+                let (sampling, guides, _, _) = learned[old].clone();
                 let building = if sampling.energy() > 0.0 {
                     sampling.refined()
                 } else {
-                    self.cells[old as usize].building.clone()
+                    self.cells[old].building.clone()
                 };
                 let cell = Cell {
                     offset,

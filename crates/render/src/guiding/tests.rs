@@ -174,7 +174,8 @@ fn a_cell_with_many_records_is_halved_and_keeps_its_light() {
     let mut rng = Rng(11);
     let mut records = Vec::new();
     let axis = Vec3::new(0.0, 1.0, 0.0);
-    let spot = field.at(Vec3::new(0.0, 1.0, 0.0));
+    let up = side(Some(Vec3::new(0.0, 1.0, 0.0)));
+    let spot = field.at(Vec3::new(0.0, 1.0, 0.0), up);
     for _ in 0..100_000 {
         let d = uniform_direction(&mut rng);
         records.push((spot.slot(d), radiance(d, axis, 20.0)));
@@ -184,14 +185,36 @@ fn a_cell_with_many_records_is_halved_and_keeps_its_light() {
     // 100 000 records over c = 12 000: halved 4 times, into 16 cells.
     assert_eq!(next.size().0, 16);
     for p in [lo, hi, Vec3::new(3.0, 0.5, 0.2)] {
-        let g = next.at(p).guide().expect("every cell learned the light");
+        let g = next
+            .at(p, up)
+            .guide()
+            .expect("every cell learned the light");
         assert!(g.pdf(axis) > g.pdf(-axis));
+        // The other sides learned nothing.
+        assert!(next.at(p, side(None)).guide().is_none());
     }
     // Cells along the long side: x splits first.
     assert_ne!(
         next.at(Vec3::new(-9.0, 1.0, 0.0)).cell,
         next.at(Vec3::new(9.0, 1.0, 0.0)).cell
     );
+}
+
+#[test]
+fn each_side_of_a_surface_and_media_have_their_own_density() {
+    let sides: Vec<usize> = [
+        Vec3::new(1.0, 0.2, 0.1),
+        Vec3::new(-1.0, 0.2, 0.1),
+        Vec3::new(0.3, 0.9, -0.2),
+        Vec3::new(0.3, -0.9, -0.2),
+        Vec3::new(0.0, 0.1, 0.7),
+        Vec3::new(0.0, 0.1, -0.7),
+    ]
+    .into_iter()
+    .map(|n| side(Some(n)))
+    .collect();
+    assert_eq!(sides, vec![0, 1, 2, 3, 4, 5]);
+    assert_eq!(side(None), SIDES - 1);
 }
 
 #[test]

@@ -182,8 +182,9 @@ impl Renderer<'_> {
                 path.l += contribution;
             }
         }
-        if let Some(r) = b.record {
-            path.trail.push(r, path.l.0.iter().sum());
+        match b.record {
+            Some(r) => path.trail.push(r, path.l.0.iter().sum()),
+            None => path.trail.unmarked(),
         }
         b.goes_on
     }
@@ -242,7 +243,9 @@ impl Renderer<'_> {
                     * light.pdf_li_at_infinity(d);
                 power_heuristic(path.bsdf_pdf, p_light)
             };
-            path.l += path.beta * le * w;
+            let light = path.beta * le * w;
+            path.l += light;
+            path.trail.direct(light.0.iter().sum());
         }
     }
 
@@ -273,7 +276,9 @@ impl Renderer<'_> {
                             * area.pdf_li(path.prev, surface.p, surface.n_geometric);
                         power_heuristic(path.bsdf_pdf, p_light)
                     };
-                    path.l += path.beta * le * w;
+                    let light = path.beta * le * w;
+                    path.l += light;
+                    path.trail.direct(light.0.iter().sum());
                 }
             }
         }
@@ -345,7 +350,8 @@ impl Renderer<'_> {
             }
         }
         let now = path.now;
-        let spot = self.spot(p);
+        let facing = if ng.dot(wo_world) < 0.0 { -ng } else { ng };
+        let spot = self.spot(p, Some(facing));
         let guide = self.surface_guide(spot, bsdf);
 
         // Next-event estimation: one light, chosen by its power over its

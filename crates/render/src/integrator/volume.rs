@@ -127,7 +127,7 @@ impl Renderer<'_> {
             return;
         }
         let p = ray.o + ray.d * t;
-        let guide = self.spot(p).and_then(|s| s.guide());
+        let guide = self.phase_guide(self.spot(p, None), &h.phase);
         let aimed = Mis::Aimed(q2);
         if let Some((shadow, c)) = self.medium_nee(path, beta, p, (h.phase, guide), nee, aimed) {
             let tr = self.through_media(shadow, path.medium, &path.now, &mut path.rng, rays);
@@ -177,8 +177,8 @@ impl Renderer<'_> {
         }
         let [nee, [u_p0, u_rr, u_p1, u_pick]] = u;
         let wi = -path.ray.d;
-        let spot = self.spot(p);
-        let guide = spot.and_then(|s| s.guide());
+        let spot = self.spot(p, None);
+        let guide = self.phase_guide(spot, phase);
         let shadow = self.medium_nee(path, path.beta, p, (*phase, guide), nee, Mis::Free(q2));
         let mut stop = Bounce {
             shadow,
