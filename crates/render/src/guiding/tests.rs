@@ -195,8 +195,8 @@ fn a_cell_with_many_records_is_halved_and_keeps_its_light() {
     }
     // Cells along the long side: x splits first.
     assert_ne!(
-        next.at(Vec3::new(-9.0, 1.0, 0.0)).cell,
-        next.at(Vec3::new(9.0, 1.0, 0.0)).cell
+        next.at(Vec3::new(-9.0, 1.0, 0.0), up).cell,
+        next.at(Vec3::new(9.0, 1.0, 0.0), up).cell
     );
 }
 
