@@ -262,6 +262,27 @@ impl DTree {
         }
     }
 
+    /// The largest density in solid angle over its leaves (0 with no
+    /// energy).
+    pub fn peak(&self) -> f32 {
+        if self.energy <= 0.0 {
+            return 0.0;
+        }
+        let mut peak = 0.0f32;
+        let mut stack = vec![(0usize, 1.0 / (4.0 * PI))];
+        while let Some((i, p)) = stack.pop() {
+            let n = &self.nodes[i];
+            for q in 0..4 {
+                let pq = p * 4.0 * n.share[q];
+                match n.child[q] {
+                    0 => peak = peak.max(pq),
+                    c => stack.push((c as usize, pq)),
+                }
+            }
+        }
+        peak
+    }
+
     /// Quadrants in the tree (leaves), for reports and tests.
     pub fn leaves(&self) -> usize {
         self.nodes

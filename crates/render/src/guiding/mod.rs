@@ -65,6 +65,12 @@ const MAX_HALVINGS: u32 = 12;
 /// of every bounce in the cell where those few found light.
 pub const MIN_LIT: u64 = 32;
 
+/// The least peak density (per steradian) a cell's density must reach
+/// to guide: 4× the peak of cosine sampling (1/π). Flatter light (the
+/// Cornell box's walls) is sampled about as well by the BSDF, and guiding
+/// it costs time for nothing.
+pub const MIN_PEAK: f32 = 4.0 / std::f32::consts::PI;
+
 /// Share of guided directions at a guided vertex: the other half comes
 /// from the BSDF or phase function (Müller et al. 2017, §5: 50 %).
 pub const SHARE: f32 = 0.5;
@@ -192,7 +198,8 @@ impl Field {
                     .with_energy(&stats.energy[range.clone()], &stats.lit[range]);
                 // A cell that found too little light keeps what it knew.
                 if tree.energy() > 0.0 && lit >= MIN_LIT {
-                    (tree, true, count, lit)
+                    let guides = tree.peak() >= MIN_PEAK;
+                    (tree, guides, count, lit)
                 } else if c.guides || tree.energy() <= 0.0 {
                     (c.sampling.clone(), c.guides, count, lit)
                 } else {
