@@ -193,6 +193,7 @@ bench: python
 	$(PY) bench/distributed.py
 	$(PY) bench/same_speed.py
 	$(PY) bench/many_lights.py
+	$(PY) bench/guiding.py
 
 ## Regenerates the Jakob–Hanika coefficient tables in data/rgb2spec.
 tables:
