@@ -165,38 +165,49 @@ fn samples_come_with_their_density_and_its_frequencies() {
     }
 }
 
+/// One iteration's records: `n` vertices facing up at points uniform in
+/// the box, directions uniform, lit by a sharp lobe around `axis`.
+fn iterate(field: &Field, n: usize, axis: Vec3, rng: &mut Rng, spp: u32) -> Field {
+    let (lo, hi) = (Vec3::new(-10.0, 0.0, -1.0), Vec3::new(10.0, 2.0, 1.0));
+    let up = side(Some(Vec3::new(0.0, 1.0, 0.0)));
+    let mut stats = Stats::new(field);
+    let records = (0..n)
+        .map(|_| {
+            let p = lo + (hi - lo).mul_elem(Vec3::new(rng.next(), rng.next(), rng.next()));
+            let d = uniform_direction(rng);
+            (field.at(p, up).slot(d), (200.0 * (d.dot(axis) - 1.0)).exp())
+        })
+        .collect();
+    stats.add(&RowStats::of(records));
+    field.next(&stats, spp)
+}
+
 #[test]
 fn a_cell_with_many_records_is_halved_and_keeps_its_light() {
-    let lo = Vec3::new(-10.0, 0.0, -1.0);
-    let hi = Vec3::new(10.0, 2.0, 1.0);
-    let field = Field::new(lo, hi);
-    let mut stats = Stats::new(&field);
-    let mut rng = Rng(11);
-    let mut records = Vec::new();
-    let axis = Vec3::new(0.0, 1.0, 0.0);
+    let (lo, hi) = (Vec3::new(-10.0, 0.0, -1.0), Vec3::new(10.0, 2.0, 1.0));
     let up = side(Some(Vec3::new(0.0, 1.0, 0.0)));
-    let spot = field.at(Vec3::new(0.0, 1.0, 0.0), up);
-    for _ in 0..100_000 {
-        let d = uniform_direction(&mut rng);
-        records.push((spot.slot(d), radiance(d, axis, 20.0)));
-    }
-    stats.add(&RowStats::of(records));
-    let next = field.next(&stats, 1);
-    // 100 000 records over c = 12 000: halved 4 times, into 16 cells.
-    assert_eq!(next.size().0, 16);
+    let axis = Vec3::new(0.0, 1.0, 0.0);
+    let mut rng = Rng(11);
+    let first = iterate(&Field::new(lo, hi), 100_000, axis, &mut rng, 1);
+    // 100 000 records over c = 12 000: halved 4 times, into 16 cells;
+    // their densities are the root's four quadrants, too flat to guide.
+    assert_eq!(first.size().0, 16);
+    assert!(first.at(lo, up).guide().is_none());
+    // Refined where the light is, they guide.
+    let second = iterate(&first, 100_000, axis, &mut rng, 2);
     for p in [lo, hi, Vec3::new(3.0, 0.5, 0.2)] {
-        let g = next
+        let g = second
             .at(p, up)
             .guide()
             .expect("every cell learned the light");
-        assert!(g.pdf(axis) > g.pdf(-axis));
+        assert!(g.pdf(axis) > 10.0 * g.pdf(-axis));
         // The other sides learned nothing.
-        assert!(next.at(p, side(None)).guide().is_none());
+        assert!(second.at(p, side(None)).guide().is_none());
     }
     // Cells along the long side: x splits first.
     assert_ne!(
-        next.at(Vec3::new(-9.0, 1.0, 0.0), up).cell,
-        next.at(Vec3::new(9.0, 1.0, 0.0), up).cell
+        first.at(Vec3::new(-9.0, 1.0, 0.0), up).cell,
+        first.at(Vec3::new(9.0, 1.0, 0.0), up).cell
     );
 }
 

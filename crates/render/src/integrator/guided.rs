@@ -221,9 +221,11 @@ impl Renderer<'_> {
         let ScatterPoint {
             p: x, frame, at, ..
         } = *point;
-        let (wo, d) = if u_lobe < SHARE {
-            let (d, _) = g.sample(u)?;
-            (frame.to_local(d), d)
+        // The guide's density of the direction: from the walk that drew
+        // it, or by a walk for the BSDF's.
+        let (wo, d, p_guide) = if u_lobe < SHARE {
+            let (d, p) = g.sample(u)?;
+            (frame.to_local(d), d, p)
         } else {
             let u_lobe = ((u_lobe - SHARE) / (1.0 - SHARE)).min(1.0 - f32::EPSILON);
             let mut bs = self.reflectors.sample(bsdf, wl, point, wi, u_lobe, u)?;
@@ -233,10 +235,12 @@ impl Renderer<'_> {
                 bs.weight *= 1.0 / (1.0 - SHARE);
                 return Some(bs);
             }
-            (bs.wo, frame.to_world(bs.wo))
+            let d = frame.to_world(bs.wo);
+            (bs.wo, d, g.pdf(d))
         };
         let f = bsdf.eval(wl, at, wi, wo, Transport::Radiance);
-        let q = self.bounce_pdf(guide, bsdf, x, d, bsdf.pdf_at(wl, at, wi, wo));
+        let unguided = self.reflectors.pdf(bsdf, x, d, bsdf.pdf_at(wl, at, wi, wo));
+        let q = mixed(unguided, p_guide);
         if q.is_nan() || q <= 0.0 || f.is_zero() {
             return None;
         }
