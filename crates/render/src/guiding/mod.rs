@@ -171,6 +171,15 @@ impl Field {
         }
     }
 
+    /// The density for side `side` at a point jittered from `p` by
+    /// (`u` − ½)/2 times the size of `p`'s cell, kept inside the field's
+    /// box.
+    pub fn jittered(&self, p: Vec3, side: usize, u: [f32; 3]) -> Spot<'_> {
+        let size = self.tree.size_at(p);
+        let q = p + size.mul_elem(Vec3::new(u[0] - 0.5, u[1] - 0.5, u[2] - 0.5)) * 0.5;
+        self.at(self.tree.clamp(q), side)
+    }
+
     /// Slots of statistics an iteration records into.
     pub fn slots(&self) -> usize {
         self.slots

@@ -45,6 +45,17 @@ impl SpatialTree {
 
     /// The cell holding `p` (points outside the box: the nearest cell).
     pub fn cell(&self, p: Vec3) -> u32 {
+        self.locate(p).0
+    }
+
+    /// The size of the cell holding `p`.
+    pub fn size_at(&self, p: Vec3) -> Vec3 {
+        let (_, lo, hi) = self.locate(p);
+        Vec3::new(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2])
+    }
+
+    /// The cell holding `p` and its box.
+    fn locate(&self, p: Vec3) -> (u32, [f32; 3], [f32; 3]) {
         let p = p.to_array();
         let (mut lo, mut hi) = (self.lo.to_array(), self.hi.to_array());
         let mut node = self.nodes[0];
@@ -59,7 +70,12 @@ impl SpatialTree {
                 self.nodes[node.child as usize + 1]
             };
         }
-        node.cell
+        (node.cell, lo, hi)
+    }
+
+    /// `p` moved into the tree's box.
+    pub fn clamp(&self, p: Vec3) -> Vec3 {
+        p.max(self.lo).min(self.hi)
     }
 
     /// The tree with every cell `c` for which `times(c)` is k > 0 halved k

@@ -14,6 +14,7 @@ use crate::bsdf::{Bsdf, BsdfSample, Transport};
 use crate::guiding::{side, DTree, Field, Guide, Spot, SHARE};
 use crate::math::Vec3;
 use crate::medium::Phase;
+use crate::sampling::splitmix::SplitMix;
 
 /// A render's guiding state: the fields learned, which one guides the
 /// pass that runs, and whether that pass records.
@@ -289,21 +290,33 @@ impl Renderer<'_> {
         }
     }
 
-    /// The mark a vertex at `spot` leaves for a bounce along world
-    /// direction `d` drawn with density `q`, its throughput after the
-    /// bounce `beta`: only while the guide learns.
+    /// The mark a vertex at `p` (normal `n` turned to the path's side,
+    /// `None` in a medium) leaves for a bounce along world direction `d`
+    /// drawn with density `q`, its throughput after the bounce `beta`:
+    /// only while the guide learns. The record goes to the cell at a point
+    /// jittered within a box half the size of `p`'s cell (numbers from
+    /// `rng`): the stochastic spatial filter of Müller et al. 2017 §5.3
+    /// (theirs the cell's whole size), so that neighbouring cells learn
+    /// alike and the noise shows no seams at their borders. On the hidden
+    /// lamp test scene at 256 × 192, 64 spp, the seam across the floor
+    /// went; relMSE of Y over the floor 0.92 without the filter, 1.14 with
+    /// half the size, 1.30 with the whole.
     #[inline]
     pub(super) fn pending<const K: usize>(
         &self,
-        spot: Option<Spot<'_>>,
+        (p, n): (Vec3, Option<Vec3>),
         d: Vec3,
         q: f32,
         beta: &SampledSpectrum<K>,
+        rng: &mut SplitMix,
     ) -> Option<Pending> {
-        let spot = spot.filter(|_| self.guiding.as_ref().is_some_and(|g| g.learning))?;
+        let field = self
+            .field()
+            .filter(|_| self.guiding.as_ref().is_some_and(|g| g.learning))?;
         let inv = 1.0 / (beta.0.iter().sum::<f32>() * q);
+        let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
         inv.is_finite().then(|| Pending {
-            slot: spot.slot(d),
+            slot: field.jittered(p, side(n), u).slot(d),
             inv,
         })
     }

@@ -421,7 +421,8 @@ impl Renderer<'_> {
             frame.to_world(bs.wo)
         };
         if !passes && !bs.delta {
-            stop.record = self.pending(spot, d, bs.pdf, &path.beta);
+            let at = (p, Some(facing));
+            stop.record = self.pending(at, d, bs.pdf, &path.beta, &mut path.rng);
         }
         path.ray = spawn(p, ng, d, scene.geometry.offset_unit());
         self.onwards(path, u_rr, stop)

@@ -197,7 +197,7 @@ impl Renderer<'_> {
                 return stop;
             }
         }
-        stop.record = self.pending(spot, wo, pdf, &path.beta);
+        stop.record = self.pending((p, None), wo, pdf, &path.beta, &mut path.rng);
         path.delta = false;
         // A light this direction hits weighs it against next-event
         // estimation from both distance strategies: the power heuristic
