@@ -56,6 +56,23 @@ def test_the_two_path_tracers_give_the_same_bits():
     assert np.array_equal(a, b)
 
 
+def test_guiding_is_an_option_and_keeps_the_image():
+    import pytest
+
+    scene = str(SCENES / "cornell-box.xml")
+    off, meta_off = scotopia.render(scene, spp=32, res=8)
+    on, meta = scotopia.render(scene, spp=32, res=8, guiding="on")
+    assert (meta["guiding"], meta_off["guiding"]) == ("on", "off")
+    assert np.isfinite(on).all() and not np.array_equal(on, off)
+    # Unbiased both ways: the means agree roughly (the Rust tests check
+    # them within standard errors).
+    assert abs(on[..., 1].mean() / off[..., 1].mean() - 1) < 0.1
+    with pytest.raises(ValueError, match="on or off"):
+        scotopia.render(scene, spp=1, res=4, guiding="yes")
+    with pytest.raises(ValueError, match="--guiding off"):
+        scotopia.render(scene, spp=1, res=4, guiding="on", integrator="bdpt")
+
+
 def test_render_with_the_bidirectional_tracer():
     # The same Cornell box by both tracers: the image means agree roughly
     # (the Rust tests check them within standard errors).
