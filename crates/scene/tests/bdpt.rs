@@ -8,26 +8,14 @@
 
 mod common;
 
-use std::path::Path;
 use std::sync::atomic::AtomicBool;
 
-use common::agree;
+use common::{agree, scene};
 use scotopia_render::integrator::{render, BdptStrategy, RenderOptions};
 use scotopia_render::math::Vec3;
 use scotopia_render::scene::{IntegratorKind, Scene};
 use scotopia_scene::load_scene;
 use scotopia_scene::mitsuba::Parameters;
-
-fn scene(name: &str, params: &[(&str, &str)]) -> Scene {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenes")
-        .join(name);
-    let mut p = Parameters::new();
-    for (k, v) in params {
-        p.insert(k.to_string(), v.to_string());
-    }
-    load_scene(&path, &p).unwrap()
-}
 
 fn image(scene: &Scene, options: RenderOptions) -> Vec<[f32; 4]> {
     let r = render(scene, &options, &AtomicBool::new(false), &|_, _| {}).unwrap();

@@ -7,12 +7,11 @@
 
 mod common;
 
-use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 use std::time::Duration;
 
-use common::agree;
+use common::{agree, scene};
 use scotopia_render::film::{Checkpoint, Film};
 use scotopia_render::integrator::{
     render, render_with, Checkpointing, Guiding, Hooks, Quantity, RenderError, RenderOptions,
@@ -21,17 +20,6 @@ use scotopia_render::integrator::{
 use scotopia_render::scene::{IntegratorKind, Scene};
 use scotopia_scene::load_scene;
 use scotopia_scene::mitsuba::Parameters;
-
-fn scene(name: &str, params: &[(&str, &str)]) -> Scene {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenes")
-        .join(name);
-    let mut p = Parameters::new();
-    for (k, v) in params {
-        p.insert(k.to_string(), v.to_string());
-    }
-    load_scene(&path, &p).unwrap()
-}
 
 fn options(spp: u32, seed: u32, guiding: Guiding) -> RenderOptions {
     RenderOptions {

@@ -84,6 +84,19 @@ pub struct BsdfSample<const K: usize> {
 }
 
 impl<const K: usize> BsdfSample<K> {
+    /// A direction `wo` drawn from a mixture of strategies whose density
+    /// there is `q`, where the BSDF's value (the cosine included) is `f`:
+    /// its weight f/q; `None` where it carries nothing or q is no density.
+    pub fn mixed(wo: Vec3, f: SampledSpectrum<K>, q: f32) -> Option<Self> {
+        (q > 0.0 && q.is_finite() && !f.is_zero()).then(|| Self {
+            wo,
+            weight: f * (1.0 / q),
+            pdf: q,
+            delta: false,
+            collapse: false,
+        })
+    }
+
     /// Whether the sample went straight on through a null lobe (`null`,
     /// a mask's hole, a thin dielectric's slab) from local direction
     /// `wi`: no scattering, which volume tracers pass through.

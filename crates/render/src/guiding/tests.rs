@@ -1,5 +1,5 @@
 use super::*;
-use crate::test_rng::Rng;
+use crate::test_rng::{chi2_z, Rng};
 
 /// A lobe around `axis` (exp(κ(cos − 1))) over a constant floor: the
 /// radiance a guide learns in the tests.
@@ -30,14 +30,6 @@ fn learned_tree(axis: Vec3, kappa: f32, iterations: usize, n: usize, seed: u64) 
         building = sampling.refined();
     }
     sampling
-}
-
-/// Upper tail probability of χ² below 1e-3 where z > 3.0902 (the
-/// Wilson–Hilferty transform, as in the light hierarchy's test).
-fn chi2_z(chi2: f64, dof: usize) -> f64 {
-    let k = dof as f64;
-    let v = 2.0 / (9.0 * k);
-    ((chi2 / k).cbrt() - (1.0 - v)) / v.sqrt()
 }
 
 #[test]
@@ -144,24 +136,9 @@ fn samples_come_with_their_density_and_its_frequencies() {
             edges * 2000 < count,
             "{edges} samples without their density"
         );
-        let (mut chi2, mut bins) = (0.0f64, 0usize);
-        let (mut pooled_e, mut pooled_o) = (0.0f64, 0.0f64);
-        for (e, &o) in expected.iter().zip(&hits) {
-            let e = e * count as f64;
-            if e < 5.0 {
-                pooled_e += e;
-                pooled_o += o as f64;
-            } else {
-                chi2 += (o as f64 - e).powi(2) / e;
-                bins += 1;
-            }
-        }
-        if pooled_e > 0.0 {
-            chi2 += (pooled_o - pooled_e).powi(2) / pooled_e;
-            bins += 1;
-        }
-        let z = chi2_z(chi2, bins - 1);
-        assert!(z < 3.0902, "κ = {kappa}: χ² = {chi2} over {} dof", bins - 1);
+        let expected: Vec<f64> = expected.iter().map(|e| e * count as f64).collect();
+        let (z, chi2, dof) = chi2_z(&expected, &hits).expect("bins");
+        assert!(z < 3.0902, "κ = {kappa}: χ² = {chi2} over {dof} dof");
     }
 }
 

@@ -242,16 +242,7 @@ impl Renderer<'_> {
         let f = bsdf.eval(wl, at, wi, wo, Transport::Radiance);
         let unguided = self.reflectors.pdf(bsdf, x, d, bsdf.pdf_at(wl, at, wi, wo));
         let q = mixed(unguided, p_guide);
-        if q.is_nan() || q <= 0.0 || f.is_zero() {
-            return None;
-        }
-        Some(BsdfSample {
-            wo,
-            weight: f * (1.0 / q),
-            pdf: q,
-            delta: false,
-            collapse: false,
-        })
+        BsdfSample::mixed(wo, f, q)
     }
 
     /// A direction from phase function `phase` at a medium point, drawn

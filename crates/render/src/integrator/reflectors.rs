@@ -496,16 +496,7 @@ impl Reflectors {
         };
         let q =
             (1.0 - SHARE) * pdf_bsdf + SHARE * self.pdf_refl_with(x, frame.to_world(wo), &weights);
-        if q.is_nan() || q <= 0.0 || f.is_zero() {
-            return None;
-        }
-        Some(BsdfSample {
-            wo,
-            weight: f * (1.0 / q),
-            pdf: q,
-            delta: false,
-            collapse: false,
-        })
+        BsdfSample::mixed(wo, f, q)
     }
 }
 

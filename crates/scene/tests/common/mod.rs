@@ -6,6 +6,19 @@
 use std::io::Write;
 
 use scotopia_render::integrator::Measured;
+use scotopia_render::scene::Scene;
+
+/// The bundled scene `scenes/NAME` with parameters `params`.
+pub fn scene(name: &str, params: &[(&str, &str)]) -> Scene {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenes")
+        .join(name);
+    let mut p = scotopia_scene::mitsuba::Parameters::new();
+    for (k, v) in params {
+        p.insert(k.to_string(), v.to_string());
+    }
+    scotopia_scene::load_scene(&path, &p).unwrap()
+}
 
 /// One shape to write.
 #[derive(Clone)]

@@ -14,7 +14,7 @@ use crate::light::{
     ProjectorLight, SceneExtent, SpotLight,
 };
 use crate::math::{Frame, Transform};
-use crate::test_rng::Rng;
+use crate::test_rng::{chi2_z, Rng};
 
 struct Scene {
     shapes: Vec<Shape>,
@@ -234,15 +234,6 @@ fn the_probabilities_sum_to_one() {
     assert!(dead * 20 < total, "{dead} of {total} points reach no light");
 }
 
-/// The upper tail probability of χ² with `dof` degrees of freedom is
-/// below 1e-3 where z exceeds 3.0902 (the normal's 1 − 1e-3 quantile),
-/// z from the Wilson–Hilferty cube-root transform.
-fn chi2_z(chi2: f64, dof: usize) -> f64 {
-    let k = dof as f64;
-    let v = 2.0 / (9.0 * k);
-    ((chi2 / k).cbrt() - (1.0 - v)) / v.sqrt()
-}
-
 #[test]
 fn samples_come_with_their_pmf_and_its_frequencies() {
     for (size, seed) in [(3usize, 3u64), (50, 4), (300, 5)] {
@@ -267,30 +258,13 @@ fn samples_come_with_their_pmf_and_its_frequencies() {
                 }
                 // χ² over the lights, those expected fewer than 5 times
                 // pooled into one bin.
-                let (mut chi2, mut bins) = (0.0f64, 0usize);
-                let (mut pooled_e, mut pooled_o) = (0.0f64, 0.0f64);
-                for (i, &o) in hits.iter().enumerate() {
-                    let e = h.pmf(p, n, i) as f64 * count as f64;
-                    if e == 0.0 {
-                        assert_eq!(o, 0, "light {i} has pmf 0 but was drawn");
-                    } else if e < 5.0 {
-                        pooled_e += e;
-                        pooled_o += o as f64;
-                    } else {
-                        chi2 += (o as f64 - e).powi(2) / e;
-                        bins += 1;
-                    }
-                }
-                if pooled_e > 0.0 {
-                    chi2 += (pooled_o - pooled_e).powi(2) / pooled_e;
-                    bins += 1;
-                }
-                if bins > 1 {
-                    let z = chi2_z(chi2, bins - 1);
+                let expected: Vec<f64> = (0..size)
+                    .map(|i| h.pmf(p, n, i) as f64 * count as f64)
+                    .collect();
+                if let Some((z, chi2, dof)) = chi2_z(&expected, &hits) {
                     assert!(
                         z < 3.0902,
-                        "{size} lights at {p:?}: χ² = {chi2} over {} dof",
-                        bins - 1
+                        "{size} lights at {p:?}: χ² = {chi2} over {dof} dof"
                     );
                 }
             }
