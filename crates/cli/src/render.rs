@@ -278,6 +278,14 @@ pub fn run(args: Args) -> Result<()> {
 
     let pixels = scene.camera.width as u64 * scene.camera.height as u64;
     let bar = progress_bar(total as u64);
+    // Guiding first learns (spp the image does not keep): say so until
+    // the first pass reports.
+    if options.guiding == Guiding::On {
+        bar.set_message(format!(
+            "guiding: learning from {} spp",
+            scotopia_render::guiding::LEARNED
+        ));
+    }
     let started = std::time::Instant::now();
     let terminal = std::io::IsTerminal::is_terminal(&std::io::stderr());
     let last_line = std::sync::atomic::AtomicU64::new(0);
