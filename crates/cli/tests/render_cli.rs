@@ -51,6 +51,7 @@ fn renders_an_exr_with_channels_and_metadata() {
     assert_eq!(meta("wavelengthStrategy").as_deref(), Some("hero"));
     assert_eq!(meta("clusterSize").as_deref(), Some("8"));
     assert_eq!(meta("seed").as_deref(), Some("5"));
+    assert_eq!(meta("guiding").as_deref(), Some("off"));
     assert!(meta("fovHorizontalDegrees").is_some() && meta("sceneFile").is_some());
     // The Cornell box's light makes a bright image in absolute units.
     let y = &img.channels.iter().find(|c| c.0 == "Y").unwrap().1;
@@ -67,6 +68,7 @@ fn bad_options_are_clear_errors() {
         (vec!["--cluster", "3"], "use one of 1, 2, 4, 8, 16"),
         (vec!["--time=-1"], "positive number of seconds"),
         (vec!["--spp", "0"], "--spp must be positive"),
+        (vec!["--guiding", "yes"], "use on or off"),
     ] {
         let mut all = vec!["render", s, "-o", "/nonexistent/x.exr"];
         all.extend(args);

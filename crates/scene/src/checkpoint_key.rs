@@ -168,6 +168,11 @@ mod tests {
         assert_ne!(key(&a, &seed).key, k.key);
         assert_eq!(key(&a, &seed).refusal(k.key, &k.sources), None);
         assert_ne!(key(&a, &cluster).key, k.key);
+        let guided = RenderOptions {
+            guiding: Guiding::On,
+            ..base.clone()
+        };
+        assert_ne!(key(&a, &guided).key, k.key);
         b.insert("x".into(), "3".into());
         assert_ne!(key(&b, &base).key, k.key);
         // An edited file: another key, and the refusal names the file.
