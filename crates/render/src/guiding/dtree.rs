@@ -1,6 +1,6 @@
 //! A density of directions on the sphere: a quadtree over the unit square
 //! of the equal-area cylindrical map, u = (cos θ + 1)/2, v = φ/2π
-//! (Müller, Gross & Novák 2017, "Practical Path Guiding", §3.1). Each
+//! (Müller, Gross & Novák 2017, "Practical Path Guiding", the directional quadtree). Each
 //! node holds the energy of its four quadrants; a quadrant is a leaf or
 //! the root of a subtree. The map's Jacobian is the constant 4π, so a
 //! leaf's density in solid angle is its share of the energy over its
@@ -12,10 +12,10 @@ use crate::math::Vec3;
 
 /// A quadrant holding more than this share of the tree's energy is
 /// subdivided for the next iteration, one holding less is merged
-/// (Müller et al. 2017, §3.3: ρ = 0.01).
+/// (Müller et al. 2017, the quadtree's subdivision: ρ = 0.01).
 pub const RHO: f64 = 0.01;
 
-/// Deepest level a quadrant is subdivided to (Müller et al. 2017, §3.3).
+/// Deepest level a quadrant is subdivided to (Müller et al. 2017's limit).
 pub const MAX_DEPTH: u32 = 20;
 
 /// Records that found light a quadrant must have had to be subdivided:
@@ -219,7 +219,7 @@ impl DTree {
     /// holding more than [`RHO`] of the energy are subdivided, the others
     /// are leaves; a leaf subdivided goes on as deep as its energy, spread
     /// evenly over its quarters, stays above [`RHO`] (Müller et al. 2017,
-    /// §3.3).
+    /// the quadtree's subdivision).
     pub fn refined(&self) -> Self {
         let mut out = vec![Node::default()];
         if self.energy > 0.0 {

@@ -18,7 +18,8 @@
 //! its energy is. Every sample of the image then draws from the last
 //! field. The learning samples are kept out of the image because the
 //! first iterations' guides are poor: averaged in, their noise would
-//! dominate a short render's (Müller et al. 2017, §5.2, discard them too).
+//! dominate a short render's (Müller et al. 2017 keep only the last
+//! iteration's image too).
 //! They use another seed than the image's, so that no sample of the image
 //! repeats the random numbers the guide learned from.
 //!
@@ -45,7 +46,7 @@ pub use spatial::SpatialTree;
 use crate::math::Vec3;
 
 /// The sample counts at which an iteration ends and a new field is
-/// learned: iterations of 1, 1, 2, 4 and 8 spp (Müller et al. 2017, §5.1:
+/// learned: iterations of 1, 1, 2, 4 and 8 spp (Müller et al. 2017:
 /// each iteration twice the samples of the one before).
 pub const BOUNDARIES: [u32; 6] = [0, 1, 2, 4, 8, 16];
 
@@ -53,7 +54,7 @@ pub const BOUNDARIES: [u32; 6] = [0, 1, 2, 4, 8, 16];
 pub const LEARNED: u32 = 16;
 
 /// A cell is halved when an iteration of n spp recorded more than c·√n
-/// vertices in it (Müller et al. 2017, §3.2: c·√(2^k) for iteration k of
+/// vertices in it (Müller et al. 2017, the spatial tree: c·√(2^k) for iteration k of
 /// 2^k spp, c = 12 000).
 pub const SPLIT: f64 = 12_000.0;
 
@@ -72,7 +73,7 @@ pub const MIN_LIT: u64 = 32;
 pub const MIN_PEAK: f32 = 4.0 / std::f32::consts::PI;
 
 /// Share of guided directions at a guided vertex: the other half comes
-/// from the BSDF or phase function (Müller et al. 2017, §5: 50 %).
+/// from the BSDF or phase function (Müller et al. 2017: a fixed 50 %).
 pub const SHARE: f32 = 0.5;
 
 /// The iteration sample index `sample` belongs to: k with

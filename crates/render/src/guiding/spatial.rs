@@ -1,6 +1,6 @@
 //! Where the guide's directional densities hold: a binary tree over the
 //! scene's box, each node halved across its longest side (Müller et al.
-//! 2017, §3.2, which alternates the axes; the longest side keeps the cells
+//! 2017, which alternates the axes; the longest side keeps the cells
 //! of a 300 m street from becoming slivers), each leaf a cell with its own
 //! density of directions.
 

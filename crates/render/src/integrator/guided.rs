@@ -286,7 +286,8 @@ impl Renderer<'_> {
     /// drawn with density `q`, its throughput after the bounce `beta`:
     /// only while the guide learns. The record goes to the cell at a point
     /// jittered within a box half the size of `p`'s cell (numbers from
-    /// `rng`): the stochastic spatial filter of Müller et al. 2017 §5.3
+    /// `rng`): the stochastic spatial filter of Müller 2019 ("Practical Path
+    /// Guiding in Production", SIGGRAPH course notes)
     /// (theirs the cell's whole size), so that neighbouring cells learn
     /// alike and the noise shows no seams at their borders. On the hidden
     /// lamp test scene at 256 × 192, 64 spp, the seam across the floor
