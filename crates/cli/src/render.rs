@@ -134,10 +134,12 @@ pub struct Setup {
     /// or an irradiance meter it is an error.
     #[arg(long, default_value = "scalar", value_name = "scalar|wavefront")]
     pub(crate) tracer: Tracer,
-    /// Path guiding: on draws half of each diffuse bounce (and medium
-    /// scattering) from the light field learned in the first 16 spp
-    /// (docs/guiding.md); the scalar path tracer and media only. Resumed
-    /// renders and shards learn it again over the whole film first.
+    /// Path guiding: on first learns where light arrives, from 16 spp
+    /// traced before the image and not kept in it, then draws half of each
+    /// diffuse bounce (and of scattering in near-isotropic media) from it
+    /// (docs/guiding.md). The scalar path and volume path tracers only.
+    /// Resumed renders and shards learn it again the same way, so they
+    /// stay exact.
     #[arg(long, default_value = "off", value_name = "on|off")]
     pub(crate) guiding: Guiding,
     /// Wavelengths per path: 1, 2, 4, 8 or 16.
