@@ -76,13 +76,6 @@ pub const MIN_PEAK: f32 = 4.0 / std::f32::consts::PI;
 /// from the BSDF or phase function (Müller et al. 2017: a fixed 50 %).
 pub const SHARE: f32 = 0.5;
 
-/// The iteration sample index `sample` belongs to: k with
-/// `BOUNDARIES[k] <= sample < BOUNDARIES[k + 1]`, the last from
-/// [`LEARNED`] on.
-pub fn iteration(sample: u32) -> usize {
-    BOUNDARIES.iter().rposition(|&b| b <= sample).unwrap_or(0)
-}
-
 /// The end of the iteration `done` samples lie in, while learning goes on.
 pub fn next_boundary(done: u32) -> Option<u32> {
     BOUNDARIES.iter().copied().find(|&b| b > done)
@@ -339,39 +332,42 @@ impl RowStats {
     }
 }
 
-/// The fields learned so far, one per iteration: `fields[k]` guides the
-/// samples of iteration k.
+/// The field learned so far, and how many iterations learned it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Guide {
-    fields: Vec<Field>,
+    field: Field,
+    learned: usize,
 }
 
 impl Guide {
     /// Nothing learned yet, over the box `lo`..`hi` (the scene's).
     pub fn new(lo: Vec3, hi: Vec3) -> Self {
         Self {
-            fields: vec![Field::new(lo, hi)],
+            field: Field::new(lo, hi),
+            learned: 0,
         }
     }
 
-    /// Field `k` (the last learned, if fewer).
-    pub fn field_at(&self, k: usize) -> &Field {
-        &self.fields[k.min(self.fields.len() - 1)]
+    /// The field learned so far: the one samples draw from, and the one
+    /// an iteration records into.
+    pub fn field(&self) -> &Field {
+        &self.field
     }
 
     /// Iterations learned so far.
     pub fn learned(&self) -> usize {
-        self.fields.len() - 1
+        self.learned
     }
 
-    /// Learns the next field from what the last iteration recorded.
+    /// Learns the next field from what the last iteration recorded into
+    /// this one; nothing after the last iteration of [`BOUNDARIES`].
     pub fn advance(&mut self, stats: &Stats) {
-        let k = self.learned();
+        let k = self.learned;
         if k + 1 >= BOUNDARIES.len() {
             return;
         }
         let spp = BOUNDARIES[k + 1] - BOUNDARIES[k];
-        let next = self.fields[k].next(stats, spp);
-        self.fields.push(next);
+        self.field = self.field.next(stats, spp);
+        self.learned += 1;
     }
 }

@@ -6,7 +6,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use crate::film::{Bands, Checkpoint, Film, SampleCounts};
-use crate::guiding::{iteration, next_boundary, Stats, LEARNED};
+use crate::guiding::{next_boundary, Stats, LEARNED};
 use crate::scene::{IntegratorKind, Scene};
 
 use super::{ClusterSize, Quantity, RenderError, RenderOptions, Renderer};
@@ -361,20 +361,21 @@ fn learn<const K: usize>(
     let seed = seed ^ 0x9E37_79B9;
     let mut done = 0;
     while done < LEARNED && !cancel.load(Ordering::Relaxed) {
-        let Some(g) = renderer.guiding.as_mut() else {
+        let Some(mut stats) = renderer.guiding.as_mut().map(|g| {
+            g.learning = true;
+            Stats::new(g.guide.field())
+        }) else {
             break;
         };
         let b = next_boundary(done).unwrap_or(LEARNED);
-        g.now = iteration(done);
-        g.learning = true;
-        let mut stats = Stats::new(g.guide.field_at(g.now));
         renderer.pass::<K>(seed, &mut film, done, b - done, Some(&mut stats));
         done = b;
         if let Some(g) = renderer.guiding.as_mut() {
             g.guide.advance(&stats);
-            g.learning = false;
-            g.now = iteration(done);
         }
+    }
+    if let Some(g) = renderer.guiding.as_mut() {
+        g.learning = false;
     }
     renderer.rows = rows;
     Ok(())

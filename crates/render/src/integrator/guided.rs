@@ -16,13 +16,11 @@ use crate::math::Vec3;
 use crate::medium::Phase;
 use crate::sampling::splitmix::SplitMix;
 
-/// A render's guiding state: the fields learned, which one guides the
-/// pass that runs, and whether that pass records.
+/// A render's guiding state: the field learned, and whether the pass that
+/// runs records.
 #[derive(Debug, Clone)]
 pub(super) struct GuideState {
     pub guide: Guide,
-    /// The index of the field the pass draws from.
-    pub now: usize,
     pub learning: bool,
 }
 
@@ -153,7 +151,7 @@ impl Renderer<'_> {
     /// The field the pass draws from, when guiding.
     #[inline]
     pub(super) fn field(&self) -> Option<&Field> {
-        self.guiding.as_ref().map(|g| g.guide.field_at(g.now))
+        self.guiding.as_ref().map(|g| g.guide.field())
     }
 
     /// The field's density at `p` for a vertex whose normal, turned to

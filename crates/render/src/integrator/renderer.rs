@@ -166,7 +166,6 @@ impl<'a> Renderer<'a> {
             };
             renderer.guiding = Some(GuideState {
                 guide: Guide::new(lo, hi),
-                now: 0,
                 learning: false,
             });
         }
