@@ -78,16 +78,15 @@ impl Trail {
         self.fresh = false;
     }
 
-    /// Light `light` (summed over the cluster) that the path found by
-    /// hitting an emitter: direct light for the vertex it just left, which
-    /// next-event estimation samples there, so not that vertex's to learn
-    /// (the guide learns the light that only bounces find); indirect for
-    /// the vertices before.
+    /// Light `light` that the path found by hitting an emitter: direct
+    /// light for the vertex it just left, which next-event estimation
+    /// samples there, so not that vertex's to learn (the guide learns the
+    /// light that only bounces find); indirect for the vertices before.
     #[inline]
-    pub(super) fn direct(&mut self, light: f32) {
+    pub(super) fn direct<const K: usize>(&mut self, light: &SampledSpectrum<K>) {
         if self.fresh {
             if let Some(m) = self.marks[..self.n as usize].last_mut() {
-                m.at += light;
+                m.at += light.0.iter().sum::<f32>();
             }
         }
     }

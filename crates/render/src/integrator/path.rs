@@ -245,7 +245,7 @@ impl Renderer<'_> {
             };
             let light = path.beta * le * w;
             path.l += light;
-            path.trail.direct(light.0.iter().sum());
+            path.trail.direct(&light);
         }
     }
 
@@ -278,7 +278,7 @@ impl Renderer<'_> {
                     };
                     let light = path.beta * le * w;
                     path.l += light;
-                    path.trail.direct(light.0.iter().sum());
+                    path.trail.direct(&light);
                 }
             }
         }
