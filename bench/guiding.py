@@ -1,7 +1,9 @@
 """Path guiding at equal time (issue 40): each scene rendered for the same
 time with `--guiding off` and `--guiding on` (whose time includes the 16
-spp it learns from), against a reference rendered long without guiding
-(cached under out/bench/). Prints the samples per second each reaches and
+spp it learns from), against a reference rendered long (cached under
+out/bench/): without guiding, but with it for the prism, whose unguided
+reference is itself coloured confetti (the agreement tests in
+crates/scene/tests/guiding.rs show both converge to the same image). Prints the samples per second each reaches and
 relMSE of Y (`common.rel_mse`) averaged over seeds, and the ratio
 off / on (above 1: guiding helps). Usage:
 
@@ -17,7 +19,10 @@ import numpy as np
 
 from common import ROOT, read_xyzv, rel_mse, render
 
-SCENES = ["cornell-box", "night-street", "foggy-street", "long-street"]
+SCENES = ["cornell-box", "night-street", "foggy-street", "long-street", "prism"]
+
+# Scenes whose reference is rendered guided.
+GUIDED_REFERENCE = {"prism"}
 
 
 def main():
@@ -34,17 +39,21 @@ def main():
     out.mkdir(parents=True, exist_ok=True)
     common = ["--res", args.res, "--threads", str(args.threads)]
     print(f"Equal time, {args.seconds:g} s on {args.threads} threads, {args.res}, "
-          f"{args.seeds} seeds; reference {args.ref_spp} spp unguided.\n")
+          f"{args.seeds} seeds; reference {args.ref_spp} spp (guided: "
+          f"{', '.join(sorted(GUIDED_REFERENCE)) or 'none'}).\n")
     print("| scene | Msamples/s off | on | spp off | on | relMSE of Y off | on | off / on |")
     print("|---|---:|---:|---:|---:|---:|---:|---:|")
     for scene in args.scenes:
         xml = f"{scene}.xml"
-        ref_path = out / f"{scene}-{args.res}-ref-{args.ref_spp}.exr"
+        ref_guiding = "on" if scene in GUIDED_REFERENCE else "off"
+        tag = "-guided" if ref_guiding == "on" else ""
+        ref_path = out / f"{scene}-{args.res}-ref-{args.ref_spp}{tag}.exr"
         if ref_path.exists():
             ref = read_xyzv(ref_path)
         else:
             print(f"{scene}: reference, {args.ref_spp} spp ...", file=sys.stderr, flush=True)
-            _, _, ref = render(args.bin, xml, [], ref_path, common, 99, spp=args.ref_spp)
+            _, _, ref = render(args.bin, xml, [], ref_path,
+                               common + ["--guiding", ref_guiding], 99, spp=args.ref_spp)
         row = {}
         for g in ("off", "on"):
             e, rates, spps = [], [], []

@@ -40,8 +40,9 @@ use crate::scene::load_options;
 /// `quantity` "illuminance" renders the illuminance (lx) at the first
 /// surface each pixel sees instead of radiance. `guiding` "on" learns
 /// where light arrives (16 spp, not kept) and draws half of each diffuse
-/// bounce from it (docs/guiding.md; the scalar path and volume path
-/// tracers only). The GIL is released while
+/// bounce from it; with bdpt, half of each light path's first direction
+/// (docs/guiding.md; not with the wavefront tracer or illuminance). The
+/// GIL is released while
 /// rendering. Ctrl-C (or any signal handler that raises) stops the render
 /// at its next pass: the outputs and the checkpoint are written with what
 /// it has, then KeyboardInterrupt is raised, as the CLI exits. `resume`

@@ -70,7 +70,10 @@ def test_guiding_is_an_option_and_keeps_the_image():
     with pytest.raises(ValueError, match="on or off"):
         scotopia.render(scene, spp=1, res=4, guiding="yes")
     with pytest.raises(ValueError, match="--guiding off"):
-        scotopia.render(scene, spp=1, res=4, guiding="on", integrator="bdpt")
+        scotopia.render(scene, spp=1, res=4, guiding="on", tracer="wavefront")
+    # The bidirectional tracer guides its light paths' emission.
+    image, meta = scotopia.render(scene, spp=4, res=4, guiding="on", integrator="bdpt")
+    assert meta["guiding"] == "on" and np.isfinite(image).all()
 
 
 def test_render_with_the_bidirectional_tracer():

@@ -136,10 +136,12 @@ pub struct Setup {
     pub(crate) tracer: Tracer,
     /// Path guiding: on first learns where light arrives, from 16 spp
     /// traced before the image and not kept in it, then draws half of each
-    /// diffuse bounce (and of scattering in near-isotropic media) from it
-    /// (docs/guiding.md). The scalar path and volume path tracers only.
-    /// Resumed renders and shards learn it again the same way, so they
-    /// stay exact.
+    /// diffuse bounce (and of scattering in near-isotropic media) from it;
+    /// with bdpt, it learns where light paths leaving each lamp reach the
+    /// camera and draws half of their first directions from that (a lamp
+    /// in a tube, the prism's beam) (docs/guiding.md). Not with the
+    /// wavefront tracer or illuminance. Resumed renders and shards learn
+    /// it again the same way, so they stay exact.
     #[arg(long, default_value = "off", value_name = "on|off")]
     pub(crate) guiding: Guiding,
     /// Wavelengths per path: 1, 2, 4, 8 or 16.

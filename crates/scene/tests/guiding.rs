@@ -17,7 +17,7 @@ use scotopia_render::integrator::{
     render, render_with, Checkpointing, Guiding, Hooks, Quantity, RenderError, RenderOptions,
     Shard, Tracer,
 };
-use scotopia_render::scene::{IntegratorKind, Scene};
+use scotopia_render::scene::Scene;
 use scotopia_scene::load_scene;
 use scotopia_scene::mitsuba::Parameters;
 
@@ -104,6 +104,48 @@ const ISOTROPIC_HAZE: &str = r#"<scene version="3.0.0">
 </scene>
 "#;
 
+/// A beam: an 8 mm disk lamp at the back of a blackened tube, 20 cm long
+/// and 2 cm wide, shines through a glass ball onto a wall. Light paths
+/// that leave the lamp as it emits mostly end in the tube; the guide
+/// learns to send them out of its mouth, where they make the ball's
+/// caustic on the wall (the prism's lamp, `scenes/prism.xml`).
+const TUBE_LAMP: &str = r#"<scene version="3.0.0">
+    <integrator type="bdpt"><integer name="max_depth" value="6"/></integrator>
+    <sensor type="perspective">
+        <float name="fov" value="45"/>
+        <transform name="to_world"><lookat origin="0, 0.3, 1.4" target="0, 0.25, 0" up="0, 1, 0"/></transform>
+        <sampler type="independent"><integer name="sample_count" value="16"/></sampler>
+        <film type="hdrfilm">
+            <integer name="width" value="64"/><integer name="height" value="48"/>
+            <rfilter type="box"/>
+        </film>
+    </sensor>
+    <emitter type="constant"><spectrum name="radiance" value="0.02"/></emitter>
+    <shape type="rectangle">
+        <transform name="to_world"><scale value="0.8"/><translate y="0.3" z="-0.4"/></transform>
+        <bsdf type="diffuse"><float name="reflectance" value="0.8"/></bsdf>
+    </shape>
+    <shape type="sphere">
+        <point name="center" x="0" y="0.3" z="0"/>
+        <float name="radius" value="0.08"/>
+        <bsdf type="dielectric"/>
+    </shape>
+    <shape type="disk">
+        <transform name="to_world">
+            <scale value="0.004"/>
+            <lookat origin="-0.5, 0.3, 0.5" target="0, 0.3, 0" up="0, 1, 0"/>
+        </transform>
+        <emitter type="area"><spectrum name="radiance" value="20000"/></emitter>
+    </shape>
+    <shape type="cylinder">
+        <point name="p0" x="-0.5" y="0.3" z="0.5"/>
+        <point name="p1" x="-0.359" y="0.3" z="0.359"/>
+        <float name="radius" value="0.01"/>
+        <bsdf type="twosided"><bsdf type="diffuse"><float name="reflectance" value="0.02"/></bsdf></bsdf>
+    </shape>
+</scene>
+"#;
+
 /// The scene in `xml`.
 fn inline(name: &str, xml: &str) -> Scene {
     let file = std::env::temp_dir().join(format!("scotopia-{name}-{}.xml", std::process::id()));
@@ -137,7 +179,7 @@ type Case<'a> = (&'a str, &'a [(&'a str, &'a str)], u32);
 
 #[test]
 fn guided_and_unguided_renders_agree() {
-    let cases: [Case; 3] = [
+    let cases: [Case; 4] = [
         ("cornell-box.xml", &[("res", "16")], 1024),
         (
             "night-street.xml",
@@ -150,6 +192,9 @@ fn guided_and_unguided_renders_agree() {
             &[("width", "24"), ("height", "16")],
             512,
         ),
+        // The bidirectional tracer (the scene's own): guided emission
+        // through a dispersing prism.
+        ("prism.xml", &[("width", "24"), ("height", "16")], 256),
     ];
     for (name, params, spp) in cases {
         let s = scene(name, params);
@@ -160,6 +205,8 @@ fn guided_and_unguided_renders_agree() {
     for (name, s) in [
         ("hidden lamp", hidden_lamp()),
         ("isotropic haze", inline("haze", ISOTROPIC_HAZE)),
+        // The bidirectional tracer: guided emission.
+        ("tube lamp", inline("tube", TUBE_LAMP)),
     ] {
         let off = film(&s, &options(1024, 1, Guiding::Off)).xyzv();
         let on = film(&s, &options(1024, 2, Guiding::On)).xyzv();
@@ -178,31 +225,57 @@ fn the_guide_finds_a_hidden_lamp_and_lowers_the_noise() {
 }
 
 #[test]
+fn guided_emission_lights_the_caustic_of_a_lamp_in_a_tube() {
+    let s = inline("tube-noise", TUBE_LAMP);
+    let reference = film(&s, &options(1024, 100, Guiding::On)).xyzv();
+    let off = rel_mse(&film(&s, &options(64, 1, Guiding::Off)).xyzv(), &reference);
+    let on = rel_mse(&film(&s, &options(64, 1, Guiding::On)).xyzv(), &reference);
+    eprintln!("tube lamp, 64 spp: relMSE of Y {off:.4} unguided, {on:.4} guided");
+    assert!(on < 0.25 * off, "guided {on}, unguided {off}");
+}
+
+/// `scene` rendered with `o` on `threads` threads.
+fn on_threads(scene: &Scene, o: &RenderOptions, threads: usize) -> Film {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap();
+    pool.install(|| film(scene, o))
+}
+
+#[test]
 fn the_guide_is_the_same_on_any_number_of_threads() {
-    let s = scene("cornell-box.xml", &[("res", "24")]);
-    let o = options(40, 5, Guiding::On);
-    let on = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| film(&s, &o))
-    };
-    assert!(on(1) == on(3), "the image depends on the thread count");
-    // And guiding changed the samples.
-    assert!(on(2) != film(&s, &options(40, 5, Guiding::Off)));
+    // The path tracer, and the bidirectional tracer's guided emission,
+    // whose light paths splat.
+    for (s, spp) in [
+        (scene("cornell-box.xml", &[("res", "24")]), 40),
+        (inline("tube-threads", TUBE_LAMP), 20),
+    ] {
+        let o = options(spp, 5, Guiding::On);
+        assert!(
+            on_threads(&s, &o, 1) == on_threads(&s, &o, 3),
+            "the image depends on the thread count"
+        );
+        // And guiding changed the samples.
+        assert!(on_threads(&s, &o, 2) != film(&s, &options(spp, 5, Guiding::Off)));
+    }
 }
 
 #[test]
 fn a_resumed_guided_render_is_bit_identical_to_an_uninterrupted_one() {
     // Fog too: guided phase sampling.
     let small = [("width", "16"), ("height", "12")];
+    // And the bidirectional tracer's guided emission.
     for (name, stop_at) in [
         ("cornell-box.xml", 3),
         ("cornell-box.xml", 20),
         ("foggy-street.xml", 5),
+        ("tube lamp", 6),
     ] {
-        let s = scene(name, &small);
+        let s = match name {
+            "tube lamp" => inline("tube-resume", TUBE_LAMP),
+            _ => scene(name, &small),
+        };
         let opts = RenderOptions {
             bands: Some(4),
             ..options(40, 3, Guiding::On)
@@ -281,28 +354,34 @@ fn guided_shards_of_rows_are_the_rows_of_the_whole() {
             assert!(part.pixels[r.clone()] == whole.pixels[r], "row {y}");
         }
     }
-    // A shard of later samples uses the fields the whole render learned.
-    let late = film(
-        &s,
-        &RenderOptions {
-            shard: Some(Shard {
-                samples: 10..24,
+}
+
+#[test]
+fn guided_shards_of_samples_add_up_to_the_whole() {
+    // A shard of later samples uses the field the whole render learned;
+    // so does the bidirectional tracer's (whose light paths splat on any
+    // row, so its shards are of samples).
+    for s in [
+        scene("cornell-box.xml", &[("res", "16")]),
+        inline("tube-shards", TUBE_LAMP),
+    ] {
+        let o = options(24, 9, Guiding::On);
+        let whole = film(&s, &o);
+        let shard = |samples| {
+            let shard = Some(Shard {
+                samples,
                 rows: None,
-            }),
-            ..o.clone()
-        },
-    );
-    let early = film(
-        &s,
-        &RenderOptions {
-            shard: Some(Shard {
-                samples: 0..10,
-                rows: None,
-            }),
-            ..o
-        },
-    );
-    for ((a, b), c) in early.pixels.iter().zip(&late.pixels).zip(&whole.pixels) {
+            });
+            film(&s, &RenderOptions { shard, ..o.clone() })
+        };
+        let (early, late) = (shard(0..10), shard(10..24));
+        assert_sums(&early, &late, &whole);
+    }
+}
+
+/// `a` + `b` is `whole` within f64 rounding.
+fn assert_sums(a: &Film, b: &Film, whole: &Film) {
+    for ((a, b), c) in a.pixels.iter().zip(&b.pixels).zip(&whole.pixels) {
         for k in 0..4 {
             let sum = a.xyzv[k] + b.xyzv[k];
             assert!(
@@ -318,10 +397,6 @@ fn guided_shards_of_rows_are_the_rows_of_the_whole() {
 fn guiding_is_refused_where_it_does_not_run() {
     let s = scene("cornell-box.xml", &[("res", "8")]);
     let cases = [
-        RenderOptions {
-            integrator: Some(IntegratorKind::Bdpt),
-            ..options(4, 0, Guiding::On)
-        },
         RenderOptions {
             tracer: Tracer::Wavefront,
             ..options(4, 0, Guiding::On)

@@ -344,7 +344,7 @@ pub enum RenderError {
     Strategy(BdptStrategy),
     #[error("the wavefront tracer runs the path tracer between surfaces only, not {0}: render with the scalar tracer")]
     Wavefront(&'static str),
-    #[error("path guiding serves the scalar path and volume path tracers' radiance, not {0}: render with --guiding off")]
+    #[error("path guiding serves the scalar path, volume path and bidirectional tracers' radiance, not {0}: render with --guiding off")]
     Guiding(&'static str),
     #[error("the bidirectional tracer needs a perspective or thin-lens camera (an orthographic camera cannot be reached from a light); render with path")]
     BdptProjection,

@@ -148,9 +148,10 @@ impl<'a> Renderer<'a> {
         let mut renderer = Self::with(scene, options.strategy, kind, integrator, lit);
         if options.guiding == Guiding::On {
             let refused = match &renderer.integrator {
-                Integrator::Path(Tracer::Scalar) | Integrator::VolPath(_) => None,
+                Integrator::Path(Tracer::Scalar) | Integrator::VolPath(_) | Integrator::Bdpt(_) => {
+                    None
+                }
                 Integrator::Path(Tracer::Wavefront) => Some("the wavefront tracer"),
-                Integrator::Bdpt(_) => Some("the bidirectional tracer"),
                 Integrator::Illuminance(_) | Integrator::Meter(_) => Some("illuminance"),
             };
             if let Some(what) = refused {

@@ -163,6 +163,27 @@ impl Light {
         }
     }
 
+    /// Radiance (area lights, from texture point `uv` on a surface of
+    /// normal `n`) or intensity (point-like lights) leaving in direction
+    /// `d`; zero for lights at infinity and directional lights, whose
+    /// emission is not drawn by direction.
+    pub fn emitted_towards<const K: usize>(
+        &self,
+        wl: &SampledWavelengths<K>,
+        uv: [f32; 2],
+        n: Vec3,
+        d: Vec3,
+    ) -> SampledSpectrum<K> {
+        match self {
+            Light::Area(a) => a.radiance(wl, uv, n, d),
+            Light::Point(p) => p.intensity.sample(wl),
+            Light::Spot(s) => s.intensity_towards(wl, d),
+            Light::Projector(p) => p.intensity_towards(wl, d),
+            Light::Goniometric(g) => g.intensity_towards(wl, d),
+            _ => SampledSpectrum::splat(0.0),
+        }
+    }
+
     /// Densities of `sample_le` emitting from `p` (normal `n` for area
     /// lights) in direction `d`. For lights at infinity `d` is the
     /// direction light travels and `pos` the disk's density where the line

@@ -190,7 +190,10 @@ impl Renderer<'_> {
         };
         let d = (next.p - v.p).normalize();
         let pdf = light.pdf_le(&extent, next.p, v.ng, d);
-        v.convert(if v.at_infinity { pdf.pos } else { pdf.dir }, next)
+        if v.at_infinity {
+            return v.convert(pdf.pos, next);
+        }
+        v.convert(self.emission_pdf(light, v.p, d, pdf.dir), next)
     }
 
     /// Radiance (or intensity) the light at `v` emits in direction `d`.
@@ -207,12 +210,8 @@ impl Renderer<'_> {
                 .fold(SampledSpectrum::splat(0.0), |a, b| a + b);
         }
         match self.light_of(v) {
-            Some(Light::Area(a)) => a.radiance(wl, v.tex.uv, v.ng, d),
-            Some(Light::Point(p)) => p.intensity.sample(wl),
-            Some(Light::Spot(s)) => s.intensity_towards(wl, d),
-            Some(Light::Projector(p)) => p.intensity_towards(wl, d),
-            Some(Light::Goniometric(g)) => g.intensity_towards(wl, d),
-            _ => SampledSpectrum::splat(0.0),
+            Some(l) => l.emitted_towards(wl, v.tex.uv, v.ng, d),
+            None => SampledSpectrum::splat(0.0),
         }
     }
 

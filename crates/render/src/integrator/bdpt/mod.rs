@@ -15,6 +15,7 @@
 
 mod clusters;
 mod connect;
+mod guided;
 mod media;
 mod mis;
 mod vertex;
@@ -30,7 +31,7 @@ use super::{CameraSample, Renderer};
 use crate::sampling::sobol::Sampler;
 use clusters::camera_cluster;
 use connect::{Contribution, Draw, Subpaths};
-use vertex::Vertex;
+use vertex::{Kind, Vertex};
 
 /// A light-tracing contribution: where it lands on the film and what.
 #[derive(Debug, Clone, Copy)]
@@ -69,7 +70,7 @@ impl Renderer<'_> {
             scratch,
             splats,
             counts,
-            ..
+            records,
         } = to;
         let SampleStart {
             film,
@@ -126,6 +127,14 @@ impl Renderer<'_> {
             unweighted: bidirectional.only.is_some(),
             by_point: self.lights.by_point(),
         };
+        // While guiding learns: the light vertex's record (`guided`), the
+        // light its direction brought to the camera.
+        let slot = sub.light.first().and_then(|y0| {
+            let light = self.scene.lights.get(y0.index as usize)?;
+            (y0.kind == Kind::Light).then_some(())?;
+            self.emission_slot(light, y0.p, -y0.wi)
+        });
+        let mut found = 0.0f32;
         let mut radiance = SampledSpectrum::<K>::splat(0.0);
         for t in 1..=sub.camera.len() {
             for s in 0..=sub.light.len().max(1) {
@@ -147,6 +156,9 @@ impl Renderer<'_> {
                 let Some(Contribution { l, raster }) = self.strategy(&sub, s, t, &mut draw) else {
                     continue;
                 };
+                if slot.is_some() && s >= 2 {
+                    found += l.0.iter().sum::<f32>();
+                }
                 match raster {
                     None => radiance += l,
                     Some(raster) => {
@@ -164,6 +176,9 @@ impl Renderer<'_> {
                     }
                 }
             }
+        }
+        if let Some(slot) = slot.filter(|_| found.is_finite()) {
+            records.push((slot, found.max(0.0)));
         }
         let xyzv = estimate_xyzv(&radiance, &wl);
         let finite = xyzv.iter().all(|v| v.is_finite()) && radiance.0.iter().all(|v| v.is_finite());

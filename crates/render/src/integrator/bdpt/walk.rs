@@ -70,7 +70,10 @@ impl Renderer<'_> {
         };
         let light = &self.scene.lights[l];
         let extent = self.extent();
-        let Some(e) = light.sample_le(&extent, wl, u_select, [u_p0, u_p1], [u_d0, u_d1]) else {
+        let Some(e) = light
+            .sample_le(&extent, wl, u_select, [u_p0, u_p1], [u_d0, u_d1])
+            .and_then(|e| self.guide_emission(light, e, wl, [u_d0, u_d1], draw.rng))
+        else {
             return false;
         };
         if !(e.pdf_pos > 0.0 && e.pdf_dir > 0.0) || e.le.is_zero() {
