@@ -8,7 +8,9 @@
 
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
+use super::halo::{self, Halos};
 use super::path::ScatterPoint;
+use super::select::Integrator;
 use super::Renderer;
 use crate::bsdf::{Bsdf, BsdfSample, Transport};
 use crate::guiding::{side, DTree, Field, Guide, Spot, SHARE};
@@ -146,6 +148,38 @@ fn mixed(p: f32, g: f32) -> f32 {
     (1.0 - SHARE) * p + SHARE * g
 }
 
+/// The density with the halos' share (`halo`) from the density `p` of
+/// the other strategies and the halos' `h`.
+#[inline]
+fn with_halo(p: f32, h: f32) -> f32 {
+    (1.0 - halo::SHARE) * p + halo::SHARE * h
+}
+
+/// A direction from phase function `phase`, drawn half from `guide` when
+/// there is one: the direction, the phase function's value f there and
+/// the mixture's density q.
+fn sample_unhaloed_phase(
+    guide: Option<&DTree>,
+    phase: &Phase,
+    wi: Vec3,
+    u_pick: f32,
+    u: [f32; 2],
+) -> Option<(Vec3, f32, f32)> {
+    let Some(g) = guide else {
+        // The phase function is sampled exactly: f = pdf.
+        let (wo, pdf) = phase.sample(wi, u);
+        return Some((wo, pdf, pdf));
+    };
+    let wo = if u_pick < SHARE {
+        g.sample(u)?.0
+    } else {
+        phase.sample(wi, u).0
+    };
+    let f = phase.eval(wi, wo);
+    let q = mixed(f, g.pdf(wo));
+    (f > 0.0 && q > 0.0 && q.is_finite()).then_some((wo, f, q))
+}
+
 impl Renderer<'_> {
     /// The field the pass draws from, when guiding.
     #[inline]
@@ -168,6 +202,22 @@ impl Renderer<'_> {
         bsdf: &Bsdf,
     ) -> Option<&'f DTree> {
         spot.and_then(|s| s.guide()).filter(|_| guided(bsdf))
+    }
+
+    /// The lamps' halos bounces aim at: the volume path tracer's.
+    #[inline]
+    pub(super) fn halos(&self) -> Option<&Halos> {
+        match &self.integrator {
+            Integrator::VolPath(m) if !m.halos.is_empty() => Some(&m.halos),
+            _ => None,
+        }
+    }
+
+    /// The halos a bounce at a vertex of `bsdf` aims at, if any: at
+    /// surfaces with a diffuse part, as guiding.
+    #[inline]
+    fn surface_halos(&self, bsdf: &Bsdf) -> Option<&Halos> {
+        self.halos().filter(|_| guided(bsdf))
     }
 
     /// The guide scattering by `phase` draws from at `spot`, if any.
@@ -193,8 +243,12 @@ impl Renderer<'_> {
         bsdf_pdf: f32,
     ) -> f32 {
         let p = self.reflectors.pdf(bsdf, x, d, bsdf_pdf);
-        match guide {
+        let p = match guide {
             Some(g) => mixed(p, g.pdf(d)),
+            None => p,
+        };
+        match self.surface_halos(bsdf) {
+            Some(h) => with_halo(p, h.pdf(x, d)),
             None => p,
         }
     }
@@ -204,6 +258,43 @@ impl Renderer<'_> {
     /// f·cos/q and density q. `u`: the lobe's number, then the
     /// direction's two.
     pub(super) fn sample_bounce<const K: usize>(
+        &self,
+        guide: Option<&DTree>,
+        bsdf: &Bsdf,
+        wl: &SampledWavelengths<K>,
+        point: &ScatterPoint,
+        wi: Vec3,
+        [u_lobe, u0, u1]: [f32; 3],
+    ) -> Option<BsdfSample<K>> {
+        let Some(h) = self.surface_halos(bsdf) else {
+            return self.sample_unhaloed(guide, bsdf, wl, point, wi, [u_lobe, u0, u1]);
+        };
+        // In media, a share of the bounces aims at the lamps' halos
+        // (`halo`); the density of every direction is the mixture's.
+        let x = point.p;
+        if u_lobe < halo::SHARE {
+            let d = h.sample(x, u_lobe / halo::SHARE, [u0, u1])?;
+            let wo = point.frame.to_local(d);
+            let f = bsdf.eval(wl, point.at, wi, wo, Transport::Radiance);
+            let q = self.bounce_pdf(guide, bsdf, x, d, bsdf.pdf_at(wl, point.at, wi, wo));
+            return BsdfSample::mixed(wo, f, q);
+        }
+        let u_lobe = ((u_lobe - halo::SHARE) / (1.0 - halo::SHARE)).min(1.0 - f32::EPSILON);
+        let mut bs = self.sample_unhaloed(guide, bsdf, wl, point, wi, [u_lobe, u0, u1])?;
+        if bs.delta {
+            // Drawn by the other share only.
+            bs.weight *= 1.0 / (1.0 - halo::SHARE);
+            return Some(bs);
+        }
+        let q = with_halo(bs.pdf, h.pdf(x, point.frame.to_world(bs.wo)));
+        // The weight f/p becomes f/q.
+        bs.weight *= bs.pdf / q;
+        bs.pdf = q;
+        (q > 0.0 && q.is_finite()).then_some(bs)
+    }
+
+    /// [`Self::sample_bounce`] without the halos' share.
+    fn sample_unhaloed<const K: usize>(
         &self,
         guide: Option<&DTree>,
         bsdf: &Bsdf,
@@ -248,33 +339,37 @@ impl Renderer<'_> {
     pub(super) fn sample_phase(
         &self,
         guide: Option<&DTree>,
-        phase: &Phase,
+        (phase, x): (&Phase, Vec3),
         wi: Vec3,
         u_pick: f32,
         u: [f32; 2],
     ) -> Option<(Vec3, f32, f32)> {
-        let Some(g) = guide else {
-            // The phase function is sampled exactly: f = pdf.
-            let (wo, pdf) = phase.sample(wi, u);
-            return Some((wo, pdf, pdf));
+        let Some(h) = self.halos() else {
+            return sample_unhaloed_phase(guide, phase, wi, u_pick, u);
         };
-        let wo = if u_pick < SHARE {
-            g.sample(u)?.0
+        let (wo, f, q) = if u_pick < halo::SHARE {
+            let wo = h.sample(x, u_pick / halo::SHARE, u)?;
+            let f = phase.eval(wi, wo);
+            (wo, f, self.phase_pdf(guide, x, f, wo))
         } else {
-            phase.sample(wi, u).0
+            let u_pick = ((u_pick - halo::SHARE) / (1.0 - halo::SHARE)).min(1.0 - f32::EPSILON);
+            let (wo, f, q) = sample_unhaloed_phase(guide, phase, wi, u_pick, u)?;
+            (wo, f, with_halo(q, h.pdf(x, wo)))
         };
-        let f = phase.eval(wi, wo);
-        let q = mixed(f, g.pdf(wo));
         (f > 0.0 && q > 0.0 && q.is_finite()).then_some((wo, f, q))
     }
 
-    /// The density a medium point's bounce has in direction `d`, where the
-    /// phase function's value is `f`.
+    /// The density a medium point `x`'s bounce has in direction `d`,
+    /// where the phase function's value is `f`.
     #[inline]
-    pub(super) fn phase_pdf(&self, guide: Option<&DTree>, f: f32, d: Vec3) -> f32 {
-        match guide {
+    pub(super) fn phase_pdf(&self, guide: Option<&DTree>, x: Vec3, f: f32, d: Vec3) -> f32 {
+        let p = match guide {
             Some(g) => mixed(f, g.pdf(d)),
             None => f,
+        };
+        match self.halos() {
+            Some(h) => with_halo(p, h.pdf(x, d)),
+            None => p,
         }
     }
 

@@ -22,6 +22,7 @@ mod direct;
 mod driver;
 mod equiangular;
 mod guided;
+mod halo;
 mod light_choice;
 mod measure;
 mod options;

@@ -282,10 +282,16 @@ impl Renderer<'_> {
                 }
             }
         }
-        if !self.within(path.depth + 1) {
+        let bsdf = &scene.materials[scene.shape_material[hit.shape as usize] as usize];
+        // A volume path tracer passes a null surface (a medium's boundary)
+        // without a vertex, so a path at its last segment goes on through
+        // it to what lies beyond: an emitter there is a path of the same
+        // length, which next-event estimation's MIS weight counts on
+        // (Mitsuba's volpath likewise).
+        let passes = MEDIA && matches!(bsdf, Bsdf::Null(_));
+        if !self.within(path.depth + 1) && !passes {
             return Bounce::STOP;
         }
-        let bsdf = &scene.materials[scene.shape_material[hit.shape as usize] as usize];
         let (frame, at) = ShadingPoint::at(
             surface.tex(hit),
             surface.n_shading,

@@ -5,10 +5,11 @@
 
 use crate::bsdf::Bsdf;
 use crate::camera::Projection;
+use crate::math::Vec3;
 use crate::scene::{IntegratorKind, Scene};
 
 use super::light_choice::LightChoice;
-use super::{equiangular, measure, Quantity, RenderError, RenderOptions, Tracer};
+use super::{equiangular, halo, measure, Quantity, RenderError, RenderOptions, Tracer};
 
 /// The light transport of a render.
 pub enum Integrator {
@@ -32,6 +33,8 @@ pub enum Integrator {
 pub struct Media {
     /// The lights equi-angular sampling aims at.
     pub(super) targets: equiangular::Targets,
+    /// The lamps whose halos bounces are drawn towards (`halo`).
+    pub(super) halos: halo::Halos,
 }
 
 /// The bidirectional tracer's own state.
@@ -64,14 +67,15 @@ impl Media {
     /// through media.
     pub(super) fn of(scene: &Scene, lights: &LightChoice, scene_radius: f32) -> Option<Self> {
         traces_media(scene).then(|| {
-            let targets = (0..scene.lights.len())
+            let lamps: Vec<(Vec3, f32)> = (0..scene.lights.len())
                 .filter_map(|i| {
                     let c = scene.lights[i].centre(&scene.geometry.shapes)?;
                     Some((c, lights.power.probability(i)))
                 })
                 .collect();
             Self {
-                targets: equiangular::Targets::new(targets, scene_radius),
+                halos: halo::Halos::new(lamps.clone(), scene_radius),
+                targets: equiangular::Targets::new(lamps, scene_radius),
             }
         })
     }

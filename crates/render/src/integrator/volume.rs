@@ -154,7 +154,7 @@ impl Renderer<'_> {
         if f.is_nan() || f <= 0.0 {
             return None;
         }
-        let w = mis.light_weight(d.pdf, self.phase_pdf(guide, f, d.ls.wi), d.ls.delta);
+        let w = mis.light_weight(d.pdf, self.phase_pdf(guide, p, f, d.ls.wi), d.ls.delta);
         let unit = self.scene.geometry.offset_unit();
         (w > 0.0).then(|| (d.ray(unit), beta * d.ls.radiance * (f * w / d.pdf)))
     }
@@ -187,11 +187,13 @@ impl Renderer<'_> {
             record: None,
         };
         // The phase function's direction, or where guided, half of them
-        // the guide's (`guided`): f/q, 1 unguided.
-        let Some((wo, f, pdf)) = self.sample_phase(guide, phase, wi, u_pick, [u_p0, u_p1]) else {
+        // the guide's (`guided`), and a share aimed at the lamps' halos
+        // (`halo`): f/q, 1 with neither.
+        let Some((wo, f, pdf)) = self.sample_phase(guide, (phase, p), wi, u_pick, [u_p0, u_p1])
+        else {
             return stop;
         };
-        if guide.is_some() {
+        if guide.is_some() || self.halos().is_some() {
             path.beta *= f / pdf;
             if path.beta.is_zero() || !path.beta.max_value().is_finite() {
                 return stop;
