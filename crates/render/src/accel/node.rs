@@ -47,8 +47,9 @@ impl<L: Lanes8> Query<L> {
 
 /// A node of `N` children: their boxes (min x, min y, min z, max x,
 /// max y, max z, each one array of N lanes) and what each child is.
-/// Unused slots hold an empty box, which no ray meets. 128 bytes at
-/// N = 4, 256 at N = 8.
+/// Unused slots hold an empty box, which no ray of finite coordinates
+/// meets (`Bvh::traverse` walks no other). 128 bytes at N = 4, 256 at
+/// N = 8.
 #[derive(Debug, Clone, Copy)]
 #[repr(C, align(64))]
 pub(crate) struct Node<const N: usize> {

@@ -336,3 +336,47 @@ fn eight_wide_nodes_find_the_brute_force_hits_at_every_level() {
         assert!(hits > r.len() / 10 && hits < r.len(), "{n}: {hits} hits");
     }
 }
+
+/// A ray with a NaN or infinite coordinate meets nothing, at every level
+/// and width, for one query and many, and the traversal returns. A NaN
+/// direction's slab distances are NaN, which pass every box, the unused
+/// slots' empty boxes too; those slots' child word is node 0, so the walk
+/// went back to the root without end, recursing each time its stack
+/// filled, until the thread's stack overflowed (a shadow ray of NaN
+/// direction in the foggy street, `integrator::direct::shadow_ray`).
+#[test]
+fn a_ray_with_a_nan_or_infinite_coordinate_meets_nothing() {
+    let (nan, inf) = (f32::NAN, f32::INFINITY);
+    let d = Vec3::new(0.0, 0.0, 1.0);
+    let o = Vec3::new(0.1, 0.2, -3.0);
+    let bad = [
+        Ray::new(o, Vec3::splat(nan)),
+        Ray::new(o, Vec3::new(0.0, nan, 1.0)),
+        Ray::new(Vec3::new(nan, 0.2, -3.0), d),
+        Ray::new(Vec3::splat(inf), d),
+        Ray::new(o, Vec3::new(0.0, -inf, inf)),
+    ];
+    for (name, shapes) in [("mixed", mixed()), ("tiny", vec![grid(2, 1.0)])] {
+        for width in [Width::Four, Width::Eight] {
+            let agg = Aggregate::built_with(&LeafCost::SCALAR, width, shapes.clone(), Vec::new());
+            for level in Level::available() {
+                // The ray they spoil does hit.
+                assert!(agg.intersect_at(level, &Ray::new(o, d)).is_some());
+                for (i, ray) in bad.iter().enumerate() {
+                    let at = format!("{name}, {width:?}, {level}: ray {i}");
+                    assert_eq!(agg.intersect_at(level, ray), None, "{at}");
+                    assert!(!agg.occluded_at(level, ray), "{at}");
+                }
+                let mut hits = vec![None; bad.len()];
+                agg.intersect_many(level, &bad, &mut hits);
+                assert!(
+                    hits.iter().all(Option::is_none),
+                    "{name}, {width:?}, {level}"
+                );
+                let mut blocked = vec![true; bad.len()];
+                agg.occluded_many(level, &bad, &mut blocked);
+                assert!(!blocked.iter().any(|&b| b), "{name}, {width:?}, {level}");
+            }
+        }
+    }
+}

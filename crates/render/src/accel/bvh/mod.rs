@@ -166,7 +166,8 @@ impl Bvh {
     /// leaf's primitives is hit; returning `Some` with `stop` true ends the
     /// traversal (any-hit queries). `NEAREST_FIRST` orders each node's
     /// children by distance: closest-hit queries need it to shrink t_max
-    /// early; any-hit queries skip the sort.
+    /// early; any-hit queries skip the sort. A ray with a NaN or infinite
+    /// coordinate meets nothing ([`meets_boxes`]).
     #[inline(always)]
     pub(crate) fn traverse<const NEAREST_FIRST: bool, L: NodeLanes>(
         &self,
@@ -175,6 +176,9 @@ impl Bvh {
         t_max: f32,
         mut hit: impl Visit,
     ) -> f32 {
+        if !meets_boxes(ray) {
+            return t_max;
+        }
         let query = Query::new(l, ray);
         match &self.nodes {
             Nodes::Four(n) if !n.is_empty() => {
@@ -190,6 +194,18 @@ impl Bvh {
             _ => t_max,
         }
     }
+}
+
+/// Whether `ray` can be walked through the tree: its origin and direction
+/// are finite. A NaN coordinate (or an infinite one, through ∞ − ∞ or
+/// 0 · ∞) makes slab distances NaN, which the tests' min/max chains pass
+/// over, so a box can test as hit — an unused slot's empty box too, whose
+/// child word (0, interior) is the root: the walk would go back to the
+/// root without end, and once its stack filled, recurse until the
+/// thread's stack overflowed.
+#[inline(always)]
+fn meets_boxes(ray: &Ray) -> bool {
+    ray.o.is_finite() && ray.d.is_finite()
 }
 
 /// Rewrites each leaf child's words by `f`.
