@@ -13,7 +13,7 @@
 //! (equi-angular sampling then found the scattering point beside the lamp,
 //! with an estimate thousands of times the pixel's).
 //!
-//! A share [`SHARE`] of the bounces at diffuse surfaces and in media is
+//! A share [`SHARE`] (20 %) of the bounces at diffuse surfaces and in media is
 //! drawn instead towards a lamp chosen by power over squared distance, at
 //! an angle θ from its centre uniform in [0, [`CONE`]) and an azimuth
 //! uniform: the density per steradian is 1/(2π·CONE·sin θ), which cancels
@@ -24,12 +24,17 @@
 
 use crate::math::{Frame, Vec3};
 
-/// Share of the bounces drawn towards a lamp's halo.
-pub const SHARE: f32 = 0.1;
+/// Share of the bounces drawn towards a lamp's halo: chosen on the foggy
+/// street at equal time (`bench/against_before.py`, 4 seeds of 10 s at
+/// 320 × 180: relMSE of Y 1.52× lower than without halos at 10 %, 1.72×
+/// at 20 %, 1.33× at 30 %).
+pub const SHARE: f32 = 0.2;
 
 /// Half-angle of the cone round a lamp's centre the halo's directions are
 /// drawn in (radians): the part of the halo where its 1/θ outgrows what
-/// the BSDF's or the phase function's samples estimate well.
+/// the BSDF's or the phase function's samples estimate well (fog's
+/// g = 0.85 phase function falls to a quarter of its peak by 0.2 rad; on
+/// the foggy street 0.1 rad gave 1.45×, 0.4 rad 1.32×, against 1.72×).
 pub const CONE: f32 = 0.2;
 
 /// The least sin θ a density is evaluated at, so that a direction through
