@@ -91,11 +91,12 @@ demo:
 	@# the eye sees them (the Cornell box's 64 are, in its shadows: 512 take
 	@# about 30 s more). The night street's 176 take as long as 256 did
 	@# before its diffuse bounces were aimed in part at the lamp-lit poles
-	@# (README, "Fireflies in the demo"). About 5 minutes for the whole
-	@# demo on 2 cores.
+	@# (README, "Fireflies in the demo"). About 3 minutes for the whole
+	@# demo on 2 cores (183 s on 2026-12-04).
 	@# The prism's light paths are guided out of its lamp's tube
-	@# (docs/guiding.md): 128 guided spp take as long as its 256
-	@# unguided did, and its spectrum is clean where it was confetti.
+	@# (docs/guiding.md): 128 guided spp take 75 s where its 256
+	@# unguided took 112 s, and its spectrum is clean where it was
+	@# confetti.
 	@for s in $(DEMO_SCENES); do \
 	  case $$s in cornell-box) i=; n=512; g=;; material-showcase) i=bdpt; n=192; g=;; night-street) i=; n=176; g=;; prism) i=; n=128; g=on;; *) i=; n=; g=;; esac; \
 	  $(BIN) render scenes/$$s.xml $${i:+--integrator $$i} $${n:+--spp $$n} $${g:+--guiding $$g} -o $(DEMO_OUT)/$$s.exr --preview $(DEMO_OUT)/$$s.png; done
