@@ -146,6 +146,41 @@ const TUBE_LAMP: &str = r#"<scene version="3.0.0">
 </scene>
 "#;
 
+/// Point-like lamps (a spot and a point light) and a directional light
+/// over a glass ball, for the bidirectional tracer: guided emission from
+/// lights whose position is a delta distribution (the directional light
+/// is not guided).
+const POINT_LAMPS: &str = r#"<scene version="3.0.0">
+    <integrator type="bdpt"><integer name="max_depth" value="5"/></integrator>
+    <sensor type="perspective">
+        <float name="fov" value="50"/>
+        <transform name="to_world"><lookat origin="0, 1.5, 3" target="0, 0.5, 0" up="0, 1, 0"/></transform>
+        <sampler type="independent"><integer name="sample_count" value="16"/></sampler>
+        <film type="hdrfilm">
+            <integer name="width" value="32"/><integer name="height" value="24"/>
+            <rfilter type="box"/>
+        </film>
+    </sensor>
+    <shape type="rectangle">
+        <transform name="to_world"><scale value="3"/><rotate x="1" angle="-90"/></transform>
+        <bsdf type="diffuse"><float name="reflectance" value="0.5"/></bsdf>
+    </shape>
+    <shape type="sphere">
+        <point name="center" x="0" y="0.4" z="0"/><float name="radius" value="0.3"/>
+        <bsdf type="dielectric"/>
+    </shape>
+    <emitter type="spot">
+        <transform name="to_world"><lookat origin="1, 2, 0" target="0, 0, 0" up="0, 1, 0"/></transform>
+        <float name="cutoff_angle" value="15"/>
+        <spectrum name="intensity" value="100"/>
+    </emitter>
+    <emitter type="point"><point name="position" x="-1" y="2" z="1"/><spectrum name="intensity" value="20"/></emitter>
+    <emitter type="directional">
+        <vector name="direction" x="0" y="-1" z="-0.3"/><spectrum name="irradiance" value="0.5"/>
+    </emitter>
+</scene>
+"#;
+
 /// The scene in `xml`.
 fn inline(name: &str, xml: &str) -> Scene {
     let file = std::env::temp_dir().join(format!("scotopia-{name}-{}.xml", std::process::id()));
@@ -205,8 +240,10 @@ fn guided_and_unguided_renders_agree() {
     for (name, s) in [
         ("hidden lamp", hidden_lamp()),
         ("isotropic haze", inline("haze", ISOTROPIC_HAZE)),
-        // The bidirectional tracer: guided emission.
+        // The bidirectional tracer: guided emission, from an area light
+        // and from point-like lights.
         ("tube lamp", inline("tube", TUBE_LAMP)),
+        ("point lamps", inline("points", POINT_LAMPS)),
     ] {
         let off = film(&s, &options(1024, 1, Guiding::Off)).xyzv();
         let on = film(&s, &options(1024, 2, Guiding::On)).xyzv();
