@@ -44,6 +44,12 @@ impl Targets {
         self.lights.is_empty()
     }
 
+    /// The lights with power, (centre, power share), and the least
+    /// distance to a centre used: what halo sampling aims at too.
+    pub fn lamps(&self) -> (&[(Vec3, f32)], f32) {
+        (&self.lights, self.min_h)
+    }
+
     /// Each target's choice weight for `ray` (power over squared distance
     /// from the ray's line), its Δ and h.
     fn geometry(&self, ray: &Ray) -> impl Iterator<Item = (f32, f32, f32)> + '_ {

@@ -22,6 +22,7 @@
 //! estimation and emitters hit weigh against the same density, as with
 //! guiding (`guided.rs`).
 
+use super::equiangular::Targets;
 use crate::math::{Frame, Vec3};
 
 /// Share of the bounces drawn towards a lamp's halo: chosen on the foggy
@@ -51,15 +52,12 @@ pub struct Halos {
 }
 
 impl Halos {
-    /// Lamps at `lamps` (centre, share of the power); `scene_radius`
-    /// bounds how near a centre counts.
-    pub fn new(lamps: Vec<(Vec3, f32)>, scene_radius: f32) -> Self {
-        let min_d = 1e-4 * scene_radius.max(1e-6);
+    /// The lamps equi-angular sampling aims at (`targets`), with its least
+    /// distance to a centre.
+    pub fn of(targets: &Targets) -> Self {
+        let (lamps, min_d) = targets.lamps();
         Self {
-            lamps: lamps
-                .into_iter()
-                .filter(|&(c, p)| p > 0.0 && p.is_finite() && c.is_finite())
-                .collect(),
+            lamps: lamps.to_vec(),
             min_d2: min_d * min_d,
         }
     }
@@ -142,13 +140,13 @@ mod tests {
     use crate::test_rng::{mean_and_se, uniforms};
 
     fn halos() -> Halos {
-        Halos::new(
+        Halos::of(&Targets::new(
             vec![
                 (Vec3::new(2.0, 5.0, -3.0), 0.6),
                 (Vec3::new(-4.0, 6.0, -20.0), 0.4),
             ],
             50.0,
-        )
+        ))
     }
 
     #[test]

@@ -5,7 +5,6 @@
 
 use crate::bsdf::Bsdf;
 use crate::camera::Projection;
-use crate::math::Vec3;
 use crate::scene::{IntegratorKind, Scene};
 
 use super::light_choice::LightChoice;
@@ -67,15 +66,16 @@ impl Media {
     /// through media.
     pub(super) fn of(scene: &Scene, lights: &LightChoice, scene_radius: f32) -> Option<Self> {
         traces_media(scene).then(|| {
-            let lamps: Vec<(Vec3, f32)> = (0..scene.lights.len())
+            let lamps = (0..scene.lights.len())
                 .filter_map(|i| {
                     let c = scene.lights[i].centre(&scene.geometry.shapes)?;
                     Some((c, lights.power.probability(i)))
                 })
                 .collect();
+            let targets = equiangular::Targets::new(lamps, scene_radius);
             Self {
-                halos: halo::Halos::new(lamps.clone(), scene_radius),
-                targets: equiangular::Targets::new(lamps, scene_radius),
+                halos: halo::Halos::of(&targets),
+                targets,
             }
         })
     }

@@ -35,10 +35,7 @@ impl Renderer<'_> {
     /// its directions from, when guiding has learned one there.
     #[inline]
     pub(super) fn emission_guide(&self, light: &Light, p: Vec3) -> Option<&DTree> {
-        if light.is_infinite() || light.is_delta_direction() {
-            return None;
-        }
-        self.spot(p, EMITTING)?.guide()
+        self.spot(p, EMITTING).filter(|_| guided(light))?.guide()
     }
 
     /// The density of light subpaths leaving `light` at `p` in direction
@@ -87,9 +84,15 @@ impl Renderer<'_> {
     /// into while the guide learns.
     pub(super) fn emission_slot(&self, light: &Light, p: Vec3, d: Vec3) -> Option<u32> {
         let learning = self.guiding.as_ref().is_some_and(|g| g.learning);
-        if !learning || light.is_infinite() || light.is_delta_direction() {
+        if !learning || !guided(light) {
             return None;
         }
         Some(self.field()?.at(p, side(EMITTING)).slot(d))
     }
+}
+
+/// Whether light paths leaving `light` are guided: lights whose emission
+/// is drawn by direction from a point (not at infinity, not directional).
+fn guided(light: &Light) -> bool {
+    !(light.is_infinite() || light.is_delta_direction())
 }

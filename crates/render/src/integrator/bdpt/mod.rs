@@ -129,11 +129,14 @@ impl Renderer<'_> {
         };
         // While guiding learns: the light vertex's record (`guided`), the
         // light its direction brought to the camera.
-        let slot = sub.light.first().and_then(|y0| {
-            let light = self.scene.lights.get(y0.index as usize)?;
-            (y0.kind == Kind::Light).then_some(())?;
-            self.emission_slot(light, y0.p, -y0.wi)
-        });
+        let slot = sub
+            .light
+            .first()
+            .filter(|y0| y0.kind == Kind::Light)
+            .and_then(|y0| {
+                let light = self.scene.lights.get(y0.index as usize)?;
+                self.emission_slot(light, y0.p, -y0.wi)
+            });
         let mut found = 0.0f32;
         let mut radiance = SampledSpectrum::<K>::splat(0.0);
         for t in 1..=sub.camera.len() {
