@@ -140,7 +140,12 @@ impl Viewer {
         let sent = Command::new("kill").args(["-INT", &pid]).status().unwrap();
         assert!(sent.success());
         let code = self.child.wait().unwrap().code().unwrap_or(-1);
-        let said: Vec<String> = self.stderr.try_iter().collect();
+        // The reader thread may still hold the last lines after the exit:
+        // read until it sees the pipe's end (its sender is dropped then).
+        let mut said = Vec::new();
+        while let Ok(line) = self.stderr.recv_timeout(PATIENCE) {
+            said.push(line);
+        }
         (code, said.join("\n"))
     }
 }
