@@ -248,14 +248,16 @@ def view(path, *, port=None, open_browser=True, output=None, define=None, **opti
 def merge_shards(shards):
     """Adds up shards made by ``render_shard`` into ``(image, meta)`` as
     ``render`` returns them: image[y, x] = the summed X, Y, Z, V′ over the
-    summed sample count (0 where none). Shards that split rows (each
-    pixel's samples in one shard) give the single-process image bit for
-    bit with the path tracer; shards that split sample ranges, or carry
-    bdpt's light-tracing splats, add the same float64 sums in another
-    order (equal within about 1e-12 relative, documented as 1e-6). The
-    meta is the first shard's, with the samples per pixel and the
-    counters of all of them. Also returned in meta: "squares", the summed
-    second moments (H × W × 4), for the pixels' variance."""
+    summed filter weights (0 where none). With the box filter, shards that
+    split rows (each pixel's samples in one shard) give the single-process
+    image bit for bit with the path tracer; shards that split sample
+    ranges, carry bdpt's light-tracing splats, or split rows under a filter
+    that reaches across rows (a sample adds to the rows round its own) add
+    the same float64 sums in another order (equal within about 1e-12
+    relative, documented as 1e-6). The meta is the first shard's, with the
+    samples per pixel and the counters of all of them. Also returned in
+    meta: "squares", the summed weighted second moments (H × W × 4): a
+    pixel's weighted sample variance is squares / weights − image²."""
     import numpy as np
 
     shards = list(shards)
@@ -265,6 +267,7 @@ def merge_shards(shards):
     shape = (first["height"], first["width"])
     sums = np.zeros(shape + (4,), dtype=np.float64)
     squares = np.zeros(shape + (4,), dtype=np.float64)
+    weights = np.zeros(shape, dtype=np.float64)
     counts = np.zeros(shape, dtype=np.uint64)
     for s in shards:
         if (s["height"], s["width"]) != shape:
@@ -272,9 +275,10 @@ def merge_shards(shards):
                 f"merge_shards: a {s['width']}×{s['height']} shard among {shape[1]}×{shape[0]} ones")
         sums += s["sums"]
         squares += s["squares"]
+        weights += s["weights"]
         counts += s["counts"]
     with np.errstate(invalid="ignore", divide="ignore"):
-        image = np.where(counts[..., None] > 0, sums / counts[..., None], 0.0).astype(np.float32)
+        image = np.where(weights[..., None] > 0, sums / weights[..., None], 0.0).astype(np.float32)
     meta = dict(first["meta"])
     # Every pixel of a whole render has the same count; a partial merge
     # reports the fewest.

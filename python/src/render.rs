@@ -246,9 +246,12 @@ fn meta_dict<'py>(
 /// Renders one shard of a scene for distributed rendering: sample indices
 /// `samples = (i0, i1)` of the pixels in `rows = (y0, y1)` (all rows if
 /// None). Returns a dict of the film's raw sums (not normalised):
-/// "sums" (H × W × 4 float64, X, Y, Z, V′, bdpt's light-tracing splats
-/// included), "squares" (the camera samples' squares summed), "counts"
-/// (H × W uint32 camera samples), "dropped", "dropped_splats",
+/// "sums" (H × W × 4 float64, X, Y, Z, V′: each camera sample times the
+/// filter's weight at every pixel it reaches, bdpt's light-tracing splats
+/// included), "weights" (H × W float64, the camera samples' filter weights
+/// summed: a pixel is sums / weights), "squares" (the camera samples'
+/// squares times their weights, summed), "counts" (H × W uint32 camera
+/// samples that landed in each pixel), "dropped", "dropped_splats",
 /// "collapsed", "rays", "seconds", "width", "height", "samples", "rows"
 /// and "meta" (the render's metadata). `merge_shards` adds shards up.
 #[pyfunction]
@@ -324,8 +327,10 @@ fn render_shard<'py>(
         .copied()
         .collect();
     let counts: Vec<u32> = film.pixels.iter().map(|p| p.samples).collect();
+    let weights: Vec<f64> = film.pixels.iter().map(|p| p.weight).collect();
     let shape = |v: Vec<f64>| Array3::from_shape_vec((h, w, 4), v).map_err(|e| err(e.to_string()));
     let counts = Array2::from_shape_vec((h, w), counts).map_err(|e| err(e.to_string()))?;
+    let weights = Array2::from_shape_vec((h, w), weights).map_err(|e| err(e.to_string()))?;
     let mut facts = rendered.facts();
     facts.spp = samples.1 - samples.0;
     let meta = render_metadata(&scene, &options, &facts, &path.display().to_string());
@@ -333,6 +338,7 @@ fn render_shard<'py>(
     d.set_item("sums", shape(sums)?.into_pyarray(py))?;
     d.set_item("squares", shape(squares)?.into_pyarray(py))?;
     d.set_item("counts", counts.into_pyarray(py))?;
+    d.set_item("weights", weights.into_pyarray(py))?;
     d.set_item("dropped", rendered.nonfinite)?;
     d.set_item("dropped_splats", rendered.nonfinite_splats)?;
     d.set_item("collapsed", rendered.collapsed)?;

@@ -1,7 +1,8 @@
 """Shards of a render (``render_shard``, the core of distributed rendering,
 issue 27) merged by ``merge_shards`` against one process rendering all
-of it: bit for bit when shards split rows, within float64 summation order
-when they split sample ranges or carry bdpt's splats."""
+of it: bit for bit when shards split rows of a box-filtered film, within
+float64 summation order when they split sample ranges, carry bdpt's
+splats, or split rows under a filter that reaches across them."""
 from pathlib import Path
 
 import numpy as np
@@ -26,6 +27,19 @@ def test_row_shards_are_the_whole_render_bit_for_bit():
     assert np.array_equal(image, whole)
     assert merged["samplesPerPixel"] == 8
     assert merged["fovHorizontalDegrees"] == meta["fovHorizontalDegrees"]
+
+
+def test_row_shards_keep_what_the_filter_spills_across_their_edges():
+    # The prism's Gaussian filter (σ = 0.5) reaches two rows: a shard's
+    # samples add to the two rows on either side of it too.
+    whole, _ = scotopia.render(PRISM, spp=8, res=24, integrator="path", seed=3)
+    parts = shards(PRISM, [(0, 5), (5, 9), (9, 15)], [(0, 8)], res=24, integrator="path", seed=3)
+    assert parts[1]["weights"][3:5].sum() > 0 and parts[1]["weights"][9:11].sum() > 0
+    assert parts[1]["weights"][:3].sum() == 0 and parts[1]["weights"][11:].sum() == 0
+    assert parts[1]["counts"][:5].sum() == 0 and parts[1]["counts"][5:9].min() == 8
+    image, _ = scotopia.merge_shards(parts)
+    np.testing.assert_allclose(image, whole, rtol=1e-6, atol=1e-30)
+    assert image[..., 1].max() > 0
 
 
 @pytest.mark.parametrize("integrator", ["path", "bdpt"])

@@ -6,12 +6,12 @@
 //! render adds the same numbers in the same order as an uninterrupted one
 //! and ends bit-identical to it.
 //!
-//! Format 2 (little-endian): magic `SCOTCKPT`, version u32, key u64 (the
+//! Format 3 (little-endian): magic `SCOTCKPT`, version u32, key u64 (the
 //! caller's fingerprint of the scene, its files and the options), samples
 //! done u32, width u32, height u32, bands u32 (0: none), four u64
 //! counters; the files the scene read: a u32 count, then each as a u32
 //! length, its path (UTF-8) and its content's hash u64; per pixel four f64
-//! sums and a u32 count; the f64 band sums; last, the XXH3-64 hash of
+//! sums, the f64 sum of filter weights and a u32 count; the f64 band sums; last, the XXH3-64 hash of
 //! every byte before it. A checkpoint is checked whole before it is used:
 //! its size against its header, the hash, and that its numbers agree
 //! (see [`Checkpoint::check`]).
@@ -26,8 +26,10 @@ use scotopia_image::{open_plain, write_output, OutputOptions};
 use super::{Bands, Film, PixelSum};
 
 const MAGIC: &[u8; 8] = b"SCOTCKPT";
-const VERSION: u32 = 2;
-const PIXEL: u64 = 4 * 8 + 4;
+/// 3: each pixel keeps its sum of filter weights (camera samples are
+/// splatted, `film::filter`).
+const VERSION: u32 = 3;
+const PIXEL: u64 = 4 * 8 + 8 + 4;
 /// Bounds on the list of files, checked before anything is allocated.
 const MAX_SOURCES: u32 = 1 << 20;
 const MAX_SOURCE_PATH: u32 = 1 << 16;
@@ -133,6 +135,7 @@ impl Checkpoint {
             for v in p.xyzv {
                 w.write_all(&v.to_le_bytes())?;
             }
+            w.write_all(&p.weight.to_le_bytes())?;
             w.write_all(&p.samples.to_le_bytes())?;
         }
         for v in &f.spectral {
@@ -222,8 +225,10 @@ impl Checkpoint {
             for v in &mut xyzv {
                 *v = f64::from_bits(u64s(&mut r).map_err(io)?);
             }
+            let weight = f64::from_bits(u64s(&mut r).map_err(io)?);
             *p = PixelSum {
                 xyzv,
+                weight,
                 samples: u32s(&mut r).map_err(io)?,
             };
         }
@@ -264,6 +269,11 @@ impl Checkpoint {
             }
             if p.xyzv.iter().any(|v| !v.is_finite()) {
                 return Err(format!("pixel ({x}, {y}) has a sum that is not finite"));
+            }
+            if !(p.weight.is_finite() && p.weight >= 0.0) {
+                return Err(format!(
+                    "pixel ({x}, {y}) has a weight that is not a finite number ≥ 0"
+                ));
             }
             missing += (self.done - p.samples) as u64;
         }

@@ -1,9 +1,19 @@
-//! Reconstruction filters by importance sampling (pbrt-v4, Pharr et al.
-//! 2023, §8.8): each camera sample lands at an offset drawn from the
-//! filter and counts with weight 1 in the pixel it belongs to. For these
-//! non-negative filters this converges to the same image as Mitsuba's
-//! weighted splatting, Σ f·L / Σ f, and keeps pixels independent (so
-//! parallel renders are deterministic).
+//! Reconstruction filters, as Mitsuba's weighted splatting: a camera
+//! sample lands uniformly in its own pixel and adds f·L and f to every
+//! pixel whose filter reaches it; a pixel is Σ f·L / Σ f.
+//!
+//! Until issue 40 scotopia drew each sample's offset from the filter and
+//! counted it in its own pixel alone (filter importance sampling, pbrt-v4
+//! §8.8). That converges to the same image, but each pixel then averages
+//! only its own samples, where splatting averages every sample under its
+//! filter: for Mitsuba's Gaussian (σ = ½ pixel) about 1/∫f² = 4πσ² = π
+//! times as many, so a pixel's variance is about a third. A rare sample
+//! in the filter's tail that saw something bright beside the pixel
+//! counted fully there (the night street's lone bright pixels beyond
+//! bright edges); splatted, it counts with its small weight. The ratio
+//! Σ f·L / Σ f also renormalises the filter at the image's borders, where
+//! part of it would lie outside the film (no dark frame). Renders stay
+//! deterministic: see `Renderer::pass`.
 
 use crate::sampling::distribution::Distribution1D;
 
@@ -14,15 +24,15 @@ pub enum Filter {
     Gaussian { stddev: f32 },
 }
 
-/// Bins of the tabulated Gaussian's inverse CDF (per axis).
+/// Bins of the tabulated Gaussian (per axis).
 const GAUSSIAN_BINS: usize = 1024;
 
 #[derive(Debug, Clone, PartialEq)]
 pub enum FilterSampler {
-    /// Uniform over the pixel, [−½, ½]².
+    /// The pixel's own square, [−½, ½]².
     Box,
     /// Mitsuba's `gaussian`: stddev σ, truncated at its radius 4σ,
-    /// separable; sampled per axis from a finely tabulated CDF.
+    /// separable; tabulated finely per axis.
     Gaussian { radius: f32, table: Distribution1D },
 }
 
@@ -54,44 +64,54 @@ impl FilterSampler {
         }
     }
 
+    /// How many rows (and columns) away from its own pixel a camera
+    /// sample can reach: 0 for the box (each sample counts in its own
+    /// pixel alone), 2 for Mitsuba's default Gaussian.
+    pub fn reach(&self) -> usize {
+        match self {
+            FilterSampler::Box => 0,
+            // A sample at offset t ∈ [−½, ½) from its pixel's centre
+            // reaches the pixel d away when |t − d| < radius.
+            FilterSampler::Gaussian { radius, .. } => (radius - 0.5).ceil().max(0.0) as usize,
+        }
+    }
+
     /// The filter's value at `offset` from a pixel centre, normalised to
-    /// integrate to 1 over the plane: the density `sample` draws offsets
-    /// with, and what a splatted light-tracing sample is weighted by in
-    /// each pixel it reaches.
+    /// integrate to 1 over the plane: what a splatted sample (a camera
+    /// sample, or a light-tracing one) is weighted by in each pixel it
+    /// reaches.
     pub fn weight(&self, offset: [f32; 2]) -> f32 {
+        self.axis_weight(offset[0]) * self.axis_weight(offset[1])
+    }
+
+    /// The filter's value along one axis (both filters are separable),
+    /// normalised to integrate to 1 over the line.
+    #[inline]
+    pub fn axis_weight(&self, x: f32) -> f32 {
         match self {
             FilterSampler::Box => {
-                let inside = |x: f32| (-0.5..0.5).contains(&x);
-                if inside(offset[0]) && inside(offset[1]) {
+                if (-0.5..0.5).contains(&x) {
                     1.0
                 } else {
                     0.0
                 }
             }
-            FilterSampler::Gaussian { radius, table } => offset
-                .iter()
-                .map(|&x| {
-                    let t = (x + radius) / (2.0 * radius);
-                    if (0.0..1.0).contains(&t) {
-                        table.pdf(t) / (2.0 * radius)
-                    } else {
-                        0.0
-                    }
-                })
-                .product(),
+            FilterSampler::Gaussian { radius, table } => {
+                let t = (x + radius) / (2.0 * radius);
+                if (0.0..1.0).contains(&t) {
+                    table.pdf(t) / (2.0 * radius)
+                } else {
+                    0.0
+                }
+            }
         }
     }
 
-    /// The sample's offset from the pixel centre, in pixels.
+    /// A camera sample's offset from its pixel's centre, in pixels:
+    /// uniform over the pixel, whatever the filter.
     #[inline]
     pub fn sample(&self, u: [f32; 2]) -> [f32; 2] {
-        match self {
-            FilterSampler::Box => [u[0] - 0.5, u[1] - 0.5],
-            FilterSampler::Gaussian { radius, table } => u.map(|v| {
-                let x = table.sample_continuous(v).map_or(0.5, |s| s.0);
-                (2.0 * x - 1.0) * radius
-            }),
-        }
+        [u[0] - 0.5, u[1] - 0.5]
     }
 }
 
@@ -121,23 +141,26 @@ mod tests {
     }
 
     #[test]
-    fn gaussian_offsets_have_the_filter_variance() {
-        let f = FilterSampler::new(Filter::Gaussian { stddev: 0.5 });
-        let n = 100_000;
-        let (mut sum, mut sum2) = (0.0f64, 0.0f64);
-        for i in 0..n {
-            let [x, _] = f.sample([(i as f32 + 0.5) / n as f32, 0.5]);
-            assert!(x.abs() <= 2.0);
-            sum += x as f64;
-            sum2 += (x as f64).powi(2);
+    fn offsets_are_uniform_over_the_pixel_and_reach_what_the_filter_does() {
+        for f in [
+            FilterSampler::new(Filter::Box),
+            FilterSampler::new(Filter::Gaussian { stddev: 0.5 }),
+        ] {
+            assert_eq!(f.sample([0.0, 0.75]), [-0.5, 0.25]);
         }
-        let var = sum2 / n as f64 - (sum / n as f64).powi(2);
-        // Truncation at 4σ removes 0.03% of the variance.
-        assert!((var - 0.25).abs() < 1e-3, "{var}");
-        assert!((sum / n as f64).abs() < 1e-4);
-        assert_eq!(
-            FilterSampler::new(Filter::Box).sample([0.0, 0.75]),
-            [-0.5, 0.25]
-        );
+        let reach = |stddev| FilterSampler::new(Filter::Gaussian { stddev }).reach();
+        assert_eq!(FilterSampler::new(Filter::Box).reach(), 0);
+        assert_eq!(reach(0.5), 2);
+        assert_eq!(reach(0.3), 1);
+        // No sample reaches a pixel beyond `reach`: the farthest offset
+        // from that pixel's centre is reach + ½, outside the radius.
+        for stddev in [0.1f32, 0.3, 0.5, 0.8, 1.0] {
+            let f = FilterSampler::new(Filter::Gaussian { stddev });
+            let d = f.reach() as f32 + 1.0;
+            assert_eq!(f.weight([d - 0.5, 0.0]), 0.0, "σ {stddev}");
+            if f.reach() > 0 {
+                assert!(f.weight([f.reach() as f32 - 0.49, 0.0]) > 0.0, "σ {stddev}");
+            }
+        }
     }
 }

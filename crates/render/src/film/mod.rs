@@ -1,6 +1,8 @@
-//! The film: per pixel, the running sums of the X, Y, Z, V′ estimates of
-//! its camera samples (absolute: Y in cd/m², V′ in scotopic cd/m²), and
-//! how many there were. Each sample belongs to one pixel (see `filter`).
+//! The film: per pixel, the running filter-weighted sums of the X, Y, Z,
+//! V′ estimates of the camera samples that reach it (absolute: Y in cd/m²,
+//! V′ in scotopic cd/m²), the sum of their weights, and how many samples
+//! were its own (see `filter`: a sample lands in one pixel and is
+//! splatted into those its filter reaches).
 
 mod checkpoint;
 mod filter;
@@ -15,21 +17,36 @@ pub use spectral::Bands;
 /// Accumulated estimates of one pixel.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct PixelSum {
+    /// Σ f·L over the camera samples that reach the pixel (and the
+    /// light-tracing splats).
     pub xyzv: [f64; 4],
+    /// Σ f over the camera samples that reach it: the pixel is
+    /// `xyzv / weight`. With the box filter, the sample count.
+    pub weight: f64,
+    /// Camera samples that landed in this pixel.
     pub samples: u32,
 }
 
 impl PixelSum {
+    /// Adds a camera sample of this pixel with weight 1 (the box filter).
     #[inline]
     pub fn add(&mut self, xyzv: [f32; 4]) {
-        for (s, v) in self.xyzv.iter_mut().zip(xyzv) {
-            *s += v as f64;
-        }
+        self.add_weighted(xyzv, 1.0);
         self.samples += 1;
     }
 
-    /// Adds a light-tracing contribution, which is not a sample of this
-    /// pixel: the sum grows, the count does not.
+    /// Adds a camera sample that reaches this pixel with filter weight `f`
+    /// (it need not be this pixel's: `samples` is counted apart).
+    #[inline]
+    pub fn add_weighted(&mut self, xyzv: [f32; 4], f: f32) {
+        for (s, v) in self.xyzv.iter_mut().zip(xyzv) {
+            *s += f64::from(v * f);
+        }
+        self.weight += f64::from(f);
+    }
+
+    /// Adds a light-tracing contribution, which is not a camera sample:
+    /// the sum grows, the weight and the count do not.
     #[inline]
     pub fn add_splat(&mut self, xyzv: [f32; 4]) {
         for (s, v) in self.xyzv.iter_mut().zip(xyzv) {
@@ -37,12 +54,13 @@ impl PixelSum {
         }
     }
 
-    /// The pixel's mean X, Y, Z, V′ (zero before any sample).
+    /// The pixel's X, Y, Z, V′: the weighted mean (zero before any
+    /// sample reached it).
     pub fn mean(&self) -> [f32; 4] {
-        if self.samples == 0 {
+        if self.weight <= 0.0 {
             return [0.0; 4];
         }
-        self.xyzv.map(|v| (v / self.samples as f64) as f32)
+        self.xyzv.map(|v| (v / self.weight) as f32)
     }
 }
 
@@ -57,8 +75,9 @@ pub struct Film {
     /// Band sums, `row_stride()` values per row (one unused slot per row
     /// when there are no bands, so rows can be split the same way).
     pub spectral: Vec<f64>,
-    /// Sums of squared camera samples, `moment_stride()` per row (one
-    /// unused entry per row unless [`Film::keep_moments`] was called).
+    /// Weighted sums of squared camera samples, Σ f·L², `moment_stride()`
+    /// per row (one unused entry per row unless [`Film::keep_moments`] was
+    /// called).
     pub moments: Vec<[f64; 4]>,
     moments_kept: bool,
 }
@@ -181,10 +200,10 @@ impl Film {
             .enumerate()
             .map(|(i, p)| {
                 let s = self.spectral[i * b.0 + band];
-                if p.samples == 0 {
+                if p.weight <= 0.0 {
                     0.0
                 } else {
-                    (s / p.samples as f64) as f32
+                    (s / p.weight) as f32
                 }
             })
             .collect()

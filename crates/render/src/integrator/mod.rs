@@ -26,6 +26,7 @@ mod halo;
 mod light_choice;
 mod measure;
 mod options;
+mod pass;
 mod path;
 mod reflectors;
 mod renderer;

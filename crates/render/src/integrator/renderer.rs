@@ -1,12 +1,10 @@
 //! The per-scene state every sample shares (`Renderer`), and a pass of
 //! samples over the film.
 
-use rayon::prelude::*;
-
 use scotopia_color::SampledWavelengths;
 
 use crate::accel::Aabb;
-use crate::film::{Film, FilterSampler, SampleCounts};
+use crate::film::{FilterSampler, SampleCounts};
 use crate::geometry::Shape;
 use crate::light::{Caster, Light, SceneExtent};
 use crate::math::Vec3;
@@ -17,10 +15,9 @@ use crate::wavelength::{WavelengthSampler, WavelengthStrategy};
 use super::guided::GuideState;
 use super::select::{Integrator, Receivers};
 use super::{
-    bdpt, wavefront, CameraSample, Guiding, LightChoice, Reflectors, RenderError, RenderOptions,
-    Splat, Tracer,
+    bdpt, CameraSample, Guiding, LightChoice, Reflectors, RenderError, RenderOptions, Splat, Tracer,
 };
-use crate::guiding::{Guide, RowStats, Stats};
+use crate::guiding::Guide;
 
 /// The bounding spheres of the shapes (outside shape groups) whose BSDF
 /// casts caustics: where lights at infinity aim part of their light
@@ -288,110 +285,10 @@ impl<'a> Renderer<'a> {
         self.infinite.iter().map(|&i| (i, &self.scene.lights[i]))
     }
 
-    /// Adds samples `first..first + count` to every pixel of the film;
-    /// while the guide learns, their records to `stats`.
-    pub(super) fn pass<const K: usize>(
-        &self,
-        seed: u32,
-        film: &mut Film,
-        first: u32,
-        count: u32,
-        stats: Option<&mut Stats>,
-    ) -> SampleCounts {
-        let learning = stats.is_some();
-        let width = film.width as usize;
-        let stride = film.row_stride();
-        let moment_stride = film.moment_stride();
-        let moments_kept = film.kept_moments().is_some();
-        let bands = film.bands;
-        let rows: Vec<(SampleCounts, Vec<Splat<K>>, RowStats)> = film
-            .pixels
-            .par_chunks_mut(width)
-            .zip(film.spectral.par_chunks_mut(stride))
-            .zip(film.moments.par_chunks_mut(moment_stride))
-            .enumerate()
-            .map(|(y, ((row, spectral), moments))| {
-                if !self.rows.contains(&(y as u32)) {
-                    return (SampleCounts::default(), Vec::new(), RowStats::default());
-                }
-                let mut sampler = Sampler::new(seed);
-                let mut counts = SampleCounts::default();
-                let mut scratch = bdpt::Scratch::<K>::default();
-                let mut splats = Vec::new();
-                let mut records = Vec::new();
-                let mut batch = matches!(self.integrator, Integrator::Path(Tracer::Wavefront))
-                    .then(|| {
-                        let work = wavefront::RowWork {
-                            seed,
-                            y: y as u32,
-                            width: width as u32,
-                            first,
-                            count,
-                        };
-                        wavefront::trace_row::<K>(self, work, &mut counts.rays).into_iter()
-                    });
-                for (x, px) in row.iter_mut().enumerate() {
-                    for i in first..first + count {
-                        let pixel = [x as u32, y as u32];
-                        let sample = match &mut batch {
-                            Some(done) => done.next().flatten(),
-                            None => {
-                                let to = Scratchpad {
-                                    scratch: &mut scratch,
-                                    splats: &mut splats,
-                                    counts: &mut counts,
-                                    records: &mut records,
-                                };
-                                self.estimate::<K>(&mut sampler, pixel, i, to)
-                            }
-                        };
-                        match sample {
-                            Some(s) => {
-                                counts.collapsed += s.collapsed as u64;
-                                px.add(s.xyzv);
-                                if let Some(m) = moments.get_mut(x).filter(|_| moments_kept) {
-                                    for (m, v) in m.iter_mut().zip(s.xyzv) {
-                                        *m += f64::from(v) * f64::from(v);
-                                    }
-                                }
-                                if let Some(b) = bands {
-                                    let sums = &mut spectral[x * b.0..(x + 1) * b.0];
-                                    b.add(sums, &s.radiance, &s.wl);
-                                }
-                            }
-                            None => counts.dropped += 1,
-                        }
-                    }
-                }
-                let stats = if learning {
-                    RowStats::of(records)
-                } else {
-                    RowStats::default()
-                };
-                (counts, splats, stats)
-            })
-            .collect();
-        // Light-tracing splats land on any pixel: added after the pass, row
-        // by row in order, so the sums do not depend on the threads.
-        // So are the guide's records.
-        let mut total = SampleCounts::default();
-        let mut stats = stats;
-        for (c, splats, row_stats) in rows {
-            total += c;
-            if let Some(stats) = stats.as_deref_mut() {
-                stats.add(&row_stats);
-            }
-            for sp in &splats {
-                film.splat(&self.filter, sp.raster, sp.xyzv, &sp.radiance, &sp.wl);
-            }
-        }
-        total
-    }
-
     /// One camera sample of `pixel` by the integrator that runs (the
     /// wavefront tracer's come a row at a time, `wavefront::trace_row`).
     #[inline]
-    fn estimate<const K: usize>(
+    pub(super) fn estimate<const K: usize>(
         &self,
         sampler: &mut Sampler,
         pixel: [u32; 2],

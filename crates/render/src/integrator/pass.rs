@@ -1,0 +1,328 @@
+//! One pass of camera samples over the film, splatted through the
+//! reconstruction filter (`film::filter`).
+//!
+//! A sample lands in its own pixel and adds to every pixel within the
+//! filter's reach, up to `reach` rows above and below. Rows are rendered in
+//! parallel, yet no two threads may add to one pixel, and the sums must
+//! not depend on the threads: so a pass runs in 2·reach + 1 phases. In
+//! phase k the rows y ≡ k (mod 2·reach + 1) are rendered, each owning the
+//! window of rows y − reach ..= y + reach, and these windows are disjoint.
+//! Every pixel then receives its contributions in one fixed order (phase,
+//! then row, pixel and sample), whatever the thread count. With the box
+//! filter (reach 0) this is one phase of one-row windows: a pixel adds its
+//! own samples alone, as before splatting.
+
+use rayon::prelude::*;
+
+use crate::film::{Bands, Film, SampleCounts};
+use crate::guiding::{RowStats, Stats};
+use crate::sampling::sobol::Sampler;
+
+use super::renderer::{Renderer, Scratchpad};
+use super::select::Integrator;
+use super::{bdpt, wavefront, CameraSample, Splat, Tracer};
+
+/// The part of the film one row's samples may add to: rows `first..` of
+/// the pixels, band sums and moments.
+struct Window<'a> {
+    /// The row rendered.
+    y: usize,
+    /// The window's first row.
+    first: usize,
+    pixels: &'a mut [crate::film::PixelSum],
+    spectral: &'a mut [f64],
+    moments: &'a mut [[f64; 4]],
+}
+
+/// What one row's samples return besides their sums.
+type RowOut<const K: usize> = (usize, SampleCounts, Vec<Splat<K>>, RowStats);
+
+/// Splits `data` (rows of `row_len` values) into the windows of phase
+/// `phase`: (first row, values) for each row y = phase, phase + period, …,
+/// covering rows y − reach ..= y + reach within the film. Consecutive
+/// windows abut, so they are disjoint.
+fn windows<T>(
+    data: &mut [T],
+    row_len: usize,
+    height: usize,
+    phase: usize,
+    reach: usize,
+) -> Vec<(usize, usize, &mut [T])> {
+    let period = 2 * reach + 1;
+    let mut rest = data;
+    let mut at = 0;
+    let mut out = Vec::new();
+    for y in (phase..height).step_by(period) {
+        let (start, end) = (y.saturating_sub(reach), (y + reach + 1).min(height));
+        let (_, tail) = std::mem::take(&mut rest).split_at_mut((start - at) * row_len);
+        let (window, tail) = tail.split_at_mut((end - start) * row_len);
+        out.push((y, start, window));
+        rest = tail;
+        at = end;
+    }
+    out
+}
+
+impl Renderer<'_> {
+    /// How many rows and columns away a camera sample adds to: the
+    /// filter's reach, or 0 for an irradiance meter, whose pixels are
+    /// each a whole measurement, not part of an image.
+    fn reach(&self) -> usize {
+        match self.integrator {
+            Integrator::Meter(_) => 0,
+            _ => self.filter.reach(),
+        }
+    }
+
+    /// Adds samples `first..first + count` to every pixel of the film;
+    /// while the guide learns, their records to `stats`.
+    pub(super) fn pass<const K: usize>(
+        &self,
+        seed: u32,
+        film: &mut Film,
+        first: u32,
+        count: u32,
+        stats: Option<&mut Stats>,
+    ) -> SampleCounts {
+        let learning = stats.is_some();
+        let (width, height) = (film.width as usize, film.height as usize);
+        let (stride, moment_stride) = (film.row_stride(), film.moment_stride());
+        let moments_kept = film.kept_moments().is_some();
+        let bands = film.bands;
+        let reach = self.reach();
+        let mut rows: Vec<RowOut<K>> = Vec::with_capacity(height);
+        for phase in 0..(2 * reach + 1).min(height.max(1)) {
+            let pixels = windows(&mut film.pixels, width, height, phase, reach);
+            let spectral = windows(&mut film.spectral, stride, height, phase, reach);
+            let moments = windows(&mut film.moments, moment_stride, height, phase, reach);
+            let work: Vec<Window> = pixels
+                .into_iter()
+                .zip(spectral)
+                .zip(moments)
+                .map(
+                    |(((y, first, pixels), (_, _, spectral)), (_, _, moments))| Window {
+                        y,
+                        first,
+                        pixels,
+                        spectral,
+                        moments,
+                    },
+                )
+                .collect();
+            let job = RowJob {
+                seed,
+                first,
+                count,
+                width,
+                height,
+                reach,
+                bands,
+                moments_kept,
+                learning,
+            };
+            rows.par_extend(work.into_par_iter().map(|w| self.render_row::<K>(&job, w)));
+        }
+        // Light-tracing splats land on any pixel: added after the pass, row
+        // by row in order, so the sums do not depend on the threads.
+        // So are the guide's records.
+        rows.sort_by_key(|r| r.0);
+        let mut total = SampleCounts::default();
+        let mut stats = stats;
+        for (_, c, splats, row_stats) in rows {
+            total += c;
+            if let Some(stats) = stats.as_deref_mut() {
+                stats.add(&row_stats);
+            }
+            for sp in &splats {
+                film.splat(&self.filter, sp.raster, sp.xyzv, &sp.radiance, &sp.wl);
+            }
+        }
+        total
+    }
+
+    /// The samples of row `w.y`, added into its window.
+    fn render_row<const K: usize>(&self, job: &RowJob, w: Window<'_>) -> RowOut<K> {
+        let y = w.y;
+        if !self.rows.contains(&(y as u32)) {
+            return (y, SampleCounts::default(), Vec::new(), RowStats::default());
+        }
+        let RowJob {
+            seed,
+            first,
+            count,
+            width,
+            ..
+        } = *job;
+        let mut sampler = Sampler::new(seed);
+        let mut lander = Sampler::new(seed);
+        let mut counts = SampleCounts::default();
+        let mut scratch = bdpt::Scratch::<K>::default();
+        let mut splats = Vec::new();
+        let mut records = Vec::new();
+        let mut batch = matches!(self.integrator, Integrator::Path(Tracer::Wavefront)).then(|| {
+            let work = wavefront::RowWork {
+                seed,
+                y: y as u32,
+                width: width as u32,
+                first,
+                count,
+            };
+            wavefront::trace_row::<K>(self, work, &mut counts.rays).into_iter()
+        });
+        let mut sums = Sums {
+            job,
+            w,
+            filter: &self.filter,
+        };
+        for x in 0..width {
+            for i in first..first + count {
+                let pixel = [x as u32, y as u32];
+                let sample = match &mut batch {
+                    Some(done) => done.next().flatten(),
+                    None => {
+                        let to = Scratchpad {
+                            scratch: &mut scratch,
+                            splats: &mut splats,
+                            counts: &mut counts,
+                            records: &mut records,
+                        };
+                        self.estimate::<K>(&mut sampler, pixel, i, to)
+                    }
+                };
+                match sample {
+                    Some(s) => {
+                        counts.collapsed += s.collapsed as u64;
+                        let offset = if job.reach == 0 {
+                            [0.0; 2]
+                        } else {
+                            // Where it landed: the sample's first two numbers.
+                            lander.start(pixel, i);
+                            let [fx, fy, _, _] = lander.get_4d();
+                            self.filter.sample([fx, fy])
+                        };
+                        sums.add(x, &s, offset);
+                    }
+                    None => counts.dropped += 1,
+                }
+            }
+        }
+        let stats = if job.learning {
+            RowStats::of(records)
+        } else {
+            RowStats::default()
+        };
+        (y, counts, splats, stats)
+    }
+}
+
+/// What every row of a pass shares.
+struct RowJob {
+    seed: u32,
+    first: u32,
+    count: u32,
+    width: usize,
+    height: usize,
+    reach: usize,
+    bands: Option<Bands>,
+    moments_kept: bool,
+    learning: bool,
+}
+
+/// A row's window and how to add a sample into it.
+struct Sums<'a, 'w> {
+    job: &'a RowJob,
+    w: Window<'w>,
+    filter: &'a crate::film::FilterSampler,
+}
+
+impl Sums<'_, '_> {
+    /// Adds sample `s` of pixel (`x`, the window's row), which landed at
+    /// `offset` from that pixel's centre, to every pixel the filter
+    /// reaches from there.
+    fn add<const K: usize>(&mut self, x: usize, s: &CameraSample<K>, offset: [f32; 2]) {
+        let RowJob {
+            width,
+            height,
+            reach,
+            ..
+        } = *self.job;
+        let y = self.w.y;
+        let own = (y - self.w.first) * width + x;
+        self.w.pixels[own].samples += 1;
+        if reach == 0 {
+            self.add_to(own, x, s, 1.0);
+            return;
+        }
+        let r = reach as isize;
+        let axis = |d: isize, o: f32| self.filter.axis_weight(o - d as f32);
+        for dy in -r..=r {
+            let row = y as isize + dy;
+            let fy = axis(dy, offset[1]);
+            if row < 0 || row >= height as isize || fy == 0.0 {
+                continue;
+            }
+            for dx in -r..=r {
+                let col = x as isize + dx;
+                let f = fy * axis(dx, offset[0]);
+                if col < 0 || col >= width as isize || f == 0.0 {
+                    continue;
+                }
+                let at = (row as usize - self.w.first) * width + col as usize;
+                self.add_to(at, col as usize, s, f);
+            }
+        }
+    }
+
+    /// Adds `f` × sample `s` to the window's pixel `at` (column `col`).
+    fn add_to<const K: usize>(&mut self, at: usize, col: usize, s: &CameraSample<K>, f: f32) {
+        self.w.pixels[at].add_weighted(s.xyzv, f);
+        let width = self.job.width;
+        if self.job.moments_kept {
+            for (m, v) in self.w.moments[at].iter_mut().zip(s.xyzv) {
+                *m += f64::from(f) * f64::from(v) * f64::from(v);
+            }
+        }
+        if let Some(b) = self.job.bands {
+            let row = at / width;
+            let start = row * b.0 * width + col * b.0;
+            let sums = &mut self.w.spectral[start..start + b.0];
+            if f == 1.0 {
+                b.add(sums, &s.radiance, &s.wl);
+            } else {
+                b.add(sums, &(s.radiance * f), &s.wl);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::windows;
+
+    #[test]
+    fn each_phase_s_windows_are_disjoint_and_every_row_is_rendered_once() {
+        for (height, reach) in [(1, 0), (5, 0), (1, 2), (3, 2), (7, 2), (12, 2), (10, 1)] {
+            let mut rendered = vec![0; height];
+            for phase in 0..(2 * reach + 1).min(height) {
+                let mut data: Vec<usize> = (0..height * 3).collect();
+                let ws = windows(&mut data, 3, height, phase, reach);
+                let mut covered = vec![false; height];
+                for (y, first, w) in ws {
+                    rendered[y] += 1;
+                    assert_eq!(first, y.saturating_sub(reach));
+                    assert_eq!(w[0], first * 3, "the window starts at its first row");
+                    let rows = w.len() / 3;
+                    assert_eq!(first + rows, (y + reach + 1).min(height));
+                    for r in first..first + rows {
+                        assert!(!covered[r], "row {r} in two windows");
+                        covered[r] = true;
+                    }
+                }
+            }
+            assert!(
+                rendered.iter().all(|&n| n == 1),
+                "{height} {reach}: {rendered:?}"
+            );
+        }
+    }
+}
