@@ -373,7 +373,7 @@ def main():
         for name, size, variant, whose, spp, secs, spp_eq, m, s, r, n in summary:
             print(
                 f"| {name} | {size} | {variant} | {whose} | {spp} | {secs:.2f} | {spp_eq} "
-                f"| {m:.4g} | {s:.4g} | {r:.2f} | {n} |"
+                f"| {m:.4g} | {s:.4g} | {r:.3g} | {n} |"
             )
         for name in skipped:
             print(f"| {name} | | Mitsuba cannot load it (above) | | | | | | | | |")

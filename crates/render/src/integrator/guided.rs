@@ -148,6 +148,13 @@ fn mixed(p: f32, g: f32) -> f32 {
     (1.0 - SHARE) * p + SHARE * g
 }
 
+/// The density at `x` towards `d` with the halos' share, from the density
+/// `p` of the other strategies (out of line, as `sample_haloed`).
+#[inline(never)]
+fn haloed_pdf(h: &Halos, p: f32, x: Vec3, d: Vec3) -> f32 {
+    with_halo(p, h.pdf(x, d))
+}
+
 /// The density with the halos' share (`halo`) from the density `p` of
 /// the other strategies and the halos' `h`.
 #[inline]
@@ -248,7 +255,7 @@ impl Renderer<'_> {
             None => p,
         };
         match self.surface_halos(bsdf) {
-            Some(h) => with_halo(p, h.pdf(x, d)),
+            Some(h) => haloed_pdf(h, p, x, d),
             None => p,
         }
     }
@@ -266,11 +273,26 @@ impl Renderer<'_> {
         wi: Vec3,
         [u_lobe, u0, u1]: [f32; 3],
     ) -> Option<BsdfSample<K>> {
-        let Some(h) = self.surface_halos(bsdf) else {
-            return self.sample_unhaloed(guide, bsdf, wl, point, wi, [u_lobe, u0, u1]);
-        };
-        // In media, a share of the bounces aims at the lamps' halos
-        // (`halo`); the density of every direction is the mixture's.
+        match self.surface_halos(bsdf) {
+            None => self.sample_unhaloed(guide, bsdf, wl, point, wi, [u_lobe, u0, u1]),
+            Some(h) => self.sample_haloed(guide, bsdf, wl, point, wi, (h, [u_lobe, u0, u1])),
+        }
+    }
+
+    /// [`Self::sample_bounce`] in media, where a share of the bounces aims
+    /// at the lamps' halos (`halo`); the density of every direction is the
+    /// mixture's. Kept out of line: the path tracer without media never
+    /// comes here, and its bounce stays small enough to inline.
+    #[inline(never)]
+    fn sample_haloed<const K: usize>(
+        &self,
+        guide: Option<&DTree>,
+        bsdf: &Bsdf,
+        wl: &SampledWavelengths<K>,
+        point: &ScatterPoint,
+        wi: Vec3,
+        (h, [u_lobe, u0, u1]): (&Halos, [f32; 3]),
+    ) -> Option<BsdfSample<K>> {
         let x = point.p;
         if u_lobe < halo::SHARE {
             let d = h.sample(x, u_lobe / halo::SHARE, [u0, u1])?;
@@ -294,6 +316,7 @@ impl Renderer<'_> {
     }
 
     /// [`Self::sample_bounce`] without the halos' share.
+    #[inline]
     fn sample_unhaloed<const K: usize>(
         &self,
         guide: Option<&DTree>,

@@ -313,9 +313,9 @@ mod tests {
                     assert_eq!(w[0], first * 3, "the window starts at its first row");
                     let rows = w.len() / 3;
                     assert_eq!(first + rows, (y + reach + 1).min(height));
-                    for r in first..first + rows {
-                        assert!(!covered[r], "row {r} in two windows");
-                        covered[r] = true;
+                    for (r, c) in covered.iter_mut().enumerate().skip(first).take(rows) {
+                        assert!(!*c, "row {r} in two windows");
+                        *c = true;
                     }
                 }
             }
