@@ -39,9 +39,13 @@ impl PixelSum {
     /// (it need not be this pixel's: `samples` is counted apart).
     #[inline]
     pub fn add_weighted(&mut self, xyzv: [f32; 4], f: f32) {
-        for (s, v) in self.xyzv.iter_mut().zip(xyzv) {
-            *s += f64::from(v * f);
-        }
+        // Written lane by lane so that it compiles to one conversion and
+        // one add of four f64 (the splat's inner loop, `integrator::pass`).
+        let [a, b, c, d] = xyzv;
+        self.xyzv[0] += f64::from(a * f);
+        self.xyzv[1] += f64::from(b * f);
+        self.xyzv[2] += f64::from(c * f);
+        self.xyzv[3] += f64::from(d * f);
         self.weight += f64::from(f);
     }
 

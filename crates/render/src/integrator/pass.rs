@@ -173,6 +173,7 @@ impl Renderer<'_> {
             job,
             w,
             filter: &self.filter,
+            wx: Vec::with_capacity(2 * job.reach + 1),
         };
         for x in 0..width {
             for i in first..first + count {
@@ -233,6 +234,9 @@ struct Sums<'a, 'w> {
     job: &'a RowJob,
     w: Window<'w>,
     filter: &'a crate::film::FilterSampler,
+    /// The filter's weights along x for columns x − reach ..= x + reach
+    /// (kept between samples, so a row allocates once).
+    wx: Vec<f32>,
 }
 
 impl Sums<'_, '_> {
@@ -254,23 +258,36 @@ impl Sums<'_, '_> {
             return;
         }
         let r = reach as isize;
-        let axis = |d: isize, o: f32| self.filter.axis_weight(o - d as f32);
+        // Separable: the weights along x once, then each row's along y.
+        let mut wx = std::mem::take(&mut self.wx);
+        wx.clear();
+        wx.extend((-r..=r).map(|dx| self.filter.axis_weight(offset[0] - dx as f32)));
+        // The columns inside the image.
+        let lo = (r - x as isize).max(0) as usize;
+        let hi = (width as isize - x as isize + r).min(2 * r + 1) as usize;
         for dy in -r..=r {
             let row = y as isize + dy;
-            let fy = axis(dy, offset[1]);
-            if row < 0 || row >= height as isize || fy == 0.0 {
+            if row < 0 || row >= height as isize {
                 continue;
             }
-            for dx in -r..=r {
-                let col = x as isize + dx;
-                let f = fy * axis(dx, offset[0]);
-                if col < 0 || col >= width as isize || f == 0.0 {
-                    continue;
+            let fy = self.filter.axis_weight(offset[1] - dy as f32);
+            if fy == 0.0 {
+                continue;
+            }
+            let start = (row as usize - self.w.first) * width;
+            let plain = !self.job.moments_kept && self.job.bands.is_none();
+            for (i, &fx) in wx.iter().enumerate().take(hi).skip(lo) {
+                let f = fy * fx;
+                let col = x + i - reach;
+                if plain {
+                    // The common case, sums and weights alone.
+                    self.w.pixels[start + col].add_weighted(s.xyzv, f);
+                } else if f != 0.0 {
+                    self.add_to(start + col, col, s, f);
                 }
-                let at = (row as usize - self.w.first) * width + col as usize;
-                self.add_to(at, col as usize, s, f);
             }
         }
+        self.wx = wx;
     }
 
     /// Adds `f` × sample `s` to the window's pixel `at` (column `col`).
