@@ -314,7 +314,111 @@ impl Sums<'_, '_> {
 
 #[cfg(test)]
 mod tests {
-    use super::windows;
+    use super::{windows, CameraSample, RowJob, Sums, Window};
+    use crate::film::{Film, Filter, FilterSampler};
+    use scotopia_color::{SampledSpectrum, SampledWavelengths};
+
+    /// The Gaussian of σ ½ truncated at 2, along one axis, integrated
+    /// over [a, b] by the midpoint rule (not the filter's own table).
+    fn gauss_integral(a: f64, b: f64) -> f64 {
+        let n = 20_000;
+        let h = (b - a) / n as f64;
+        (0..n)
+            .map(|i| {
+                let x = a + (i as f64 + 0.5) * h;
+                if x.abs() < 2.0 {
+                    (-x * x / 0.5).exp() * h
+                } else {
+                    0.0
+                }
+            })
+            .sum()
+    }
+
+    /// A film lit by a vertical edge (radiance 1 right of x = 3.25, 0 left
+    /// of it, between two columns of samples), 16 × 16 stratified samples
+    /// a pixel, splatted phase by phase as a pass does: each pixel is the
+    /// edge seen through the Gaussian, renormalised to the film at the
+    /// borders (no dark frame).
+    #[test]
+    fn a_splatted_edge_is_the_edge_through_the_filter() {
+        let (width, height, n) = (8usize, 6usize, 16usize);
+        let filter = FilterSampler::new(Filter::Gaussian { stddev: 0.5 });
+        let reach = filter.reach();
+        let mut film = Film::new(width as u32, height as u32, None);
+        let job = RowJob {
+            seed: 0,
+            first: 0,
+            count: (n * n) as u32,
+            width,
+            height,
+            reach,
+            bands: None,
+            moments_kept: false,
+            learning: false,
+        };
+        let wl = SampledWavelengths::<4>::new([550.0; 4], [1.0; 4]);
+        for phase in 0..2 * reach + 1 {
+            let pixels = windows(&mut film.pixels, width, height, phase, reach);
+            let spectral = windows(&mut film.spectral, 1, height, phase, reach);
+            let moments = windows(&mut film.moments, 1, height, phase, reach);
+            for (((y, first, pixels), (_, _, spectral)), (_, _, moments)) in
+                pixels.into_iter().zip(spectral).zip(moments)
+            {
+                let w = Window {
+                    y,
+                    first,
+                    pixels,
+                    spectral,
+                    moments,
+                };
+                let mut sums = Sums {
+                    job: &job,
+                    w,
+                    filter: &filter,
+                    wx: Vec::new(),
+                };
+                for x in 0..width {
+                    for i in 0..n * n {
+                        let u = [
+                            ((i % n) as f32 + 0.5) / n as f32,
+                            ((i / n) as f32 + 0.5) / n as f32,
+                        ];
+                        let offset = filter.sample(u);
+                        let at = x as f32 + 0.5 + offset[0];
+                        let l = if at > 3.25 { 1.0 } else { 0.0 };
+                        let s = CameraSample {
+                            xyzv: [l; 4],
+                            radiance: SampledSpectrum::splat(l),
+                            wl,
+                            collapsed: false,
+                        };
+                        sums.add(x, &s, offset);
+                    }
+                }
+            }
+        }
+        for y in 0..height {
+            for x in 0..width {
+                let p = film.pixels[y * width + x];
+                assert_eq!(p.samples, (n * n) as u32);
+                let c = x as f64 + 0.5;
+                // ∫ over the film of f(t − c)·L(t) / ∫ over the film of f.
+                let want = gauss_integral(3.25 - c, width as f64 - c)
+                    / gauss_integral(-c, width as f64 - c);
+                let got = f64::from(p.mean()[1]);
+                assert!(
+                    (got - want).abs() < 4e-3,
+                    "({x}, {y}): {got} against {want}"
+                );
+            }
+        }
+        // The edge's pixel is between, the far ones are 0 and 1 (borders
+        // renormalised, not darkened).
+        assert!(film.pixels[3].mean()[1] > 0.1 && film.pixels[3].mean()[1] < 0.9);
+        assert_eq!(film.pixels[0].mean()[1], 0.0);
+        assert!((film.pixels[width - 1].mean()[1] - 1.0).abs() < 1e-6);
+    }
 
     #[test]
     fn each_phase_s_windows_are_disjoint_and_every_row_is_rendered_once() {
