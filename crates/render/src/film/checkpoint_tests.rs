@@ -6,7 +6,9 @@ fn sample() -> Checkpoint {
     let mut film = Film::new(3, 2, Some(Bands(5)));
     for (i, p) in film.pixels.iter_mut().enumerate() {
         for _ in 0..if i == 0 { 2 } else { 3 } {
-            p.add([i as f32, 0.1, -2.5, 1e30]);
+            // A splatted sample's weight is not 1: the checkpoint keeps it.
+            p.add_weighted([i as f32, 0.1, -2.5, 1e30], 0.75);
+            p.samples += 1;
         }
     }
     for (i, v) in film.spectral.iter_mut().enumerate() {

@@ -28,13 +28,6 @@ pub struct PixelSum {
 }
 
 impl PixelSum {
-    /// Adds a camera sample of this pixel with weight 1 (the box filter).
-    #[inline]
-    pub fn add(&mut self, xyzv: [f32; 4]) {
-        self.add_weighted(xyzv, 1.0);
-        self.samples += 1;
-    }
-
     /// Adds a camera sample that reaches this pixel with filter weight `f`
     /// (it need not be this pixel's: `samples` is counted apart).
     #[inline]

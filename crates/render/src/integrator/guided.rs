@@ -148,13 +148,6 @@ fn mixed(p: f32, g: f32) -> f32 {
     (1.0 - SHARE) * p + SHARE * g
 }
 
-/// The density at `x` towards `d` with the halos' share, from the density
-/// `p` of the other strategies (out of line, as `sample_haloed`).
-#[inline(never)]
-fn haloed_pdf(h: &Halos, p: f32, x: Vec3, d: Vec3) -> f32 {
-    with_halo(p, h.pdf(x, d))
-}
-
 /// The density with the halos' share (`halo`) from the density `p` of
 /// the other strategies and the halos' `h`.
 #[inline]
@@ -255,7 +248,7 @@ impl Renderer<'_> {
             None => p,
         };
         match self.surface_halos(bsdf) {
-            Some(h) => haloed_pdf(h, p, x, d),
+            Some(h) => with_halo(p, h.pdf(x, d)),
             None => p,
         }
     }

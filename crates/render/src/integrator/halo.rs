@@ -107,16 +107,23 @@ impl Halos {
     }
 
     /// The density per steradian with which [`Self::sample`] draws unit
-    /// direction `d` from `x`.
+    /// direction `d` from `x`, in one walk over the lamps. Out of line:
+    /// it is the halos' whole share of a density, and the path tracer's
+    /// bounce, which never calls it without fog, stays small enough to
+    /// inline.
+    #[inline(never)]
     pub fn pdf(&self, x: Vec3, d: Vec3) -> f32 {
-        let total: f32 = self.seen(x).map(|s| s.0).sum();
+        let (total, cones) = self.seen(x).fold((0.0f32, 0.0f32), |(t, c), (w, to)| {
+            if w > 0.0 {
+                (t + w, c + w * cone_pdf(d, to))
+            } else {
+                (t, c)
+            }
+        });
         if !(total > 0.0 && total.is_finite()) {
             return 0.0;
         }
-        self.seen(x)
-            .filter(|&(w, _)| w > 0.0)
-            .map(|(w, to)| w / total * cone_pdf(d, to))
-            .sum()
+        cones / total
     }
 }
 

@@ -265,6 +265,7 @@ impl Sums<'_, '_> {
         // The columns inside the image.
         let lo = (r - x as isize).max(0) as usize;
         let hi = (width as isize - x as isize + r).min(2 * r + 1) as usize;
+        let plain = !self.job.moments_kept && self.job.bands.is_none();
         for dy in -r..=r {
             let row = y as isize + dy;
             if row < 0 || row >= height as isize {
@@ -275,7 +276,6 @@ impl Sums<'_, '_> {
                 continue;
             }
             let start = (row as usize - self.w.first) * width;
-            let plain = !self.job.moments_kept && self.job.bands.is_none();
             for (i, &fx) in wx.iter().enumerate().take(hi).skip(lo) {
                 let f = fy * fx;
                 let col = x + i - reach;
