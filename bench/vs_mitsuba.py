@@ -59,6 +59,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from scipy import ndimage
 
 import scotopia
 
@@ -222,17 +223,8 @@ def rel_mse(img, ref):
 def near_lamps(*images, level=50.0, grow=2):
     """Pixels that see an emitter (Y above `level` cd/m² in any image) or lie
     within `grow` pixels of one."""
-    hot = np.zeros(images[0].shape, bool)
-    for img in images:
-        hot |= img > level
-    for _ in range(grow):
-        grown = hot.copy()
-        grown[1:] |= hot[:-1]
-        grown[:-1] |= hot[1:]
-        grown[:, 1:] |= hot[:, :-1]
-        grown[:, :-1] |= hot[:, 1:]
-        hot = grown
-    return hot
+    hot = np.any([img > level for img in images], axis=0)
+    return ndimage.binary_dilation(hot, iterations=grow)
 
 
 def pixels_holding(img, ref, share=0.9):
