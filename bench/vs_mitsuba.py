@@ -71,6 +71,10 @@ ALL = ["cornell-box.xml", "night-street.xml", "long-street.xml", "glass-and-meta
 CIE_Y_INTEGRAL = 106.857
 # Whose render is the reference by default (the module's docstring says why).
 REF_BY_SCENE = {"night-street.xml": "scotopia", "long-street.xml": "scotopia"}
+# scotopia's integrator where it is not the path tracer (`--integrator`'s
+# default): the caustic scene is what the bidirectional tracer is for, and
+# Mitsuba 3 has only its path tracer (the module's docstring).
+INTEGRATOR_BY_SCENE = {"glass-and-metals.xml": "bdpt"}
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from common import rel_mse as _rel_mse  # noqa: E402
@@ -206,7 +210,9 @@ def mitsuba_renderer(variant, xml, params):
     return render
 
 
-def scotopia_render(scene_path, params, spp=None, seconds=None, seed=1):
+def scotopia_render(scene_path, params, spp=None, seconds=None, seed=1, integrator=None):
+    if integrator is not None:
+        params = dict(params, integrator=integrator)
     img, meta = scotopia.render(str(scene_path), spp=spp, time=seconds, seed=seed, params=params)
     return img[..., 1].astype(np.float64), float(meta["renderSeconds"]), int(meta["samplesPerPixel"])
 
@@ -255,11 +261,15 @@ def compare(name, args):
             print(f"\n{name}: Mitsuba 3 cannot load it (tried {variant}), not compared: {mitsuba}", flush=True)
             return None
         whose = args.ref or REF_BY_SCENE.get(name, "mitsuba")
+        integ = args.integrator or INTEGRATOR_BY_SCENE.get(name)
+        if integ is not None and 'name="integrator"' not in scene_path.read_text():
+            sys.exit(f"{name} has no integrator parameter: leave out --integrator")
+        ours_by = f"scotopia {integ or 'path'}"
         print(f"\n{name}: reference: {whose}, {args.ref_spp} spp …", flush=True)
         if whose == "mitsuba":
             ref, ref_secs = mitsuba(args.ref_spp, seed=12345)
         else:
-            ref, ref_secs, _ = scotopia_render(scene_path, params, spp=args.ref_spp, seed=12345)
+            ref, ref_secs, _ = scotopia_render(scene_path, params, spp=args.ref_spp, seed=12345, integrator=integ)
             check, _ = mitsuba(args.ref_spp, seed=12345)
             away = ~near_lamps(ref, check)
             print(
@@ -268,14 +278,14 @@ def compare(name, args):
                 flush=True,
             )
         theirs, t_m = mitsuba(args.spp)
-        ours, t_s, _ = scotopia_render(scene_path, params, spp=args.spp)
-        ours_eq, t_eq, spp_eq = scotopia_render(scene_path, params, seconds=t_m)
+        ours, t_s, _ = scotopia_render(scene_path, params, spp=args.spp, integrator=integ)
+        ours_eq, t_eq, spp_eq = scotopia_render(scene_path, params, seconds=t_m, integrator=integ)
         # More equal-time pairs, other seeds: a few fireflies can decide one
         # pair's relMSE, so its mean over seeds is the steadier figure.
         pairs = [(rel_mse(theirs, ref), rel_mse(ours_eq, ref))]
         for seed in range(1, args.seeds):
             img_m, secs = mitsuba(args.spp, seed=seed)
-            img_s, _, _ = scotopia_render(scene_path, params, seconds=secs, seed=1 + seed)
+            img_s, _, _ = scotopia_render(scene_path, params, seconds=secs, seed=1 + seed, integrator=integ)
             pairs.append((rel_mse(img_m, ref), rel_mse(img_s, ref)))
 
     if args.save:
@@ -297,8 +307,8 @@ def compare(name, args):
     print("|---|---:|---:|---:|---:|---:|---:|")
     rows = [
         (f"Mitsuba 3 {variant}", args.spp, t_m, theirs),
-        ("scotopia (equal spp)", args.spp, t_s, ours),
-        ("scotopia (equal time)", spp_eq, t_eq, ours_eq),
+        (f"{ours_by} (equal spp)", args.spp, t_s, ours),
+        (f"{ours_by} (equal time)", spp_eq, t_eq, ours_eq),
     ]
     for label, spp, secs, img in rows:
         print(
@@ -324,7 +334,7 @@ def compare(name, args):
             f"ratio of the means {s_mse / m_mse:.2f}, per-seed ratios {np.min(s_all / m_all):.2f}–{np.max(s_all / m_all):.2f}",
             flush=True,
         )
-    return (name, size, variant, whose, args.spp, t_m, spp_eq, m_mse, s_mse, s_mse / m_mse, len(pairs))
+    return (name, size, variant, whose, ours_by, args.spp, t_m, spp_eq, m_mse, s_mse, s_mse / m_mse, len(pairs))
 
 
 def main():
@@ -339,6 +349,11 @@ def main():
     parser.add_argument(
         "--ref", choices=["mitsuba", "scotopia"],
         help="whose render is the reference (default: scotopia's for the streets, else Mitsuba's)",
+    )
+    parser.add_argument(
+        "--integrator", choices=["path", "bdpt"],
+        help="scotopia's integrator, for scenes with an `integrator` parameter (default: bdpt for "
+        + ", ".join(INTEGRATOR_BY_SCENE) + ", else the scene's)",
     )
     parser.add_argument("--mesh", action="store_true", help="a 1M-triangle terrain for the Cornell box's floor")
     parser.add_argument("--seeds", type=int, default=1, help="equal-time pairs per scene, each its own seed (1)")
@@ -358,17 +373,17 @@ def main():
             "(mean over the seeds; spp and seconds of the first):\n"
         )
         print(
-            "| scene | size | Mitsuba variant | reference | Mitsuba spp | seconds | scotopia spp "
+            "| scene | size | Mitsuba variant | reference | scotopia | Mitsuba spp | seconds | scotopia spp "
             "| relMSE Mitsuba | relMSE scotopia | scotopia / Mitsuba | seeds |"
         )
-        print("|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|")
-        for name, size, variant, whose, spp, secs, spp_eq, m, s, r, n in summary:
+        print("|---|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|")
+        for name, size, variant, whose, ours_by, spp, secs, spp_eq, m, s, r, n in summary:
             print(
-                f"| {name} | {size} | {variant} | {whose} | {spp} | {secs:.2f} | {spp_eq} "
+                f"| {name} | {size} | {variant} | {whose} | {ours_by} | {spp} | {secs:.2f} | {spp_eq} "
                 f"| {m:.4g} | {s:.4g} | {r:.3g} | {n} |"
             )
         for name in skipped:
-            print(f"| {name} | | Mitsuba cannot load it (above) | | | | | | | | |")
+            print(f"| {name} | | Mitsuba cannot load it (above) | | | | | | | | | |")
 
 
 if __name__ == "__main__":
