@@ -141,6 +141,13 @@ fn guided_phase(phase: &Phase) -> bool {
     }
 }
 
+/// A number u ≥ `share` that chose a mixture's second strategy, rescaled
+/// to [0, 1) for that strategy's own use.
+#[inline]
+fn past(u: f32, share: f32) -> f32 {
+    ((u - share) / (1.0 - share)).min(1.0 - f32::EPSILON)
+}
+
 /// The guided mixture's density from the unguided density `p` and the
 /// guide's `g`.
 #[inline]
@@ -297,7 +304,7 @@ impl Renderer<'_> {
             let q = self.bounce_pdf(guide, bsdf, x, d, bsdf.pdf_at(wl, point.at, wi, wo));
             return BsdfSample::mixed(wo, f, q);
         }
-        let u_lobe = ((u_lobe - halo::SHARE) / (1.0 - halo::SHARE)).min(1.0 - f32::EPSILON);
+        let u_lobe = past(u_lobe, halo::SHARE);
         let mut bs = self.sample_unhaloed(guide, bsdf, wl, point, wi, [u_lobe, u0, u1])?;
         if bs.delta {
             // Drawn by the other share only.
@@ -335,7 +342,7 @@ impl Renderer<'_> {
             let (d, p) = g.sample(u)?;
             (frame.to_local(d), d, p)
         } else {
-            let u_lobe = ((u_lobe - SHARE) / (1.0 - SHARE)).min(1.0 - f32::EPSILON);
+            let u_lobe = past(u_lobe, SHARE);
             let mut bs = self.reflectors.sample(bsdf, wl, point, wi, u_lobe, u)?;
             if bs.delta {
                 // The guide draws no delta direction: this lobe was
@@ -371,7 +378,7 @@ impl Renderer<'_> {
             let f = phase.eval(wi, wo);
             (wo, f, self.phase_pdf(guide, x, f, wo))
         } else {
-            let u_pick = ((u_pick - halo::SHARE) / (1.0 - halo::SHARE)).min(1.0 - f32::EPSILON);
+            let u_pick = past(u_pick, halo::SHARE);
             let (wo, f, q) = sample_unhaloed_phase(guide, phase, wi, u_pick, u)?;
             (wo, f, with_halo(q, h.pdf(x, wo)))
         };
