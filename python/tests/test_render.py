@@ -64,7 +64,8 @@ def test_guiding_is_an_option_and_keeps_the_image():
     on, meta = scotopia.render(scene, spp=32, res=8, guiding="on")
     assert (meta["guiding"], meta_off["guiding"]) == ("on", "off")
     # The Cornell box's light is too flat for guiding to pay: no cell
-    # guides, and the image is the unguided one (the Rust tests check
+    # guides, and as the guide's learning samples are the image's own
+    # first ones, the image is the unguided one (the Rust tests check
     # guided images against unguided ones within standard errors).
     assert np.isfinite(on).all() and np.array_equal(on, off)
     with pytest.raises(ValueError, match="on or off"):

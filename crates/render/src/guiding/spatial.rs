@@ -73,6 +73,27 @@ impl SpatialTree {
         (node.cell, lo, hi)
     }
 
+    /// Each cell's box, by cell.
+    pub fn boxes(&self) -> Vec<(Vec3, Vec3)> {
+        let mut out = vec![(self.lo, self.hi); self.cells()];
+        let mut stack = vec![(0usize, self.lo.to_array(), self.hi.to_array())];
+        while let Some((i, lo, hi)) = stack.pop() {
+            let n = self.nodes[i];
+            if n.child == 0 {
+                out[n.cell as usize] = (Vec3::from(lo), Vec3::from(hi));
+                continue;
+            }
+            let a = n.axis as usize;
+            let mid = 0.5 * (lo[a] + hi[a]);
+            let (mut hi0, mut lo1) = (hi, lo);
+            hi0[a] = mid;
+            lo1[a] = mid;
+            stack.push((n.child as usize, lo, hi0));
+            stack.push((n.child as usize + 1, lo1, hi));
+        }
+        out
+    }
+
     /// `p` moved into the tree's box.
     pub fn clamp(&self, p: Vec3) -> Vec3 {
         p.max(self.lo).min(self.hi)

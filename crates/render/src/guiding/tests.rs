@@ -262,3 +262,48 @@ fn guiding_is_predicted_to_pay_where_light_is_peaked_alone() {
     // Media have no cosine: no prediction.
     assert!(peaked.gain(6).is_none());
 }
+
+#[test]
+fn each_cell_box_holds_the_points_found_in_it_and_the_boxes_fill_the_field() {
+    let (lo, hi) = (Vec3::new(-10.0, 0.0, -1.0), Vec3::new(10.0, 2.0, 1.0));
+    let (tree, _) = SpatialTree::new(lo, hi).split(|c| if c == 0 { 3 } else { 0 });
+    let (tree, _) = tree.split(|c| c % 3);
+    let boxes = tree.boxes();
+    assert_eq!(boxes.len(), tree.cells());
+    let volume: f32 = boxes
+        .iter()
+        .map(|(l, h)| (h.x - l.x) * (h.y - l.y) * (h.z - l.z))
+        .sum();
+    assert!((volume - 80.0).abs() < 1e-3, "{volume}");
+    let mut rng = Rng(5);
+    for _ in 0..1000 {
+        let p = lo + (hi - lo).mul_elem(Vec3::new(rng.next(), rng.next(), rng.next()));
+        let (l, h) = boxes[tree.cell(p) as usize];
+        assert!(p.max(l) == p && p.min(h) == p, "{p:?} outside {l:?}..{h:?}");
+    }
+}
+
+#[test]
+fn only_points_near_a_guiding_cell_look_it_up() {
+    let (lo, hi) = (Vec3::new(-10.0, 0.0, -1.0), Vec3::new(10.0, 2.0, 1.0));
+    let up = side(Some(Vec3::new(0.0, 1.0, 0.0)));
+    let axis = Vec3::new(0.0, 1.0, 0.0);
+    let mut rng = Rng(11);
+    let first = iterate(&Field::new(lo, hi), 100_000, axis, &mut rng, 1);
+    assert!(!first.guides() && !first.may_guide(lo, up));
+    // Light learned only on the left half guides only there.
+    let mut stats = Stats::new(&first);
+    let records = (0..200_000)
+        .map(|_| {
+            let p = lo + (hi - lo).mul_elem(Vec3::new(0.5 * rng.next(), rng.next(), rng.next()));
+            let d = uniform_direction(&mut rng);
+            (first.at(p, up).slot(d), (200.0 * (d.dot(axis) - 1.0)).exp())
+        })
+        .collect();
+    stats.add(&RowStats::of(records));
+    let second = first.next(&stats, 2);
+    assert!(second.guides());
+    assert!(second.may_guide(Vec3::new(-9.0, 1.0, 0.0), up));
+    assert!(!second.may_guide(Vec3::new(9.0, 1.0, 0.0), up));
+    assert!(!second.may_guide(Vec3::new(-9.0, 1.0, 0.0), side(None)));
+}

@@ -6,10 +6,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use crate::film::{Bands, Checkpoint, Film, SampleCounts};
-use crate::guiding::{next_boundary, Stats, LEARNED};
 use crate::scene::{IntegratorKind, Scene};
 
-use super::{ClusterSize, Quantity, RenderError, RenderOptions, Renderer};
+use super::{learn, ClusterSize, Quantity, RenderError, RenderOptions, Renderer};
 
 /// A finished (or interrupted) render.
 #[derive(Debug, Clone, PartialEq)]
@@ -247,11 +246,11 @@ fn render_k<const K: usize>(
         }
     };
     let resumed_at = state.done;
-    // With guiding, the guide learns first, over the whole film (every
-    // render the same way: fresh, resumed or a shard, so each uses the
-    // same field).
+    // With guiding, the image's first samples are the guide's learning
+    // iterations (`learn.rs`); those a resumed render or a later shard
+    // does not render are learned first, apart.
     if renderer.guiding.is_some() {
-        learn::<K>(&mut renderer, options.seed, cancel)?;
+        renderer.catch_up::<K>(options.seed, state.done, cancel)?;
     }
     let rendering = Instant::now();
     let mut cancelled = false;
@@ -265,7 +264,12 @@ fn render_k<const K: usize>(
             break;
         }
         let done = state.done;
-        let mut count = pass_size(done).min(total - done);
+        // A learning iteration is one pass (`learn.rs`).
+        let size = match learn::iteration(done).filter(|_| renderer.learns(done)) {
+            Some((_, end)) => end - done,
+            None => pass_size(done),
+        };
+        let mut count = size.min(total - done);
         if let Some(limit) = options.time_limit {
             // Only as many samples as the time left should allow, judged by
             // the rate so far, so a time limit is met rather than overrun
@@ -283,7 +287,11 @@ fn render_k<const K: usize>(
                 count = count.min(fits);
             }
         }
-        let c = renderer.pass::<K>(options.seed, &mut state.film, done, count, None);
+        let c = if renderer.learns(done) {
+            renderer.learning_pass::<K>(options.seed, &mut state.film, done, count)?
+        } else {
+            renderer.pass::<K>(options.seed, &mut state.film, done, count, None)
+        };
         state.counts += c;
         state.done += count;
         if let Some(progress) = progress {
@@ -341,42 +349,4 @@ fn render_k<const K: usize>(
         (o.see)(&rendered.film, &rendered.facts());
     }
     Ok(rendered)
-}
-
-/// Learns the guide (`crate::guiding`): [`LEARNED`] samples per pixel in
-/// iterations, over every row, into a film that is thrown away. Their
-/// sample sequence is another seed's, so that no sample of the image
-/// shares its random numbers with the samples the guide learned from.
-/// Stops early when `cancel` is set.
-fn learn<const K: usize>(
-    renderer: &mut Renderer,
-    seed: u32,
-    cancel: &AtomicBool,
-) -> Result<(), RenderError> {
-    let (width, height) = (renderer.scene.camera.width, renderer.scene.camera.height);
-    let mut film =
-        Film::try_new(width, height, None).map_err(|e| RenderError::TooLarge(Box::new(e)))?;
-    let rows = std::mem::replace(&mut renderer.rows, 0..u32::MAX);
-    // The golden ratio's 32-bit fraction: another seed, fixed.
-    let seed = seed ^ 0x9E37_79B9;
-    let mut done = 0;
-    while done < LEARNED && !cancel.load(Ordering::Relaxed) {
-        let Some(mut stats) = renderer.guiding.as_mut().map(|g| {
-            g.learning = true;
-            Stats::new(g.guide.field())
-        }) else {
-            break;
-        };
-        let b = next_boundary(done).unwrap_or(LEARNED);
-        renderer.pass::<K>(seed, &mut film, done, b - done, Some(&mut stats));
-        done = b;
-        if let Some(g) = renderer.guiding.as_mut() {
-            g.guide.advance(&stats);
-        }
-    }
-    if let Some(g) = renderer.guiding.as_mut() {
-        g.learning = false;
-    }
-    renderer.rows = rows;
-    Ok(())
 }

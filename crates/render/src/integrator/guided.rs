@@ -196,12 +196,13 @@ impl Renderer<'_> {
 
     /// The field's density at `p` for a vertex whose normal, turned to
     /// the side the path is on, is `n` (`None` in a medium), when guiding
-    /// and some cell guides.
+    /// and a cell near it guides.
     #[inline]
     pub(super) fn spot(&self, p: Vec3, n: Option<Vec3>) -> Option<Spot<'_>> {
+        let side = side(n);
         self.field()
-            .filter(|f| f.guides())
-            .map(|f| f.at(p, side(n)))
+            .filter(|f| f.may_guide(p, side))
+            .map(|f| f.at(p, side))
     }
 
     /// The guide a vertex of `bsdf` draws from at `spot`, if any.

@@ -23,6 +23,7 @@ mod driver;
 mod equiangular;
 mod guided;
 mod halo;
+mod learn;
 mod light_choice;
 mod measure;
 mod options;

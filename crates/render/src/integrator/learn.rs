@@ -1,0 +1,153 @@
+//! The guide's learning iterations (`crate::guiding`), which are the
+//! image's own first [`LEARNED`] samples per pixel. Each learning sample
+//! draws from the field the iterations before it learned, so each is an
+//! unbiased estimate, and the image keeps them rather than paying for
+//! them twice.
+//!
+//! The field after an iteration must be the same in every render of the
+//! same seed (fresh, resumed, a shard of rows or of samples), and it
+//! depends on the order its records are summed in. So an iteration is
+//! learned from one pass over every row: the image's own pass when it is
+//! exactly that, otherwise, once the image's samples of the iteration are
+//! done (or before the first sample of a render that starts after them),
+//! a pass of the same samples into a scratch film.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use crate::film::{Film, SampleCounts};
+use crate::guiding::{Stats, BOUNDARIES, LEARNED};
+
+use super::{RenderError, Renderer};
+
+/// The samples `[b0, b1)` of the learning iteration that sample `done`
+/// lies in, while learning goes on.
+pub(super) fn iteration(done: u32) -> Option<(u32, u32)> {
+    let b1 = BOUNDARIES
+        .iter()
+        .copied()
+        .find(|&b| b > done && b <= LEARNED)?;
+    let b0 = BOUNDARIES.iter().copied().rfind(|&b| b <= done)?;
+    Some((b0, b1))
+}
+
+impl Renderer<'_> {
+    /// Whether guiding is on and sample `done` is a learning one.
+    pub(super) fn learns(&self, done: u32) -> bool {
+        self.guiding.is_some() && iteration(done).is_some()
+    }
+
+    /// Learns, in a scratch film, every iteration that ends at or before
+    /// sample `done` (samples a resumed render or a later shard already
+    /// holds or does not render). Stops early when `cancel` is set.
+    pub(super) fn catch_up<const K: usize>(
+        &mut self,
+        seed: u32,
+        done: u32,
+        cancel: &AtomicBool,
+    ) -> Result<(), RenderError> {
+        while let Some((b0, b1)) = self.learned().and_then(iteration) {
+            if b1 > done || cancel.load(Ordering::Relaxed) {
+                break;
+            }
+            self.learn_apart::<K>(seed, b0, b1)?;
+        }
+        Ok(())
+    }
+
+    /// Renders samples `done..done + count` into `film` (within one
+    /// learning iteration) and learns from them: from this very pass when
+    /// it is the whole iteration over every row, otherwise from a scratch
+    /// pass once the iteration's last sample is in the film.
+    pub(super) fn learning_pass<const K: usize>(
+        &mut self,
+        seed: u32,
+        film: &mut Film,
+        done: u32,
+        count: u32,
+    ) -> Result<SampleCounts, RenderError> {
+        let Some((b0, b1)) = iteration(done) else {
+            return Ok(self.pass::<K>(seed, film, done, count, None));
+        };
+        let every_row = self.rows.start == 0 && self.rows.end >= film.height;
+        if done == b0 && done + count == b1 && every_row {
+            let mut stats = self.recording();
+            let counts = self.pass::<K>(seed, film, done, count, stats.as_mut());
+            self.advance(stats);
+            return Ok(counts);
+        }
+        let counts = self.pass::<K>(seed, film, done, count, None);
+        if done + count == b1 {
+            self.learn_apart::<K>(seed, b0, b1)?;
+        }
+        Ok(counts)
+    }
+
+    /// The samples per pixel the guide has learned from, while learning
+    /// goes on.
+    fn learned(&self) -> Option<u32> {
+        let g = self.guiding.as_ref()?;
+        BOUNDARIES
+            .get(g.guide.learned())
+            .copied()
+            .filter(|&j| j < LEARNED)
+    }
+
+    /// Learns the iteration of samples `s0..s1` from a pass over every row
+    /// into a film that is thrown away.
+    fn learn_apart<const K: usize>(
+        &mut self,
+        seed: u32,
+        s0: u32,
+        s1: u32,
+    ) -> Result<(), RenderError> {
+        let (width, height) = (self.scene.camera.width, self.scene.camera.height);
+        let mut scratch =
+            Film::try_new(width, height, None).map_err(|e| RenderError::TooLarge(Box::new(e)))?;
+        let rows = std::mem::replace(&mut self.rows, 0..u32::MAX);
+        let mut stats = self.recording();
+        self.pass::<K>(seed, &mut scratch, s0, s1 - s0, stats.as_mut());
+        self.rows = rows;
+        self.advance(stats);
+        Ok(())
+    }
+
+    /// Empty records for the field learned so far, with the integrators
+    /// told to record.
+    fn recording(&mut self) -> Option<Stats> {
+        self.guiding.as_mut().map(|g| {
+            g.learning = true;
+            Stats::new(g.guide.field())
+        })
+    }
+
+    /// The next field, from an iteration's records.
+    fn advance(&mut self, stats: Option<Stats>) {
+        if let (Some(g), Some(stats)) = (self.guiding.as_mut(), stats) {
+            g.learning = false;
+            g.guide.advance(&stats);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::iteration;
+
+    #[test]
+    fn learning_iterations_are_the_first_samples_cut_at_the_boundaries() {
+        let cut: Vec<_> = [0, 1, 2, 3, 5, 7, 8, 15, 16, 40].map(iteration).to_vec();
+        let expected = [
+            Some((0, 1)),
+            Some((1, 2)),
+            Some((2, 4)),
+            Some((2, 4)),
+            Some((4, 8)),
+            Some((4, 8)),
+            Some((8, 16)),
+            Some((8, 16)),
+            None,
+            None,
+        ];
+        assert_eq!(cut, expected);
+    }
+}
