@@ -64,10 +64,12 @@ def test_guiding_is_an_option_and_keeps_the_image():
     on, meta = scotopia.render(scene, spp=32, res=8, guiding="on")
     assert (meta["guiding"], meta_off["guiding"]) == ("on", "off")
     # The Cornell box's light is too flat for guiding to pay: no cell
-    # guides, and as the guide's learning samples are the image's own
-    # first ones, the image is the unguided one (the Rust tests check
-    # guided images against unguided ones within standard errors).
-    assert np.isfinite(on).all() and np.array_equal(on, off)
+    # guides, so the guided image is the same samples as the unguided one,
+    # its first 16 spp weighed less (the guide's learning iterations,
+    # `learn.rs`): close, not equal (the Rust tests check guided images
+    # against unguided ones within standard errors).
+    assert np.isfinite(on).all() and not np.array_equal(on, off)
+    assert abs(on[..., 1].mean() / off[..., 1].mean() - 1) < 0.03
     with pytest.raises(ValueError, match="on or off"):
         scotopia.render(scene, spp=1, res=4, guiding="yes")
     with pytest.raises(ValueError, match="--guiding off"):

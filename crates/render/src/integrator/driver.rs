@@ -290,7 +290,7 @@ fn render_k<const K: usize>(
         let c = if renderer.learns(done) {
             renderer.learning_pass::<K>(options.seed, &mut state.film, done, count)?
         } else {
-            renderer.pass::<K>(options.seed, &mut state.film, done, count, None)
+            renderer.pass::<K>(options.seed, &mut state.film, (done, count, 1.0), None)
         };
         state.counts += c;
         state.done += count;

@@ -74,14 +74,15 @@ impl Renderer<'_> {
         }
     }
 
-    /// Adds samples `first..first + count` to every pixel of the film;
-    /// while the guide learns, their records to `stats`.
+    /// Adds samples `first..first + count` to every pixel of the film,
+    /// each weighing `weight` (1 but for the guide's first learning
+    /// iterations, `learn.rs`); while the guide learns, their records to
+    /// `stats`.
     pub(super) fn pass<const K: usize>(
         &self,
         seed: u32,
         film: &mut Film,
-        first: u32,
-        count: u32,
+        (first, count, weight): (u32, u32, f32),
         stats: Option<&mut Stats>,
     ) -> SampleCounts {
         let learning = stats.is_some();
@@ -119,6 +120,7 @@ impl Renderer<'_> {
                 bands,
                 moments_kept,
                 learning,
+                weight,
             };
             rows.par_extend(work.into_par_iter().map(|w| self.render_row::<K>(&job, w)));
         }
@@ -134,7 +136,18 @@ impl Renderer<'_> {
                 stats.add(&row_stats);
             }
             for sp in &splats {
-                film.splat(&self.filter, sp.raster, sp.xyzv, &sp.radiance, &sp.wl);
+                if weight == 1.0 {
+                    film.splat(&self.filter, sp.raster, sp.xyzv, &sp.radiance, &sp.wl);
+                } else {
+                    let xyzv = sp.xyzv.map(|v| v * weight);
+                    film.splat(
+                        &self.filter,
+                        sp.raster,
+                        xyzv,
+                        &(sp.radiance * weight),
+                        &sp.wl,
+                    );
+                }
             }
         }
         total
@@ -227,6 +240,8 @@ struct RowJob {
     bands: Option<Bands>,
     moments_kept: bool,
     learning: bool,
+    /// Each sample's weight in the pixels it reaches (and its splats').
+    weight: f32,
 }
 
 /// A row's window and how to add a sample into it.
@@ -254,7 +269,7 @@ impl Sums<'_, '_> {
         let own = (y - self.w.first) * width + x;
         self.w.pixels[own].samples += 1;
         if reach == 0 {
-            self.add_to(own, x, s, 1.0);
+            self.add_to(own, x, s, self.job.weight);
             return;
         }
         let r = reach as isize;
@@ -271,7 +286,7 @@ impl Sums<'_, '_> {
             if row < 0 || row >= height as isize {
                 continue;
             }
-            let fy = self.filter.axis_weight(offset[1] - dy as f32);
+            let fy = self.filter.axis_weight(offset[1] - dy as f32) * self.job.weight;
             if fy == 0.0 {
                 continue;
             }
@@ -356,6 +371,7 @@ mod tests {
             bands: None,
             moments_kept: false,
             learning: false,
+            weight: 1.0,
         };
         let wl = SampledWavelengths::<4>::new([550.0; 4], [1.0; 4]);
         for phase in 0..2 * reach + 1 {
