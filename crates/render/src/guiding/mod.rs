@@ -18,11 +18,11 @@
 //! Every later sample draws from the last field. The image keeps the
 //! learning samples: each drew from a field learned without it, so each
 //! is an unbiased estimate. Müller et al. 2017 keep only the last
-//! iteration's image, because their early guides are poor; here a cell
-//! guides only where its field is predicted to pay ([`MAX_GAIN`]), so an
-//! early iteration's samples are at worst the unguided ones, and keeping
-//! them makes the guide cost little more than its records where it does
-//! not pay (the Cornell box).
+//! iteration's image, because the first guides are poor; here iteration
+//! k's samples weigh 2^(k − 4) in the film instead, a weight fixed by
+//! their index (`integrator/learn.rs`), so that the first, barely guided
+//! samples add little noise and the guide costs little more than its
+//! records where it does not pay (the Cornell box).
 //!
 //! **Deterministic.** A field depends only on the records of the samples
 //! before its boundary, and those only on (seed, sample index, pixel).
