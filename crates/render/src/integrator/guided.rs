@@ -10,6 +10,7 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::halo::{self, Halos};
 use super::path::ScatterPoint;
+use super::reflectors::{self, Reflectors};
 use super::select::Integrator;
 use super::Renderer;
 use crate::bsdf::{Bsdf, BsdfSample, Transport};
@@ -160,6 +161,14 @@ fn mixed(p: f32, g: f32) -> f32 {
 #[inline]
 fn with_halo(p: f32, h: f32) -> f32 {
     (1.0 - halo::SHARE) * p + halo::SHARE * h
+}
+
+/// The density with the reflectors' share at medium points
+/// (`reflectors::MEDIUM_SHARE`) from the density `p` of the other
+/// strategies and the reflectors' `r`.
+#[inline]
+fn with_reflectors(p: f32, r: f32) -> f32 {
+    (1.0 - reflectors::MEDIUM_SHARE) * p + reflectors::MEDIUM_SHARE * r
 }
 
 /// A direction from phase function `phase`, drawn half from `guide` when
@@ -361,9 +370,37 @@ impl Renderer<'_> {
     }
 
     /// A direction from phase function `phase` at a medium point, drawn
-    /// half from `guide` when there is one: the direction, the phase
-    /// function's value f there and the mixture's density q.
+    /// half from `guide` when there is one, a share aimed at the lamps'
+    /// halos (`halo`) and a share at lamp-lit glossy reflectors
+    /// (`reflectors`): the direction, the phase function's value f there
+    /// and the mixture's density q.
     pub(super) fn sample_phase(
+        &self,
+        guide: Option<&DTree>,
+        (phase, x): (&Phase, Vec3),
+        wi: Vec3,
+        u_pick: f32,
+        u: [f32; 2],
+    ) -> Option<(Vec3, f32, f32)> {
+        const C: f32 = reflectors::MEDIUM_SHARE;
+        let (wo, f, q) = match self.medium_reflectors() {
+            Some(r) if u_pick < C => {
+                let wo = r.sample_refl(x, u_pick / C, u)?;
+                let f = phase.eval(wi, wo);
+                (wo, f, self.phase_pdf(guide, x, f, wo))
+            }
+            Some(r) => {
+                let (wo, f, q) =
+                    self.sample_unreflected_phase(guide, (phase, x), wi, past(u_pick, C), u)?;
+                (wo, f, with_reflectors(q, r.pdf_refl(x, wo)))
+            }
+            None => self.sample_unreflected_phase(guide, (phase, x), wi, u_pick, u)?,
+        };
+        (f > 0.0 && q > 0.0 && q.is_finite()).then_some((wo, f, q))
+    }
+
+    /// [`Self::sample_phase`] without the reflectors' share.
+    fn sample_unreflected_phase(
         &self,
         guide: Option<&DTree>,
         (phase, x): (&Phase, Vec3),
@@ -377,7 +414,7 @@ impl Renderer<'_> {
         let (wo, f, q) = if u_pick < halo::SHARE {
             let wo = h.sample(x, u_pick / halo::SHARE, u)?;
             let f = phase.eval(wi, wo);
-            (wo, f, self.phase_pdf(guide, x, f, wo))
+            (wo, f, self.unreflected_phase_pdf(guide, x, f, wo))
         } else {
             let u_pick = past(u_pick, halo::SHARE);
             let (wo, f, q) = sample_unhaloed_phase(guide, phase, wi, u_pick, u)?;
@@ -390,6 +427,26 @@ impl Renderer<'_> {
     /// where the phase function's value is `f`.
     #[inline]
     pub(super) fn phase_pdf(&self, guide: Option<&DTree>, x: Vec3, f: f32, d: Vec3) -> f32 {
+        let p = self.unreflected_phase_pdf(guide, x, f, d);
+        match self.medium_reflectors() {
+            Some(r) => with_reflectors(p, r.pdf_refl(x, d)),
+            None => p,
+        }
+    }
+
+    /// The reflectors a medium point's bounce aims at, if the scene has
+    /// any. Fog beside a lamp-lit pole sees the lamp's glossy reflection
+    /// in it, thousands of cd/m² over a few square centimetres: reached
+    /// by the phase function or a halo's cone alone, one such bounce in
+    /// a thousand pixels' samples made the foggy street's last fireflies.
+    #[inline]
+    fn medium_reflectors(&self) -> Option<&Reflectors> {
+        (!self.reflectors.is_empty()).then_some(&self.reflectors)
+    }
+
+    /// [`Self::phase_pdf`] without the reflectors' share.
+    #[inline]
+    fn unreflected_phase_pdf(&self, guide: Option<&DTree>, x: Vec3, f: f32, d: Vec3) -> f32 {
         let p = match guide {
             Some(g) => mixed(f, g.pdf(d)),
             None => f,

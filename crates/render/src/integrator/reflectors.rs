@@ -43,6 +43,11 @@ use crate::sampling::distribution::Distribution1D;
 /// 1/0.8.
 pub const SHARE: f32 = 0.2;
 
+/// The share of reflector sampling at a point in a medium (the volume
+/// path tracer's `sample_phase`): the phase function and the halos keep
+/// 0.9, so the fog's other light's variance grows by at most 1/0.9.
+pub const MEDIUM_SHARE: f32 = 0.1;
+
 /// Sub-triangles per triangle edge: a pole's 6.5 m side is tabulated in
 /// 40 cm steps.
 pub const CELLS: usize = 16;

@@ -187,13 +187,13 @@ impl Renderer<'_> {
             record: None,
         };
         // The phase function's direction, or where guided, half of them
-        // the guide's (`guided`), and a share aimed at the lamps' halos
-        // (`halo`): f/q, 1 with neither.
+        // the guide's (`guided`), a share aimed at the lamps' halos
+        // (`halo`) and one at lamp-lit reflectors (`reflectors`): f/q.
         let Some((wo, f, pdf)) = self.sample_phase(guide, (phase, p), wi, u_pick, [u_p0, u_p1])
         else {
             return stop;
         };
-        if guide.is_some() || self.halos().is_some() {
+        if f != pdf {
             path.beta *= f / pdf;
             if path.beta.is_zero() || !path.beta.max_value().is_finite() {
                 return stop;
