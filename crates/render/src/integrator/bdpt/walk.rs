@@ -10,6 +10,7 @@ use super::vertex::{shading_correction, Kind, Vertex, MAX_VERTICES};
 use crate::bsdf::Transport;
 use crate::integrator::direct::spawn;
 use crate::integrator::light_choice::ClusterChoice;
+use crate::integrator::path::MIN_SURVIVAL;
 use crate::integrator::Renderer;
 use crate::math::{Ray, Vec3};
 
@@ -331,7 +332,7 @@ impl Renderer<'_> {
         u_rr: f32,
     ) -> bool {
         if i as i32 + 1 > self.scene.integrator.rr_depth.max(1) {
-            let q = (beta.max_value() / start).min(0.95);
+            let q = (beta.max_value() / start).clamp(MIN_SURVIVAL, 0.95);
             if u_rr >= q {
                 return false;
             }
