@@ -100,17 +100,23 @@ const CHROMATIC: &str = r#"<spectrum name="sigma_t" value="400:2.0, 700:0.5"/>"#
 /// The camera and a spot light inside unbounded fog (the sensor's
 /// medium): the beam in fog, over a floor.
 fn beam(depth: i32) -> Scene {
+    beam_with("beam", depth, 0.5, "")
+}
+
+/// [`beam`] with the phase function's mean cosine `g` and `shapes` added,
+/// written as `name`.
+fn beam_with(name: &str, depth: i32, g: f32, shapes: &str) -> Scene {
     scene(
-        "beam",
+        name,
         &format!(
             r#"<integrator type="volpath"><integer name="max_depth" value="{depth}"/></integrator>
             {sensor}
             <medium type="homogeneous" id="fog"><float name="sigma_t" value="0.4"/>
-              <float name="albedo" value="0.8"/><phase type="hg"><float name="g" value="0.5"/></phase></medium>
+              <float name="albedo" value="0.8"/><phase type="hg"><float name="g" value="{g}"/></phase></medium>
             <emitter type="spot"><spectrum name="intensity" value="400:30, 700:30"/>
               <float name="cutoff_angle" value="20"/><float name="beam_width" value="15"/>
               <transform name="to_world"><lookat origin="-1, 2.5, 0" target="0.3, 0, 0" up="0, 1, 0"/></transform></emitter>
-            {FLOOR}"#,
+            {shapes}{FLOOR}"#,
             sensor = sensor("0, 1, 4", r#"<ref id="fog"/>"#),
         ),
     )
@@ -151,33 +157,17 @@ fn bdpt_and_volpath_agree_on_a_spot_beam_seen_from_inside_the_fog() {
     );
 }
 
-/// The beam with a rough aluminium post beside the spot light, in the
-/// fog: a lamp-lit reflector, which the volume path tracer's bounces in
-/// the fog aim at (`reflectors::MEDIUM_SHARE`); the bidirectional tracer
-/// knows nothing of it.
-fn beam_and_post(depth: i32) -> Scene {
-    scene(
-        "beam-post",
-        &format!(
-            r#"<integrator type="volpath"><integer name="max_depth" value="{depth}"/></integrator>
-            {sensor}
-            <medium type="homogeneous" id="fog"><float name="sigma_t" value="0.4"/>
-              <float name="albedo" value="0.8"/><phase type="hg"><float name="g" value="0.7"/></phase></medium>
-            <emitter type="spot"><spectrum name="intensity" value="400:30, 700:30"/>
-              <float name="cutoff_angle" value="20"/><float name="beam_width" value="15"/>
-              <transform name="to_world"><lookat origin="-1, 2.5, 0" target="0.3, 0, 0" up="0, 1, 0"/></transform></emitter>
-            <shape type="cube">
-              <transform name="to_world"><scale x="0.06" y="0.6" z="0.06"/><translate x="-0.55" y="1.1" z="0"/></transform>
-              <bsdf type="roughconductor"><string name="material" value="Al"/><float name="alpha" value="0.2"/></bsdf></shape>
-            {FLOOR}"#,
-            sensor = sensor("0, 1, 4", r#"<ref id="fog"/>"#),
-        ),
-    )
-}
+/// A rough aluminium post beside the spot light of [`beam_with`], in
+/// the fog: a lamp-lit reflector, which the volume path tracer's bounces
+/// in the fog aim at (`reflectors::MEDIUM_SHARE`); the bidirectional
+/// tracer knows nothing of it.
+const POST: &str = r#"<shape type="cube">
+    <transform name="to_world"><scale x="0.06" y="0.6" z="0.06"/><translate x="-0.55" y="1.1" z="0"/></transform>
+    <bsdf type="roughconductor"><string name="material" value="Al"/><float name="alpha" value="0.2"/></bsdf></shape>"#;
 
 #[test]
 fn bdpt_and_volpath_agree_on_fog_lit_by_a_lamp_lit_post() {
-    let s = beam_and_post(8);
+    let s = beam_with("beam-post", 8, 0.7, POST);
     agree(
         "beam and post in fog",
         &image(&s, options(IntegratorKind::Bdpt, 512, 5)),

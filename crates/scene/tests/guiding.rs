@@ -254,6 +254,15 @@ fn guided_and_unguided_renders_agree() {
     }
 }
 
+/// relMSE of Y against `reference` of `spp`-spp renders, the mean over
+/// seeds 1 to 4 (single seeds' figures spread widely).
+fn mean_rel_mse(s: &Scene, reference: &[[f32; 4]], spp: u32, guiding: Guiding) -> f64 {
+    (1..=4)
+        .map(|seed| rel_mse(&film(s, &options(spp, seed, guiding)).xyzv(), reference))
+        .sum::<f64>()
+        / 4.0
+}
+
 #[test]
 fn the_guide_finds_a_hidden_lamp_and_lowers_the_noise() {
     // The image keeps the guide's 16 learning samples, whose first ones
@@ -261,13 +270,10 @@ fn the_guide_finds_a_hidden_lamp_and_lowers_the_noise() {
     // mean of four, at about equal time (equal spp).
     let s = hidden_lamp();
     let reference = film(&s, &options(4096, 100, Guiding::Off)).xyzv();
-    let mean = |g| {
-        (1..=4)
-            .map(|seed| rel_mse(&film(&s, &options(128, seed, g)).xyzv(), &reference))
-            .sum::<f64>()
-            / 4.0
-    };
-    let (off, on) = (mean(Guiding::Off), mean(Guiding::On));
+    let (off, on) = (
+        mean_rel_mse(&s, &reference, 128, Guiding::Off),
+        mean_rel_mse(&s, &reference, 128, Guiding::On),
+    );
     eprintln!("hidden lamp, 128 spp, 4 seeds: relMSE of Y {off:.4} unguided, {on:.4} guided");
     assert!(on < 0.25 * off, "guided {on}, unguided {off}");
 }
@@ -277,13 +283,10 @@ fn guided_emission_lights_the_caustic_of_a_lamp_in_a_tube() {
     // The mean of four seeds, as for the hidden lamp.
     let s = inline("tube-noise", TUBE_LAMP);
     let reference = film(&s, &options(1024, 100, Guiding::On)).xyzv();
-    let mean = |g| {
-        (1..=4)
-            .map(|seed| rel_mse(&film(&s, &options(64, seed, g)).xyzv(), &reference))
-            .sum::<f64>()
-            / 4.0
-    };
-    let (off, on) = (mean(Guiding::Off), mean(Guiding::On));
+    let (off, on) = (
+        mean_rel_mse(&s, &reference, 64, Guiding::Off),
+        mean_rel_mse(&s, &reference, 64, Guiding::On),
+    );
     eprintln!("tube lamp, 64 spp, 4 seeds: relMSE of Y {off:.4} unguided, {on:.4} guided");
     assert!(on < 0.25 * off, "guided {on}, unguided {off}");
 }

@@ -323,7 +323,8 @@ impl DTree {
     /// lower the variance; `None` with no energy, for media, or before
     /// the tree learned its squares.
     pub fn gain(&self, side: usize) -> Option<f32> {
-        if self.energy <= 0.0 || side >= 6 || self.square.len() != self.nodes.len() {
+        // The last side is media's.
+        if self.energy <= 0.0 || side >= super::SIDES - 1 || self.square.len() != self.nodes.len() {
             return None;
         }
         let (axis, sign) = (side / 2, if side.is_multiple_of(2) { 1.0 } else { -1.0 });

@@ -148,12 +148,18 @@ fn samples_come_with_their_density_and_its_frequencies() {
 /// One iteration's records: `n` vertices facing up at points uniform in
 /// the box, directions uniform, lit by a sharp lobe around `axis`.
 fn iterate(field: &Field, n: usize, axis: Vec3, rng: &mut Rng, spp: u32) -> Field {
+    iterate_over(field, n, axis, rng, spp, 1.0)
+}
+
+/// [`iterate`] with the points in the box's first `share` along x.
+fn iterate_over(field: &Field, n: usize, axis: Vec3, rng: &mut Rng, spp: u32, share: f32) -> Field {
     let (lo, hi) = (Vec3::new(-10.0, 0.0, -1.0), Vec3::new(10.0, 2.0, 1.0));
     let up = side(Some(Vec3::new(0.0, 1.0, 0.0)));
     let mut stats = Stats::new(field);
     let records = (0..n)
         .map(|_| {
-            let p = lo + (hi - lo).mul_elem(Vec3::new(rng.next(), rng.next(), rng.next()));
+            let u = Vec3::new(share * rng.next(), rng.next(), rng.next());
+            let p = lo + (hi - lo).mul_elem(u);
             let d = uniform_direction(rng);
             (field.at(p, up).slot(d), (200.0 * (d.dot(axis) - 1.0)).exp())
         })
@@ -292,16 +298,7 @@ fn only_points_near_a_guiding_cell_look_it_up() {
     let first = iterate(&Field::new(lo, hi), 100_000, axis, &mut rng, 1);
     assert!(!first.guides() && !first.may_guide(lo, up));
     // Light learned only on the left half guides only there.
-    let mut stats = Stats::new(&first);
-    let records = (0..200_000)
-        .map(|_| {
-            let p = lo + (hi - lo).mul_elem(Vec3::new(0.5 * rng.next(), rng.next(), rng.next()));
-            let d = uniform_direction(&mut rng);
-            (first.at(p, up).slot(d), (200.0 * (d.dot(axis) - 1.0)).exp())
-        })
-        .collect();
-    stats.add(&RowStats::of(records));
-    let second = first.next(&stats, 2);
+    let second = iterate_over(&first, 200_000, axis, &mut rng, 2, 0.5);
     assert!(second.guides());
     assert!(second.may_guide(Vec3::new(-9.0, 1.0, 0.0), up));
     assert!(!second.may_guide(Vec3::new(9.0, 1.0, 0.0), up));

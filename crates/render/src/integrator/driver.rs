@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 use crate::film::{Bands, Checkpoint, Film, SampleCounts};
 use crate::scene::{IntegratorKind, Scene};
 
-use super::{learn, ClusterSize, Quantity, RenderError, RenderOptions, Renderer};
+use super::{ClusterSize, Quantity, RenderError, RenderOptions, Renderer};
 
 /// A finished (or interrupted) render.
 #[derive(Debug, Clone, PartialEq)]
@@ -265,10 +265,8 @@ fn render_k<const K: usize>(
         }
         let done = state.done;
         // A learning iteration is one pass (`learn.rs`).
-        let size = match learn::iteration(done).filter(|_| renderer.learns(done)) {
-            Some((_, end)) => end - done,
-            None => pass_size(done),
-        };
+        let learning = renderer.learning(done);
+        let size = learning.map_or(pass_size(done), |(_, end)| end - done);
         let mut count = size.min(total - done);
         if let Some(limit) = options.time_limit {
             // Only as many samples as the time left should allow, judged by
@@ -287,7 +285,7 @@ fn render_k<const K: usize>(
                 count = count.min(fits);
             }
         }
-        let c = if renderer.learns(done) {
+        let c = if learning.is_some() {
             renderer.learning_pass::<K>(options.seed, &mut state.film, done, count)?
         } else {
             renderer.pass::<K>(options.seed, &mut state.film, (done, count, 1.0), None)

@@ -22,7 +22,7 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::film::{Film, SampleCounts};
-use crate::guiding::{Stats, BOUNDARIES, LEARNED};
+use crate::guiding::{next_boundary, Stats, BOUNDARIES, LEARNED};
 
 use super::{RenderError, Renderer};
 
@@ -36,18 +36,17 @@ pub(super) fn weight(k: usize) -> f32 {
 /// The samples `[b0, b1)` of the learning iteration that sample `done`
 /// lies in, while learning goes on.
 pub(super) fn iteration(done: u32) -> Option<(u32, u32)> {
-    let b1 = BOUNDARIES
-        .iter()
-        .copied()
-        .find(|&b| b > done && b <= LEARNED)?;
+    // The last boundary is LEARNED: none is found past it.
+    let b1 = next_boundary(done)?;
     let b0 = BOUNDARIES.iter().copied().rfind(|&b| b <= done)?;
     Some((b0, b1))
 }
 
 impl Renderer<'_> {
-    /// Whether guiding is on and sample `done` is a learning one.
-    pub(super) fn learns(&self, done: u32) -> bool {
-        self.guiding.is_some() && iteration(done).is_some()
+    /// The learning iteration sample `done` lies in, when guiding is on
+    /// and learning goes on.
+    pub(super) fn learning(&self, done: u32) -> Option<(u32, u32)> {
+        self.guiding.as_ref().and_then(|_| iteration(done))
     }
 
     /// Learns, in a scratch film, every iteration that ends at or before

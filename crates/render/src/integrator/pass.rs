@@ -136,18 +136,15 @@ impl Renderer<'_> {
                 stats.add(&row_stats);
             }
             for sp in &splats {
-                if weight == 1.0 {
-                    film.splat(&self.filter, sp.raster, sp.xyzv, &sp.radiance, &sp.wl);
-                } else {
-                    let xyzv = sp.xyzv.map(|v| v * weight);
-                    film.splat(
-                        &self.filter,
-                        sp.raster,
-                        xyzv,
-                        &(sp.radiance * weight),
-                        &sp.wl,
-                    );
-                }
+                // × 1 is exact: unweighted passes add the same bits.
+                let xyzv = sp.xyzv.map(|v| v * weight);
+                film.splat(
+                    &self.filter,
+                    sp.raster,
+                    xyzv,
+                    &(sp.radiance * weight),
+                    &sp.wl,
+                );
             }
         }
         total
