@@ -14,7 +14,8 @@
 //! - what they share: `direct.rs` (next-event estimation, shadow rays and
 //!   their transmittance, MIS), `light_choice/` (which light a path
 //!   samples), `reflectors.rs` (aiming diffuse bounces at lamp-lit glossy
-//!   surfaces), `equiangular.rs` (distances aimed at lights in media) and
+//!   surfaces), `manifold/` (light through glass balls to diffuse points:
+//!   manifold next-event estimation), `equiangular.rs` (distances aimed at lights in media) and
 //!   `guided.rs` (bounces drawn from the learned light field, `guiding`).
 
 mod bdpt;
@@ -25,6 +26,7 @@ mod guided;
 mod halo;
 mod learn;
 mod light_choice;
+mod manifold;
 mod measure;
 mod options;
 mod pass;

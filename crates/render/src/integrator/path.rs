@@ -9,6 +9,7 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::direct::{power_heuristic, spawn};
 use super::guided::{Pending, Trail};
+use super::manifold::{lens_share, Passage};
 use super::renderer::SampleStart;
 use super::select::Media;
 use super::Renderer;
@@ -70,6 +71,9 @@ pub struct PathState<const K: usize> {
     /// The vertices waiting for their record while the guide learns
     /// (`guided.rs`).
     pub trail: Trail,
+    /// The path's way through a glass ball since its last diffuse vertex
+    /// (`manifold`).
+    pub passage: Passage,
 }
 
 /// Where a path scatters at a surface: the point, its geometric normal,
@@ -91,6 +95,8 @@ pub struct Bounce<const K: usize> {
     pub goes_on: bool,
     /// The bounce's mark, while the guide learns (`guided.rs`).
     pub record: Option<Pending>,
+    /// Rays the bounce traced itself (`manifold`).
+    pub traced: u32,
 }
 
 impl<const K: usize> Bounce<K> {
@@ -100,6 +106,7 @@ impl<const K: usize> Bounce<K> {
         shadow_medium: None,
         goes_on: false,
         record: None,
+        traced: 0,
     };
 }
 
@@ -173,6 +180,7 @@ impl Renderer<'_> {
         b: Bounce<K>,
         rays: &mut u64,
     ) -> bool {
+        *rays += b.traced as u64;
         if let Some((shadow, contribution)) = b.shadow {
             if MEDIA {
                 let (now, rng) = (&path.now, &mut path.rng);
@@ -270,7 +278,8 @@ impl Renderer<'_> {
                 let le = area.radiance(&path.now, surface.uv, surface.n_geometric, wo_world);
                 if !le.is_zero() {
                     let w = if path.delta {
-                        1.0
+                        let (y, n) = (surface.p, surface.n_geometric);
+                        self.passage_weight(&path.passage, li as usize, y, n)
                     } else {
                         let p_light = self.lights.probability(path.prev, path.prev_n, li as usize)
                             * area.pdf_li(path.prev, surface.p, surface.n_geometric);
@@ -307,6 +316,10 @@ impl Renderer<'_> {
             at,
         };
         let mut b = self.scatter::<K, MEDIA>(path, u, &point, bsdf);
+        if path.delta && b.goes_on {
+            let d = path.ray.d;
+            self.follow_passage(&mut path.passage, hit, surface.p, wo_world, d);
+        }
         // Rays leaving a medium boundary enter the medium on their side.
         if MEDIA {
             if let Some(sides) = self.shape_media(hit.shape) {
@@ -363,13 +376,13 @@ impl Renderer<'_> {
         // Next-event estimation: one light, chosen by its power over its
         // squared distance (`light_choice`).
         let mut shadow = None;
-        if !bsdf.is_delta() {
-            let light = self
-                .lights
-                .sample(p, Some(ng), u_light)
-                .and_then(|(i, p_choice)| {
-                    self.sample_direct(i, p_choice, &now, p, Some(ng), [u_select, u_l0, u_l1])
-                });
+        let choice = if bsdf.is_delta() {
+            None
+        } else {
+            self.lights.sample(p, Some(ng), u_light)
+        };
+        if let Some((i, p_choice)) = choice {
+            let light = self.sample_direct(i, p_choice, &now, p, Some(ng), [u_select, u_l0, u_l1]);
             if let Some(d) = light {
                 let (ls, pdf) = (&d.ls, d.pdf);
                 let wo = frame.to_local(ls.wi);
@@ -386,11 +399,27 @@ impl Renderer<'_> {
                 }
             }
         }
+        // The same light by way of glass balls (`manifold`), where a path
+        // could reach it that way within the depth.
+        let mut traced = 0;
+        let share = match MEDIA || self.lenses.is_empty() || !self.within(path.depth + 3) {
+            true => 0.0,
+            false => lens_share(path.delta, path.bsdf_pdf, bsdf),
+        };
+        if let (true, Some(choice)) = (share > 0.0, choice) {
+            if share >= 1.0 || path.rng.next_f32() < share {
+                let at_x = (bsdf, guide, wi);
+                let u = [u_select, u_l0, u_l1];
+                let (beta, traced) = (&path.beta, &mut traced);
+                path.l += self.through_lenses(&now, beta, point, at_x, (choice, share), u, traced);
+            }
+        }
         let mut stop = Bounce {
             shadow,
             shadow_medium: path.medium,
             goes_on: false,
             record: None,
+            traced,
         };
 
         // Continue by sampling the BSDF (at diffuse vertices, partly
@@ -426,6 +455,12 @@ impl Renderer<'_> {
             path.depth += 1;
             frame.to_world(bs.wo)
         };
+        if !bs.delta {
+            path.passage = match share > 0.0 && !bsdf.is_delta() {
+                true => Passage::left((p, ng), d, bs.pdf, share),
+                false => Passage::default(),
+            };
+        }
         if !passes && !bs.delta {
             let at = (p, Some(facing));
             stop.record = self.pending(at, d, bs.pdf, &path.beta, &mut path.rng);
@@ -493,6 +528,7 @@ impl<const K: usize> PathState<K> {
             ratio: SampledSpectrum::splat(1.0),
             rng: SplitMix(0),
             trail: Trail::default(),
+            passage: Passage::default(),
         }
     }
 }

@@ -138,7 +138,7 @@ fn cell_valid(k: usize) -> bool {
 
 /// Whether light leaving `bsdf` is glossy: worth aiming diffuse bounces
 /// at when lamps light it.
-fn glossy(bsdf: &Bsdf) -> bool {
+pub(super) fn glossy(bsdf: &Bsdf) -> bool {
     match bsdf {
         Bsdf::Conductor(c) => !c.is_smooth(),
         Bsdf::RoughPlastic(_) => true,

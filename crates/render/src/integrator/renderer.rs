@@ -13,6 +13,7 @@ use crate::scene::{IntegratorKind, Scene};
 use crate::wavelength::{WavelengthSampler, WavelengthStrategy};
 
 use super::guided::GuideState;
+use super::manifold::Lenses;
 use super::select::{Integrator, Receivers};
 use super::{
     bdpt, CameraSample, Guiding, LightChoice, Reflectors, RenderError, RenderOptions, Splat, Tracer,
@@ -119,6 +120,8 @@ pub struct Renderer<'a> {
     /// Glossy surfaces lamps light brightly, which the path tracer's
     /// diffuse bounces aim at in part (`reflectors`).
     pub reflectors: Reflectors,
+    /// The glass balls the path tracer finds light through (`manifold`).
+    pub(super) lenses: Lenses,
     pub wavelengths: WavelengthSampler,
     pub filter: FilterSampler,
     pub(super) bounds: SceneBounds,
@@ -214,6 +217,7 @@ impl<'a> Renderer<'a> {
         Self {
             lights: choice,
             reflectors,
+            lenses: Lenses::of(scene),
             wavelengths: WavelengthSampler::new(strategy, &scene.lights, &power, &fluorescent),
             integrator,
             kind,

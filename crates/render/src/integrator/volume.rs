@@ -185,6 +185,7 @@ impl Renderer<'_> {
             shadow_medium: path.medium,
             goes_on: false,
             record: None,
+            traced: 0,
         };
         // The phase function's direction, or where guided, half of them
         // the guide's (`guided`), a share aimed at the lamps' halos

@@ -57,9 +57,13 @@ pub fn refill<const K: usize>(
     scratch.draw_sets(level, 0, n);
     free.sort_unstable_by(|a, b| b.cmp(a));
     for k in 0..n {
+        let sampler = Sampler::resume(work.seed, scratch.keys[k], scratch.indices[k], 2);
+        let mut path = r.start_path_with::<K>([scratch.xs[k], work.y], scratch.sets_of(k));
+        // The path's own stream, as the scalar tracer's (`start_path`).
+        path.rng = sampler.stream();
         let lane = Lane {
-            path: r.start_path_with::<K>([scratch.xs[k], work.y], scratch.sets_of(k)),
-            sampler: Sampler::resume(work.seed, scratch.keys[k], scratch.indices[k], 2),
+            path,
+            sampler,
             slot: (*next + k) as u32,
             hit: None,
             u: [[0.0; 4]; 2],

@@ -56,7 +56,7 @@ pub(super) fn trace_row<const K: usize>(
     let geometry = &r.scene.geometry;
     while !lanes.is_empty() {
         *rays += intersect::intersect(geometry, &mut lanes);
-        shade::shade(
+        *rays += shade::shade(
             r,
             level,
             &mut lanes,

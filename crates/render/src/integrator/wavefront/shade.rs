@@ -40,7 +40,8 @@ fn draw_numbers<const K: usize>(level: Level, lanes: &mut [Lane<K>], scratch: &m
     scratch.lanes = group;
 }
 
-/// Shades every lane, in the order `order` fills in.
+/// Shades every lane, in the order `order` fills in; returns the rays
+/// the bounces traced themselves.
 pub fn shade<const K: usize>(
     r: &Renderer,
     level: Level,
@@ -48,7 +49,8 @@ pub fn shade<const K: usize>(
     by_material: &mut MaterialOrder,
     order: &mut Vec<u32>,
     scratch: &mut Scratch,
-) {
+) -> u64 {
+    let mut traced = 0;
     draw_numbers(level, lanes, scratch);
     by_material.order(lanes, r, order);
     for &i in order.iter() {
@@ -60,11 +62,13 @@ pub fn shade<const K: usize>(
             }
             Some(hit) => {
                 let b = r.bounce::<K, false>(&mut lane.path, lane.u, hit);
+                traced += b.traced as u64;
                 lane.shadow = b.shadow;
                 lane.alive = b.goes_on;
             }
         }
     }
+    traced
 }
 
 /// A counting sort of the lanes by the material they hit.
