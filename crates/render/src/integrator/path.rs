@@ -9,7 +9,7 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::direct::{power_heuristic, spawn};
 use super::guided::{Pending, Trail};
-use super::manifold::{lens_share, Passage};
+use super::manifold::{lens_shares, Passage, Shares};
 use super::renderer::SampleStart;
 use super::select::Media;
 use super::Renderer;
@@ -402,17 +402,21 @@ impl Renderer<'_> {
         // The same light by way of glass balls (`manifold`), where a path
         // could reach it that way within the depth.
         let mut traced = 0;
-        let share = match MEDIA || self.lenses.is_empty() || !self.within(path.depth + 3) {
-            true => 0.0,
-            false => lens_share(path.delta, path.bsdf_pdf, bsdf),
+        let shares = match MEDIA || self.lenses.is_empty() || !self.within(path.depth + 3) {
+            true => Shares::default(),
+            false => lens_shares(path.delta, path.bsdf_pdf, bsdf),
         };
-        if let (true, Some(choice)) = (share > 0.0, choice) {
-            if share >= 1.0 || path.rng.next_f32() < share {
-                let at_x = (bsdf, guide, wi);
-                let u = [u_select, u_l0, u_l1];
-                let (beta, traced) = (&path.beta, &mut traced);
-                path.l += self.through_lenses(&now, beta, point, at_x, (choice, share), u, traced);
-            }
+        if let (true, Some(choice)) = (shares.any(), choice) {
+            let chance = if shares.by_chance() {
+                path.rng.next_f32()
+            } else {
+                0.0
+            };
+            let at_x = (bsdf, guide, wi);
+            let u = [u_select, u_l0, u_l1];
+            let (beta, traced) = (&path.beta, &mut traced);
+            let run = (choice, (shares, chance));
+            path.l += self.through_lenses(&now, beta, point, at_x, run, u, traced);
         }
         let mut stop = Bounce {
             shadow,
@@ -456,8 +460,8 @@ impl Renderer<'_> {
             frame.to_world(bs.wo)
         };
         if !bs.delta {
-            path.passage = match share > 0.0 && !bsdf.is_delta() {
-                true => Passage::left((p, ng), d, bs.pdf, share),
+            path.passage = match shares.any() && !bsdf.is_delta() {
+                true => Passage::left((p, ng), d, bs.pdf, shares),
                 false => Passage::default(),
             };
         }

@@ -225,11 +225,6 @@ impl Plane {
         (cross(t.out, to_y), dot(t.out, to_y) > 0.0)
     }
 
-    fn miss_at(&self, theta: f64) -> f64 {
-        let (s, c) = theta.sin_cos();
-        self.miss(s, c).0
-    }
-
     /// g at sin θ = `s`.
     fn miss_sin(&self, s: f64) -> f64 {
         self.miss(s, (1.0 - s * s).max(0.0).sqrt()).0
@@ -270,11 +265,11 @@ impl Plane {
         }
     }
 
-    /// sin θ where the ball's normal points at `y`, or just short of 1
-    /// where `x` cannot see that point.
-    fn facing_y(&self) -> f64 {
-        let len = dot(self.y, self.y).sqrt();
-        let n = (self.y.0 / len, self.y.1 / len);
+    /// sin θ where the ball's normal points along `v`, or just short of
+    /// 1 where `x` cannot see that point.
+    fn facing(&self, v: V2) -> f64 {
+        let len = dot(v, v).sqrt();
+        let n = (v.0 / len, v.1 / len);
         let v = (self.dx - n.0 * self.r, -n.1 * self.r);
         let v_len = dot(v, v).sqrt();
         if dot(n, v) <= 0.0 {
@@ -284,14 +279,14 @@ impl Plane {
         }
     }
 
-    /// dg/dα at θ: dg/dθ by central differences over dα/dθ =
-    /// r cos θ / (dx cos α).
-    fn slope(&self, theta: f64) -> f64 {
-        let h = 1e-6;
-        let (lo, hi) = (self.miss_at(theta - h), self.miss_at(theta + h));
-        let (s, c) = theta.sin_cos();
+    /// dg/dα at (sin θ, cos θ) = (`s`, `c`): dg/dθ by central differences
+    /// over dα/dθ = r cos θ / (dx cos α).
+    fn slope(&self, s: f64, c: f64) -> f64 {
+        // Steps of 1e-6 in θ, taken in sin θ: dθ = ds / cos θ.
+        let h = 1e-6 * c;
+        let (lo, hi) = (self.miss_sin(s - h), self.miss_sin(s + h));
         let da = self.r * c / (self.dx * self.alpha(s).1);
-        (hi - lo) / (2.0 * h) / da
+        (hi - lo) / (2.0 * h) * c / da
     }
 }
 
@@ -315,41 +310,83 @@ impl Ball {
     /// Every path of `kind` from `x` by way of the ball to `y` (both
     /// outside it) that the search finds.
     pub fn paths(&self, kind: Kind, x: Vec3, y: Vec3) -> Paths {
-        let mut found = Paths {
-            list: [None; MAX_PATHS],
-        };
+        self.search(x, y).map_or(NONE, |s| s.paths(kind))
+    }
+
+    /// The plane of `x`, the centre and `y`, to search for paths of each
+    /// kind in; `None` when there is none (a point inside the ball, or
+    /// `y` on the axis, where every turn about it is a path: a set of no
+    /// area).
+    pub fn search(&self, x: Vec3, y: Vec3) -> Option<Search<'_>> {
         let c = to64(self.center);
         let r = self.radius as f64;
         let (xc, yc) = (sub3(to64(x), c), sub3(to64(y), c));
         let dx = dot3(xc, xc).sqrt();
         let dy = dot3(yc, yc).sqrt();
         if !(dx > r * (1.0 + 1e-6) && dy > r * (1.0 + 1e-6)) {
-            return found;
+            return None;
         }
         // The plane's axes: e1 from the centre to x, e2 towards y.
         let e1 = scale3(xc, 1.0 / dx);
         let along = dot3(yc, e1);
         let perp = sub3(yc, scale3(e1, along));
         let rho = dot3(perp, perp).sqrt();
-        // On the axis every turn about it is a path: a set of no area.
         if rho <= 1e-9 * dy {
-            return found;
+            return None;
         }
-        let e2 = scale3(perp, 1.0 / rho);
+        Some(Search {
+            ball: self,
+            e1,
+            e2: scale3(perp, 1.0 / rho),
+            dx,
+            dy,
+            along,
+            rho,
+            turn: (-along / dy).clamp(-1.0, 1.0).acos(),
+            slack: (r / dx).asin() + (r / dy).asin(),
+        })
+    }
+}
+
+/// No paths.
+const NONE: Paths = Paths {
+    list: [None; MAX_PATHS],
+};
+
+/// The plane of a search: `x` at (dx, 0) on axis `e1` from the centre,
+/// `y` at (along, ρ) with `e2`.
+pub struct Search<'b> {
+    ball: &'b Ball,
+    e1: [f64; 3],
+    e2: [f64; 3],
+    dx: f64,
+    dy: f64,
+    along: f64,
+    rho: f64,
+    /// The angle from x → centre to centre → y, and how far a path's
+    /// first and last directions can stray from those (the ball's half
+    /// angles seen from x and from y).
+    turn: f64,
+    slack: f64,
+}
+
+impl Search<'_> {
+    /// Every path of `kind` the search finds.
+    pub fn paths(&self, kind: Kind) -> Paths {
+        let mut found = NONE;
+        let (r, eta) = (self.ball.radius as f64, self.ball.eta as f64);
+        let (dx, dy) = (self.dx, self.dy);
         // Which way the light can turn: a path through the ball turns
         // from its first direction to its last by the kind's deviation,
         // and those lie within the ball's cones seen from x and from y
         // about the directions x → centre and centre → y.
-        let turn = (-along / dy).clamp(-1.0, 1.0).acos();
-        let slack = (r / dx).asin() + (r / dy).asin();
-        let eta = self.eta as f64;
         let (lo, hi) = kind.deviations(eta);
-        if turn + slack < lo || turn - slack > hi {
+        if self.turn + self.slack < lo || self.turn - self.slack > hi {
             return found;
         }
         let plane = Plane {
             dx,
-            y: (along, rho),
+            y: (self.along, self.rho),
             r,
             eta,
             kind,
@@ -357,6 +394,7 @@ impl Ball {
             inv_dx: 1.0 / dx,
             inv_eta: 1.0 / eta,
         };
+        let (e1, e2) = (self.e1, self.e2);
         let world = |v: V2| {
             Vec3::new(
                 (e1[0] * v.0 + e2[0] * v.1) as f32,
@@ -364,7 +402,7 @@ impl Ball {
                 (e1[2] * v.0 + e2[2] * v.1) as f32,
             )
         };
-        let at = |v: V2| world(v) + self.center;
+        let at = |v: V2| world(v) + self.ball.center;
         let mut n = 0;
         let mut keep = |lo: (f64, f64, bool), hi: (f64, f64, bool)| {
             if (lo.1 < 0.0) != (hi.1 < 0.0) && (lo.2 || hi.2) && n < MAX_PATHS {
@@ -381,8 +419,17 @@ impl Ball {
         };
         if kind == Kind::Reflected {
             // A convex mirror reflects x to y at one point, whose normal
-            // lies between the directions to x (θ = 0) and to y.
-            keep(at_sin(0.0), at_sin(plane.facing_y()));
+            // lies between the directions to x (θ = 0) and to y; for far
+            // points it halves the angle between them, which brackets it
+            // tightly first.
+            let edge = plane.facing(plane.y);
+            let half = plane.facing((dy + self.along, self.rho)).min(edge);
+            let (a, b) = (at_sin(0.8 * half), at_sin((1.2 * half).min(edge)));
+            if (a.1 < 0.0) != (b.1 < 0.0) {
+                keep(a, b);
+            } else {
+                keep(at_sin(0.0), at_sin(edge));
+            }
             return found;
         }
         let mut prev = None;
@@ -405,11 +452,10 @@ fn path_at(
     world: &impl Fn(V2) -> Vec3,
     at: &impl Fn(V2) -> Vec3,
 ) -> Option<Refracted> {
-    let theta = s.clamp(-1.0, 1.0).asin();
-    let (s, c) = theta.sin_cos();
+    let c = (1.0 - s * s).max(0.0).sqrt();
     let t = plane.trace(s, c);
     let (_, ahead) = plane.miss(s, c);
-    let slope = plane.slope(theta).abs();
+    let slope = plane.slope(s, c).abs();
     if !ahead || slope.is_nan() || slope <= 0.0 || c <= 0.0 {
         return None;
     }
