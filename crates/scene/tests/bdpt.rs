@@ -10,7 +10,7 @@ mod common;
 
 use std::sync::atomic::AtomicBool;
 
-use common::{agree, scene};
+use common::{agree, inline, scene};
 use scotopia_render::integrator::{render, BdptStrategy, RenderOptions};
 use scotopia_render::math::Vec3;
 use scotopia_render::scene::{IntegratorKind, Scene};
@@ -387,10 +387,7 @@ fn through_a_glass_ball_the_tracers_differ_only_by_their_noise() {
     // estimation through the ball, weighed against BSDF sampling; the
     // bidirectional tracer by light tracing. A weight that counted a path
     // twice, or a wrong Jacobian, shows here first.
-    let file = std::env::temp_dir().join(format!("scotopia-lens-{}.xml", std::process::id()));
-    std::fs::write(&file, LENS).unwrap();
-    let s = load_scene(&file, &Parameters::new()).unwrap();
-    let _ = std::fs::remove_file(&file);
+    let s = inline("lens", LENS);
     let b = [image(&s, bdpt(8192, 1)), image(&s, bdpt(8192, 3))];
     let p = [image(&s, path(8192, 2)), image(&s, path(8192, 4))];
     let scale = image(&s, path(128, 5));

@@ -11,15 +11,13 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 use std::time::Duration;
 
-use common::{agree, scene};
+use common::{agree, inline, scene};
 use scotopia_render::film::{Checkpoint, Film};
 use scotopia_render::integrator::{
     render, render_with, Checkpointing, Guiding, Hooks, Quantity, RenderError, RenderOptions,
     Shard, Tracer,
 };
 use scotopia_render::scene::Scene;
-use scotopia_scene::load_scene;
-use scotopia_scene::mitsuba::Parameters;
 
 fn options(spp: u32, seed: u32, guiding: Guiding) -> RenderOptions {
     RenderOptions {
@@ -180,15 +178,6 @@ const POINT_LAMPS: &str = r#"<scene version="3.0.0">
     </emitter>
 </scene>
 "#;
-
-/// The scene in `xml`.
-fn inline(name: &str, xml: &str) -> Scene {
-    let file = std::env::temp_dir().join(format!("scotopia-{name}-{}.xml", std::process::id()));
-    std::fs::write(&file, xml).unwrap();
-    let s = load_scene(&file, &Parameters::new()).unwrap();
-    let _ = std::fs::remove_file(&file);
-    s
-}
 
 /// Also the scene of the tests of determinism: its cells guide, where
 /// the Cornell box's light is too flat for guiding to pay

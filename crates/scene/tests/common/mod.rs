@@ -20,6 +20,15 @@ pub fn scene(name: &str, params: &[(&str, &str)]) -> Scene {
     scotopia_scene::load_scene(&path, &p).unwrap()
 }
 
+/// The scene in `xml`, written to a temporary file `name` and loaded.
+pub fn inline(name: &str, xml: &str) -> Scene {
+    let file = std::env::temp_dir().join(format!("scotopia-{name}-{}.xml", std::process::id()));
+    std::fs::write(&file, xml).unwrap();
+    let s = scotopia_scene::load_scene(&file, &scotopia_scene::mitsuba::Parameters::new()).unwrap();
+    let _ = std::fs::remove_file(&file);
+    s
+}
+
 /// One shape to write.
 #[derive(Clone)]
 pub struct Mesh {

@@ -95,6 +95,9 @@ pub struct Ball {
     pub center: Vec3,
     pub radius: f32,
     pub eta: f32,
+    /// Each searched kind's least and greatest turn
+    /// ([`Kind::deviations`]), once rather than per search.
+    turns: [(f64, f64); 3],
 }
 
 /// One path `x` → `entry` → … → `exit` → `y` by way of the ball.
@@ -307,6 +310,15 @@ fn scale3(a: [f64; 3], s: f64) -> [f64; 3] {
 }
 
 impl Ball {
+    pub fn new(center: Vec3, radius: f32, eta: f32) -> Self {
+        Self {
+            center,
+            radius,
+            eta,
+            turns: Kind::SEARCHED.map(|k| k.deviations(eta as f64)),
+        }
+    }
+
     /// Every path of `kind` from `x` by way of the ball to `y` (both
     /// outside it) that the search finds.
     pub fn paths(&self, kind: Kind, x: Vec3, y: Vec3) -> Paths {
@@ -380,7 +392,8 @@ impl Search<'_> {
         // from its first direction to its last by the kind's deviation,
         // and those lie within the ball's cones seen from x and from y
         // about the directions x → centre and centre → y.
-        let (lo, hi) = kind.deviations(eta);
+        let i = Kind::SEARCHED.iter().position(|&k| k == kind);
+        let (lo, hi) = i.map_or_else(|| kind.deviations(eta), |i| self.ball.turns[i]);
         if self.turn + self.slack < lo || self.turn - self.slack > hi {
             return found;
         }
@@ -476,6 +489,7 @@ fn path_at(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::Frame;
     use crate::sampling::splitmix::SplitMix;
 
     type D3 = [f64; 3];
@@ -528,20 +542,19 @@ mod tests {
         Some((p, unit(out)))
     }
 
+    /// Two unit vectors across `d` and each other (its frame's tangents).
+    fn across(d: Vec3) -> (D3, D3) {
+        let f = Frame::from_normal(d.normalize());
+        (to64(f.s), to64(f.t))
+    }
+
     /// Where the ray (o, d) meets the plane through `q` across `n`.
     fn on_plane(o: D3, d: D3, q: D3, n: D3) -> D3 {
         add3(o, d, dot3(sub3(q, o), n) / dot3(d, n))
     }
 
-    const BALL: Ball = Ball {
-        center: Vec3 {
-            x: 0.0,
-            y: 0.25,
-            z: 0.0,
-        },
-        radius: 0.25,
-        eta: 1.5046,
-    };
+    static BALL: LazyLock<Ball> =
+        LazyLock::new(|| Ball::new(Vec3::new(0.0, 0.25, 0.0), 0.25, 1.5046));
 
     fn random_point(rng: &mut SplitMix, lo: f64, hi: f64) -> Vec3 {
         let mut v = || (lo + (hi - lo) * rng.next_f32() as f64) as f32;
@@ -591,16 +604,7 @@ mod tests {
             for kind in Kind::SEARCHED {
                 for p in BALL.paths(kind, x, y).iter().filter(|p| p.cos_in > 0.5) {
                     let d = to64(p.dir);
-                    let a = unit(if d[0].abs() < 0.9 {
-                        [0.0, -d[2], d[1]]
-                    } else {
-                        [-d[2], 0.0, d[0]]
-                    });
-                    let b = [
-                        d[1] * a[2] - d[2] * a[1],
-                        d[2] * a[0] - d[0] * a[2],
-                        d[0] * a[1] - d[1] * a[0],
-                    ];
+                    let (a, b) = across(p.dir);
                     let h = 1e-5;
                     let land = |e: D3, s: f64| {
                         let (exit, out) = through(&BALL, kind, to64(x), unit(add3(d, e, s)))?;
@@ -684,7 +688,7 @@ mod tests {
     /// lamp. They agree within 4 standard errors.
     #[test]
     fn the_paths_found_fill_the_solid_angle_rays_find() {
-        let ball = Ball { eta: 1.5, ..BALL };
+        let ball = Ball::new(BALL.center, BALL.radius, 1.5);
         // A square lamp 16 cm wide, 1.6 m up, facing down.
         let (lc, half) = ([-0.3f64, 1.6, -0.3], 0.08f64);
         // Through: in the caustic (three paths) and about it; reflected:
@@ -719,16 +723,7 @@ mod tests {
                 let dist = dot3(to_c, to_c).sqrt();
                 let axis = scale3(to_c, 1.0 / dist);
                 let cos_max = (1.0 - (ball.radius as f64 / dist).powi(2)).sqrt();
-                let u = unit(if axis[0].abs() < 0.9 {
-                    [0.0, -axis[2], axis[1]]
-                } else {
-                    [-axis[2], 0.0, axis[0]]
-                });
-                let v = [
-                    axis[1] * u[2] - axis[2] * u[1],
-                    axis[2] * u[0] - axis[0] * u[2],
-                    axis[0] * u[1] - axis[1] * u[0],
-                ];
+                let (u, v) = across(Vec3::new(axis[0] as f32, axis[1] as f32, axis[2] as f32));
                 let m = 1_000_000;
                 let mut hits = 0;
                 for _ in 0..m {

@@ -31,7 +31,7 @@ use super::path::ScatterPoint;
 use super::reflectors::glossy;
 use super::Renderer;
 use crate::bsdf::{fresnel_dielectric, Bsdf, Transport};
-use crate::geometry::{Hit, Shape};
+use crate::geometry::{Hit, Shape, Sphere};
 use crate::guiding::DTree;
 use crate::light::Light;
 use crate::math::{Transform, Vec3};
@@ -125,19 +125,12 @@ impl Lenses {
             .iter()
             .enumerate()
             .filter_map(|(i, shape)| {
-                let (material, eta) = lens_material(scene, i as u32, shape)?;
-                let Shape::Sphere(s) = shape else {
-                    return None;
-                };
+                let (material, eta, s) = lens_material(scene, i as u32, shape)?;
                 Some(Lens {
                     shape: i as u32,
                     instance: None,
                     material,
-                    ball: Ball {
-                        center: s.center,
-                        radius: s.radius,
-                        eta,
-                    },
+                    ball: Ball::new(s.center, s.radius, eta),
                 })
             })
             .collect();
@@ -148,20 +141,15 @@ impl Lenses {
             };
             for (k, shape) in group.shapes().iter().enumerate() {
                 let i = group.first_shape() + k as u32;
-                let (Some((material, eta)), Shape::Sphere(s)) =
-                    (lens_material(scene, i, shape), shape)
-                else {
+                let Some((material, eta, s)) = lens_material(scene, i, shape) else {
                     continue;
                 };
+                let center = instance.world_from_object().point(s.center);
                 list.push(Lens {
                     shape: i,
                     instance: Some(j as u32),
                     material,
-                    ball: Ball {
-                        center: instance.world_from_object().point(s.center),
-                        radius: s.radius * scale,
-                        eta,
-                    },
+                    ball: Ball::new(center, s.radius * scale, eta),
                 });
             }
         }
@@ -180,9 +168,9 @@ impl Lenses {
     }
 }
 
-/// The material of shape `i` and its index ratio, if the shape is a ball
-/// light is found through (the module's list).
-fn lens_material(scene: &Scene, i: u32, shape: &Shape) -> Option<(u32, f32)> {
+/// The material of shape `i`, its index ratio and the sphere, if the shape
+/// is a ball light is found through (the module's list).
+fn lens_material<'s>(scene: &Scene, i: u32, shape: &'s Shape) -> Option<(u32, f32, &'s Sphere)> {
     let Shape::Sphere(s) = shape else {
         return None;
     };
@@ -198,7 +186,7 @@ fn lens_material(scene: &Scene, i: u32, shape: &Shape) -> Option<(u32, f32)> {
         .shape_light
         .get(i as usize)
         .is_none_or(|l| l.is_none());
-    (plain && dark && !s.flip && eta.is_finite() && eta > 1.0).then_some((material, eta))
+    (plain && dark && !s.flip && eta.is_finite() && eta > 1.0).then_some((material, eta, s))
 }
 
 /// The scale of a transform that keeps balls balls (orthogonal axes of
@@ -324,8 +312,13 @@ impl Renderer<'_> {
                 if u >= share {
                     continue;
                 }
+                let found = search.paths(kind);
+                if found.iter().next().is_none() {
+                    continue;
+                }
                 let p_area = share * p_light;
-                for path in search.paths(kind).iter() {
+                let tint = self.lens_tint(lens, kind, now);
+                for path in found.iter() {
                     let wo = frame.to_local(path.dir);
                     let f = bsdf.eval(now, at, wi, wo, Transport::Radiance);
                     let le = area.radiance(now, y.uv, y.n, -path.out);
@@ -340,7 +333,6 @@ impl Renderer<'_> {
                     let p_bsdf = bsdf.pdf_at(now, at, wi, wo);
                     let p_bsdf = self.bounce_pdf(guide, bsdf, x, path.dir, p_bsdf) * fr;
                     let w = power_heuristic(p_area / spread, p_bsdf);
-                    let tint = self.lens_tint(lens, kind, now);
                     let light = *throughput * f * le * tint * (fr * w * spread / p_area);
                     if light.is_zero()
                         || !self.passage_clear((x, ng), &lens.ball, kind, path, y.p, traced)
