@@ -21,6 +21,7 @@
 //! tracer does not use it.
 
 mod ball;
+mod sweep;
 
 use ball::{Ball, Kind, Refracted};
 
