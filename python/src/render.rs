@@ -39,7 +39,7 @@ use crate::scene::load_options;
 /// the scene reads was edited, is a `ValueError`.
 /// `quantity` "illuminance" renders the illuminance (lx) at the first
 /// surface each pixel sees instead of radiance. `guiding` "on" learns
-/// where light arrives (16 spp, not kept) and draws half of each diffuse
+/// where light arrives (the first 16 spp, kept) and draws half of each diffuse
 /// bounce from it; with bdpt, half of each light path's first direction
 /// (docs/guiding.md; not with the wavefront tracer or illuminance). The
 /// GIL is released while

@@ -134,9 +134,10 @@ pub struct Setup {
     /// or an irradiance meter it is an error.
     #[arg(long, default_value = "scalar", value_name = "scalar|wavefront")]
     pub(crate) tracer: Tracer,
-    /// Path guiding: on first learns where light arrives, from 16 spp
-    /// traced before the image and not kept in it, then draws half of each
-    /// diffuse bounce (and of scattering in near-isotropic media) from it;
+    /// Path guiding: on learns where light arrives over the image's first
+    /// 16 spp (kept in the image, the earliest weighted less), then draws
+    /// half of each diffuse bounce (and of scattering in near-isotropic
+    /// media) from it;
     /// with bdpt, it learns where light paths leaving each lamp reach the
     /// camera and draws half of their first directions from that (a lamp
     /// in a tube, the prism's beam) (docs/guiding.md). Not with the

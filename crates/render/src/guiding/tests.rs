@@ -153,6 +153,19 @@ fn iterate(field: &Field, n: usize, axis: Vec3, rng: &mut Rng, spp: u32) -> Fiel
 
 /// [`iterate`] with the points in the box's first `share` along x.
 fn iterate_over(field: &Field, n: usize, axis: Vec3, rng: &mut Rng, spp: u32, share: f32) -> Field {
+    iterate_lit(field, n, (axis, 200.0), rng, spp, share)
+}
+
+/// [`iterate_over`] lit by exp(`sharp` (d · axis − 1)): uniform light
+/// at `sharp` = 0.
+fn iterate_lit(
+    field: &Field,
+    n: usize,
+    (axis, sharp): (Vec3, f32),
+    rng: &mut Rng,
+    spp: u32,
+    share: f32,
+) -> Field {
     let (lo, hi) = (Vec3::new(-10.0, 0.0, -1.0), Vec3::new(10.0, 2.0, 1.0));
     let up = side(Some(Vec3::new(0.0, 1.0, 0.0)));
     let mut stats = Stats::new(field);
@@ -161,7 +174,7 @@ fn iterate_over(field: &Field, n: usize, axis: Vec3, rng: &mut Rng, spp: u32, sh
             let u = Vec3::new(share * rng.next(), rng.next(), rng.next());
             let p = lo + (hi - lo).mul_elem(u);
             let d = uniform_direction(rng);
-            (field.at(p, up).slot(d), (200.0 * (d.dot(axis) - 1.0)).exp())
+            (field.at(p, up).slot(d), (sharp * (d.dot(axis) - 1.0)).exp())
         })
         .collect();
     stats.add(&RowStats::of(records));
@@ -303,4 +316,24 @@ fn only_points_near_a_guiding_cell_look_it_up() {
     assert!(second.may_guide(Vec3::new(-9.0, 1.0, 0.0), up));
     assert!(!second.may_guide(Vec3::new(9.0, 1.0, 0.0), up));
     assert!(!second.may_guide(Vec3::new(-9.0, 1.0, 0.0), side(None)));
+}
+
+#[test]
+fn cells_that_twice_predict_no_gain_stop_learning_and_keep_what_they_learned() {
+    let (lo, hi) = (Vec3::new(-10.0, 0.0, -1.0), Vec3::new(10.0, 2.0, 1.0));
+    let up = side(Some(Vec3::new(0.0, 1.0, 0.0)));
+    let axis = Vec3::new(0.0, 1.0, 0.0);
+    let mut rng = Rng(3);
+    // Uniform light predicts no gain (1.40): one iteration is a doubt,
+    // two in a row and the cells record no more.
+    let first = iterate_lit(&Field::new(lo, hi), 100_000, (axis, 0.0), &mut rng, 1, 1.0);
+    assert!(first.may_learn(lo, up) && first.may_learn(hi, up));
+    let second = iterate_lit(&first, 100_000, (axis, 0.0), &mut rng, 2, 1.0);
+    assert!(!second.may_learn(lo, up) && !second.may_learn(hi, up));
+    assert!(!second.guides());
+    // Records that reach them anyway (a jittered neighbour's) change
+    // nothing, not even a sharp light's; the other sides still learn.
+    let third = iterate_lit(&second, 100_000, (axis, 200.0), &mut rng, 4, 1.0);
+    assert_eq!(third, second);
+    assert!(third.may_learn(lo, side(None)));
 }

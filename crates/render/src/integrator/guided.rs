@@ -481,10 +481,14 @@ impl Renderer<'_> {
         let field = self
             .field()
             .filter(|_| self.guiding.as_ref().is_some_and(|g| g.learning))?;
+        let side = side(n);
+        if !field.may_learn(p, side) {
+            return None;
+        }
         let inv = 1.0 / (beta.0.iter().sum::<f32>() * q);
         let u = [rng.next_f32(), rng.next_f32(), rng.next_f32()];
         inv.is_finite().then(|| Pending {
-            slot: field.jittered(p, side(n), u).slot(d),
+            slot: field.jittered(p, side, u).slot(d),
             inv,
         })
     }
