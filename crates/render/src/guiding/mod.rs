@@ -238,10 +238,11 @@ impl Field {
         within(self.guided[side.min(SIDES - 1)], p)
     }
 
-    /// Whether a cell that still learns on side `side` may hold `p`.
+    /// Whether a cell that still learns on side `side` may hold `p`
+    /// (kept inside the field's box, as its record would be).
     #[inline]
     pub fn may_learn(&self, p: Vec3, side: usize) -> bool {
-        within(self.learning[side.min(SIDES - 1)], p)
+        within(self.learning[side.min(SIDES - 1)], self.tree.clamp(p))
     }
 
     /// Slots of statistics an iteration records into.

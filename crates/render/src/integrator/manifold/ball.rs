@@ -313,6 +313,7 @@ impl Plane {
             let (p, q) = ((b.0 - a.0) * (b.1 - c.1), (b.0 - c.0) * (b.1 - a.1));
             let vertex = b.0 - 0.5 * ((b.0 - a.0) * p - (b.0 - c.0) * q) / (p - q);
             let tol = 1e-3 * (c.0 - a.0);
+            // Else a golden-section step, (3 − √5)/2 into the wider side.
             let u = if vertex > a.0 + tol && vertex < c.0 - tol && (vertex - b.0).abs() > tol {
                 vertex
             } else if b.0 - a.0 > c.0 - b.0 {
