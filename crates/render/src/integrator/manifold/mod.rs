@@ -31,6 +31,7 @@ use super::direct::{power_heuristic, spawn};
 use super::path::ScatterPoint;
 use super::reflectors::glossy;
 use super::Renderer;
+use crate::accel::Aabb;
 use crate::bsdf::{fresnel_dielectric, Bsdf, Transport};
 use crate::geometry::{Hit, Shape, Sphere};
 use crate::guiding::DTree;
@@ -106,6 +107,9 @@ struct Lens {
     instance: Option<u32>,
     material: u32,
     ball: Ball,
+    /// Whether no other surface reaches inside the ball, so that a path's
+    /// chords inside it need no shadow rays.
+    hollow: bool,
 }
 
 /// The scene's glass balls.
@@ -134,6 +138,7 @@ impl Lenses {
                     instance: None,
                     material,
                     ball: Ball::new(s.center, s.radius, eta),
+                    hollow: false,
                 })
             })
             .collect();
@@ -153,8 +158,12 @@ impl Lenses {
                     instance: Some(j as u32),
                     material,
                     ball: Ball::new(center, s.radius * scale, eta),
+                    hollow: false,
                 });
             }
+        }
+        for lens in &mut list {
+            lens.hollow = hollow(scene, lens);
         }
         Self { list }
     }
@@ -190,6 +199,28 @@ fn lens_material<'s>(scene: &Scene, i: u32, shape: &'s Shape) -> Option<(u32, f3
         .get(i as usize)
         .is_none_or(|l| l.is_none());
     (plain && dark && !s.flip && eta.is_finite() && eta > 1.0).then_some((material, eta, s))
+}
+
+/// Whether nothing but the lens itself reaches inside its ball: no
+/// primitive's box of another top-level shape, and no instance's box
+/// (an instanced lens's own instance included: conservative). A box
+/// that only touches the ball (the floor a ball rests on) cannot block a
+/// chord inside it.
+fn hollow(scene: &Scene, lens: &Lens) -> bool {
+    let geometry = &scene.geometry;
+    let shapes = geometry.shapes.iter().enumerate();
+    let others = shapes.filter(|&(i, _)| lens.instance.is_some() || i as u32 != lens.shape);
+    let prims = others.flat_map(|(_, s)| (0..s.primitive_count()).map(|k| s.bounds(k)));
+    let boxes = prims.chain(geometry.instances().iter().map(|i| i.bounds()));
+    !reaches_inside(&lens.ball, boxes)
+}
+
+/// Whether any of `boxes` reaches inside `ball`, beyond touching it.
+fn reaches_inside(ball: &Ball, mut boxes: impl Iterator<Item = Aabb>) -> bool {
+    boxes.any(|b| {
+        let nearest = ball.center.max(b.min).min(b.max);
+        (nearest - ball.center).length() < ball.radius * (1.0 - 1e-3)
+    })
 }
 
 /// The scale of a transform that keeps balls balls (orthogonal axes of
@@ -338,7 +369,7 @@ impl Renderer<'_> {
                     let w = power_heuristic(p_area / spread, p_bsdf);
                     let light = *throughput * f * le * tint * (fr * w * spread / p_area);
                     if light.is_zero()
-                        || !self.passage_clear((x, ng), &lens.ball, kind, path, y.p, traced)
+                        || !self.passage_clear((x, ng), lens, kind, path, y.p, traced)
                     {
                         continue;
                     }
@@ -372,12 +403,12 @@ impl Renderer<'_> {
     }
 
     /// Whether nothing blocks `path`'s segments from `x` (normal `ng`)
-    /// by way of `ball` to `y`.
+    /// by way of `lens` to `y` (inside it only where it is not hollow).
     #[allow(clippy::too_many_arguments)]
     fn passage_clear(
         &self,
         (x, ng): (Vec3, Vec3),
-        ball: &Ball,
+        lens: &Lens,
         kind: Kind,
         path: &Refracted,
         y: Vec3,
@@ -392,9 +423,10 @@ impl Renderer<'_> {
             *traced += 1;
             !self.scene.geometry.occluded(&ray)
         };
-        let normal = |p: Vec3| p - ball.center;
+        let normal = |p: Vec3| p - lens.ball.center;
         let (a, m, b) = (path.entry, path.mid, path.exit);
         let inside = match kind {
+            _ if lens.hollow => true,
             Kind::Reflected => true,
             Kind::Through(0) => clear(a, normal(a), b, traced),
             Kind::Through(_) => clear(a, normal(a), m, traced) && clear(m, normal(m), b, traced),
@@ -470,3 +502,26 @@ impl Renderer<'_> {
 /// pixels), and below the angle between distinct paths but where two
 /// merge at the caustic's edge.
 const SAME: f32 = 2e-2;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The floor a ball rests on touches it and leaves it hollow; a box
+    /// inside it, or one that cuts into it, does not.
+    #[test]
+    fn only_boxes_that_reach_inside_a_ball_fill_it() {
+        let ball = Ball::new(Vec3::new(0.0, 0.25, 0.0), 0.25, 1.5);
+        let b = |lo: [f32; 3], hi: [f32; 3]| Aabb {
+            min: Vec3::new(lo[0], lo[1], lo[2]),
+            max: Vec3::new(hi[0], hi[1], hi[2]),
+        };
+        let floor = b([-2.0, 0.0, -2.0], [2.0, 0.0, 2.0]);
+        let wall = b([-2.0, 0.0, -1.2], [2.0, 2.0, -1.2]);
+        let inside = b([-0.01, 0.24, -0.01], [0.01, 0.26, 0.01]);
+        let cutting = b([0.2, 0.2, -0.1], [0.6, 0.3, 0.1]);
+        assert!(!reaches_inside(&ball, [floor, wall].into_iter()));
+        assert!(reaches_inside(&ball, [floor, inside].into_iter()));
+        assert!(reaches_inside(&ball, [cutting].into_iter()));
+    }
+}
