@@ -23,8 +23,9 @@ pub fn scene(name: &str, params: &[(&str, &str)]) -> Scene {
 /// The scene in `xml`, written to a temporary file `name` and loaded.
 pub fn inline(name: &str, xml: &str) -> Scene {
     let file = std::env::temp_dir().join(format!("scotopia-{name}-{}.xml", std::process::id()));
-    std::fs::write(&file, xml).unwrap();
-    let s = scotopia_scene::load_scene(&file, &scotopia_scene::mitsuba::Parameters::new()).unwrap();
+    std::fs::write(&file, xml).expect("the temporary directory takes the scene");
+    let s = scotopia_scene::load_scene(&file, &scotopia_scene::mitsuba::Parameters::new())
+        .unwrap_or_else(|e| panic!("test scene {name}: {e}"));
     let _ = std::fs::remove_file(&file);
     s
 }

@@ -473,9 +473,12 @@ impl Search<'_> {
         let mut found = NONE;
         let (r, eta) = (self.ball.radius as f64, self.ball.eta as f64);
         let (dx, dy) = (self.dx, self.dy);
+        // Only the kinds searched: the estimator runs for no other.
+        let Some(i) = Kind::SEARCHED.iter().position(|&k| k == kind) else {
+            return found;
+        };
         // Which way the light can turn (a reflection, any way).
-        let i = Kind::SEARCHED.iter().position(|&k| k == kind);
-        let (lo, hi) = i.map_or_else(|| kind.deviations(eta), |i| self.ball.turns[i]);
+        let (lo, hi) = self.ball.turns[i];
         if (lo > 0.0 || hi < std::f64::consts::PI) && !self.turns(lo, hi) {
             return found;
         }
@@ -529,12 +532,6 @@ impl Search<'_> {
             return found;
         }
         let Kind::Through(k @ (0 | 1)) = kind else {
-            // Kinds not searched: each on a grid of its own.
-            let g = GRID.map(|(s, c)| {
-                let (g, ahead) = plane.miss(s, c);
-                (s, g, ahead)
-            });
-            Self::roots(&plane, g, &mut keep);
             return found;
         };
         let swept = self.swept.get_or_init(|| {

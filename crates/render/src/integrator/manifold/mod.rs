@@ -162,8 +162,9 @@ impl Lenses {
                 });
             }
         }
-        for lens in &mut list {
-            lens.hollow = hollow(scene, lens);
+        let hollow = hollows(scene, &list);
+        for (lens, hollow) in list.iter_mut().zip(hollow) {
+            lens.hollow = hollow;
         }
         Self { list }
     }
@@ -201,26 +202,36 @@ fn lens_material<'s>(scene: &Scene, i: u32, shape: &'s Shape) -> Option<(u32, f3
     (plain && dark && !s.flip && eta.is_finite() && eta > 1.0).then_some((material, eta, s))
 }
 
-/// Whether nothing but the lens itself reaches inside its ball: no
-/// primitive's box of another top-level shape, and no instance's box
-/// (an instanced lens's own instance included: conservative). A box
-/// that only touches the ball (the floor a ball rests on) cannot block a
-/// chord inside it.
-fn hollow(scene: &Scene, lens: &Lens) -> bool {
+/// For each lens, whether nothing but the lens itself reaches inside its
+/// ball: no primitive's box of another top-level shape, and no
+/// instance's box (an instanced lens's own instance included:
+/// conservative). A box that only touches the ball (the floor a ball
+/// rests on) cannot block a chord inside it. One pass over the boxes,
+/// each built once.
+fn hollows(scene: &Scene, lenses: &[Lens]) -> Vec<bool> {
     let geometry = &scene.geometry;
-    let shapes = geometry.shapes.iter().enumerate();
-    let others = shapes.filter(|&(i, _)| lens.instance.is_some() || i as u32 != lens.shape);
-    let prims = others.flat_map(|(_, s)| (0..s.primitive_count()).map(|k| s.bounds(k)));
-    let boxes = prims.chain(geometry.instances().iter().map(|i| i.bounds()));
-    !reaches_inside(&lens.ball, boxes)
+    let mut hollow = vec![true; lenses.len()];
+    let mut mark = |b: Aabb, own: Option<u32>| {
+        for (h, lens) in hollow.iter_mut().zip(lenses) {
+            let itself = lens.instance.is_none() && own == Some(lens.shape);
+            *h &= itself || !reaches_inside(&lens.ball, b);
+        }
+    };
+    for (i, shape) in geometry.shapes.iter().enumerate() {
+        for k in 0..shape.primitive_count() {
+            mark(shape.bounds(k), Some(i as u32));
+        }
+    }
+    for instance in geometry.instances() {
+        mark(instance.bounds(), None);
+    }
+    hollow
 }
 
-/// Whether any of `boxes` reaches inside `ball`, beyond touching it.
-fn reaches_inside(ball: &Ball, mut boxes: impl Iterator<Item = Aabb>) -> bool {
-    boxes.any(|b| {
-        let nearest = ball.center.max(b.min).min(b.max);
-        (nearest - ball.center).length() < ball.radius * (1.0 - 1e-3)
-    })
+/// Whether the box `b` reaches inside `ball`, beyond touching it.
+fn reaches_inside(ball: &Ball, b: Aabb) -> bool {
+    let nearest = ball.center.max(b.min).min(b.max);
+    (nearest - ball.center).length() < ball.radius * (1.0 - 1e-3)
 }
 
 /// The scale of a transform that keeps balls balls (orthogonal axes of
@@ -520,8 +531,8 @@ mod tests {
         let wall = b([-2.0, 0.0, -1.2], [2.0, 2.0, -1.2]);
         let inside = b([-0.01, 0.24, -0.01], [0.01, 0.26, 0.01]);
         let cutting = b([0.2, 0.2, -0.1], [0.6, 0.3, 0.1]);
-        assert!(!reaches_inside(&ball, [floor, wall].into_iter()));
-        assert!(reaches_inside(&ball, [floor, inside].into_iter()));
-        assert!(reaches_inside(&ball, [cutting].into_iter()));
+        assert!(!reaches_inside(&ball, floor) && !reaches_inside(&ball, wall));
+        assert!(reaches_inside(&ball, inside));
+        assert!(reaches_inside(&ball, cutting));
     }
 }
