@@ -1,6 +1,7 @@
 //! The grid of a ball's search (`ball.rs`) for the paths through it,
-//! straight and with one reflection inside, traced together: both share
-//! the ray from `x`, its refraction in and its first chord. The grid's
+//! straight and with up to three reflections inside, traced together:
+//! each shares the ray from `x`, its refraction in and its chords with
+//! the kinds before it. The grid's
 //! angles are traced as lanes of plain loops over arrays, compiled for
 //! the widest level the CPU has (`simd::Level`), where the compiler turns
 //! them into vector instructions: four angles per instruction at AVX2.
@@ -45,33 +46,38 @@ pub struct Setting {
     pub eta: f64,
 }
 
-/// At each grid angle (`GRID`'s order), for paths straight through
-/// (`[0]`) and with one reflection inside (`[1]`): g, the signed distance
-/// of `y` from the last ray, and whether `y` lies ahead on it.
+/// How many kinds through the ball the grid traces: straight through and
+/// with one, two and three reflections inside.
+pub const THROUGH: usize = 4;
+
+/// At each grid angle (`GRID`'s order), for paths through the ball with
+/// `k` reflections inside (`[k]`): g, the signed distance of `y` from the
+/// last ray, and whether `y` lies ahead on it.
 pub struct Swept {
-    pub g: [[f64; LANES]; 2],
-    pub ahead: [[bool; LANES]; 2],
+    pub g: [[f64; LANES]; THROUGH],
+    pub ahead: [[bool; LANES]; THROUGH],
 }
 
 impl Setting {
-    /// Both kinds' g at every grid angle.
+    /// Every kind's g at every grid angle.
     pub fn sweep(self) -> Swept {
-        let [g0, along0, g1, along1] = Level::current().run(self);
-        let ahead = |a: [f64; LANES]| a.map(|v| v > 0.0);
+        let [g, along] = Level::current().run(self);
         Swept {
-            g: [g0, g1],
-            ahead: [ahead(along0), ahead(along1)],
+            g,
+            ahead: along.map(|a| a.map(|v| v > 0.0)),
         }
     }
 
-    /// g and the last ray's length along towards `y`, per lane: the same
-    /// steps as `Plane::trace`, written lane by lane.
+    /// g and the last ray's length along towards `y`, per kind and lane:
+    /// the same steps as `Plane::trace`, written lane by lane.
     #[inline(always)]
-    fn lanes(self) -> [[f64; LANES]; 4] {
+    fn lanes(self) -> [[[f64; LANES]; THROUGH]; 2] {
         let Setting { dx, y, r, eta } = self;
         let (inv_r, inv_dx, inv_eta) = (1.0 / r, 1.0 / dx, 1.0 / eta);
         let (sines, cosines) = &*LANED;
-        let mut out = [[0.0; LANES]; 4];
+        // Each lane's point on the ball, direction inside, and the
+        // factor Snell's law out needs.
+        let [mut px, mut py, mut ux, mut uy, mut k_out] = [[0.0; LANES]; 5];
         for i in 0..LANES {
             let (s, c) = (sines[i], cosines[i]);
             // The ray from x meeting the ball at incidence θ, and where.
@@ -83,33 +89,33 @@ impl Setting {
             // Refracted in (Snell), and across the first chord.
             let cos_t = (1.0 - s * s * inv_eta * inv_eta).sqrt();
             let k = c * inv_eta - cos_t;
-            let (ux, uy) = (-cos_a * inv_eta + nx * k, sin_a * inv_eta + ny * k);
-            let m = -2.0 * (ex * ux + ey * uy);
-            let (px, py) = (ex + ux * m, ey + uy * m);
-            let (qx, qy) = (px * inv_r, py * inv_r);
-            // Out there.
-            let k_out = c - eta * cos_t;
-            let (ox, oy) = (ux * eta + qx * k_out, uy * eta + qy * k_out);
-            let (tx, ty) = (y.0 - px, y.1 - py);
-            out[0][i] = ox * ty - oy * tx;
-            out[1][i] = ox * tx + oy * ty;
-            // Or reflected there, across a second chord and out.
-            let f = -2.0 * (ux * qx + uy * qy);
-            let (vx, vy) = (ux + qx * f, uy + qy * f);
-            let m2 = -2.0 * (px * vx + py * vy);
-            let (p2x, p2y) = (px + vx * m2, py + vy * m2);
-            let (q2x, q2y) = (p2x * inv_r, p2y * inv_r);
-            let (o2x, o2y) = (vx * eta + q2x * k_out, vy * eta + q2y * k_out);
-            let (t2x, t2y) = (y.0 - p2x, y.1 - p2y);
-            out[2][i] = o2x * t2y - o2y * t2x;
-            out[3][i] = o2x * t2x + o2y * t2y;
+            (ux[i], uy[i]) = (-cos_a * inv_eta + nx * k, sin_a * inv_eta + ny * k);
+            let m = -2.0 * (ex * ux[i] + ey * uy[i]);
+            (px[i], py[i]) = (ex + ux[i] * m, ey + uy[i] * m);
+            k_out[i] = c - eta * cos_t;
         }
-        out
+        let [mut g, mut along] = [[[0.0; LANES]; THROUGH]; 2];
+        for (g, along) in g.iter_mut().zip(&mut along) {
+            for i in 0..LANES {
+                let (qx, qy) = (px[i] * inv_r, py[i] * inv_r);
+                // Out here,
+                let (ox, oy) = (ux[i] * eta + qx * k_out[i], uy[i] * eta + qy * k_out[i]);
+                let (tx, ty) = (y.0 - px[i], y.1 - py[i]);
+                g[i] = ox * ty - oy * tx;
+                along[i] = ox * tx + oy * ty;
+                // or reflected here, across the next chord.
+                let f = -2.0 * (ux[i] * qx + uy[i] * qy);
+                (ux[i], uy[i]) = (ux[i] + qx * f, uy[i] + qy * f);
+                let m = -2.0 * (px[i] * ux[i] + py[i] * uy[i]);
+                (px[i], py[i]) = (px[i] + ux[i] * m, py[i] + uy[i] * m);
+            }
+        }
+        [g, along]
     }
 }
 
 impl Kernel for Setting {
-    type Output = [[f64; LANES]; 4];
+    type Output = [[[f64; LANES]; THROUGH]; 2];
     fn scalar(self) -> Self::Output {
         self.lanes()
     }
@@ -142,8 +148,8 @@ mod tests {
             for level in Level::available() {
                 let got = level.run(setting);
                 assert_eq!(
-                    got.map(|k| k.map(f64::to_bits)),
-                    scalar.map(|k| k.map(f64::to_bits)),
+                    got.map(|a| a.map(|k| k.map(f64::to_bits))),
+                    scalar.map(|a| a.map(|k| k.map(f64::to_bits))),
                     "{level}"
                 );
             }
