@@ -9,7 +9,7 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::direct::{power_heuristic, spawn};
 use super::guided::{Pending, Trail};
-use super::manifold::{lens_shares, Passage, Shares};
+use super::manifold::{Passage, Shares, SHARES};
 use super::renderer::SampleStart;
 use super::select::Media;
 use super::Renderer;
@@ -404,7 +404,7 @@ impl Renderer<'_> {
         let mut traced = 0;
         let shares = match MEDIA || self.lenses.is_empty() || !self.within(path.depth + 3) {
             true => Shares::default(),
-            false => lens_shares(path.delta, path.bsdf_pdf, bsdf),
+            false => SHARES,
         };
         if let (true, Some(choice)) = (shares.any(), choice) {
             let chance = if shares.by_chance() {

@@ -550,21 +550,15 @@ impl Search<'_> {
         });
         let k = k as usize;
         let g = std::array::from_fn(|i| (GRID[i].0, swept.g[k][i], swept.ahead[k][i]));
-        // Not at the folds of light with more than one reflection inside:
-        // that light is wanted for MIS against BSDF sampling, which at a
-        // fold (dω/dA unbounded) outweighs the estimator anyway, and a
-        // fold search there, mostly in vain, cost more than all the rest.
-        Self::roots(&plane, g, k < 2, &mut keep);
+        Self::roots(&plane, g, &mut keep);
         found
     }
 
     /// The brackets of g's roots about the grid's points `g` (sin θ, g,
-    /// whether `y` is ahead), each handed to `keep`; at the caustic's
-    /// folds too where `folds`.
+    /// whether `y` is ahead), each handed to `keep`.
     fn roots(
         plane: &Plane,
         g: [(f64, f64, bool); STEPS + 1],
-        folds: bool,
         keep: &mut impl FnMut((f64, f64, bool), (f64, f64, bool)),
     ) {
         let at_sin = |s: f64| {
@@ -578,9 +572,6 @@ impl Search<'_> {
         // sign between grid points, but |g| dips between its neighbours.
         // Where it does, the least of g there is sought, and the roots on
         // either side of it refined if it crosses zero.
-        if !folds {
-            return;
-        }
         for k in 1..STEPS {
             let (a, b, c) = (g[k - 1], g[k], g[k + 1]);
             let same = (a.1 < 0.0) == (b.1 < 0.0) && (b.1 < 0.0) == (c.1 < 0.0);
@@ -861,17 +852,14 @@ mod tests {
                     found += 1;
                 }
             }
-            // Every one, but with a reflection inside, where two roots can
-            // lie closer than f32 directions tell (the rainbow's fold): 2
-            // in 40 000 (without the fold search 1 % of them were missed,
-            // and 5 % with a reflection inside). With two and three
-            // inside, whose folds are not searched (`Search::paths`), 10 %
-            // and 1.3 % are missed: those near the folds, where the rays
-            // crowd and BSDF sampling finds them often.
+            // Every one, but with reflections inside, where two roots can
+            // lie closer than f32 directions tell (the rainbows' folds):
+            // 2 in 40 000 with one reflection, 4 with two, 16 with three
+            // (without the fold search 1 % of them were missed, and 5 %
+            // with a reflection inside; 10 % with two).
             let least = match kind {
-                Kind::Through(1) => 0.9995,
-                Kind::Through(2) => 0.89,
-                Kind::Through(3) => 0.98,
+                Kind::Through(1 | 2) => 0.9995,
+                Kind::Through(3) => 0.999,
                 _ => 1.0,
             };
             assert!(
@@ -893,11 +881,19 @@ mod tests {
         // A square lamp 16 cm wide, 1.6 m up, facing down.
         let (lc, half) = ([-0.3f64, 1.6, -0.3], 0.08f64);
         // Through: in the caustic (three paths) and about it; reflected:
-        // around the ball, where its image of the lamp is seen.
+        // around the ball, where its image of the lamp is seen; with two
+        // and three reflections inside, light that carries little but
+        // whose weights against BSDF sampling keep the fireflies away.
         let caustic = [(0.06, 0.06), (0.1, 0.12), (0.2, 0.1), (0.0, 0.3)];
         let around = [(0.5, 0.3), (-0.6, 0.2), (0.3, -0.5), (0.0, 0.6)];
         let mut rng = SplitMix(5);
-        for (kind, floor) in [(Kind::Through(0), caustic), (Kind::Reflected, around)] {
+        let kinds = [
+            (Kind::Through(0), caustic),
+            (Kind::Reflected, around),
+            (Kind::Through(2), caustic),
+            (Kind::Through(3), around),
+        ];
+        for (kind, floor) in kinds {
             for (fx, fz) in floor {
                 let x = Vec3::new(fx, 0.0, fz);
                 // Over the lamp's area.

@@ -29,7 +29,6 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::direct::{power_heuristic, spawn};
 use super::path::ScatterPoint;
-use super::reflectors::glossy;
 use super::Renderer;
 use crate::accel::Aabb;
 use crate::bsdf::{fresnel_dielectric, Bsdf, Transport};
@@ -39,25 +38,6 @@ use crate::light::Light;
 use crate::math::{Transform, Vec3};
 use crate::scene::Scene;
 use crate::texture::TexPoint;
-
-/// A bounce of density above this (sr⁻¹) sees its next vertex sharply:
-/// a Lambertian bounce never exceeds 1/π.
-const SHARP: f32 = 2.0;
-
-/// The probability the estimator runs for reflected paths at a vertex
-/// seen only through diffuse bounces (see [`lens_shares`]).
-const DIFFUSE_REFLECTED_SHARE: f32 = 0.25;
-
-/// The probability the estimator runs for paths with two and three
-/// reflections inside the ball. Their light is faint (F², F³), so what
-/// they are wanted for is MIS: a BSDF-sampled path of these kinds is
-/// found with the dielectric's probability F² or F³ of choosing it and
-/// then carries the lamp's whole radiance, a firefly, unless weighed
-/// against an estimator that runs there. Run a twentieth of the time, its
-/// density still outweighs the BSDF's by far where those fireflies are,
-/// for about 4 % of the time. Measured on `glass-and-metals.xml` at equal
-/// time (64 seeds): see docs/caustics.md.
-const HIGHER_SHARE: f32 = 0.05;
 
 /// The probability the estimator runs for each kind of path
 /// (`Kind::SEARCHED`'s order).
@@ -83,37 +63,29 @@ impl Shares {
     }
 }
 
-/// The probability the estimator runs at a vertex of `bsdf` reached by a
-/// bounce that was a delta (`delta`: the camera's first hit, a mirror's)
-/// or had density `pdf`, for each kind of path. Always, but for light
-/// reflected off the ball to a vertex seen only through diffuse bounces:
-/// there [`DIFFUSE_REFLECTED_SHARE`]. That light is spread thin (a convex
-/// mirror), and the search and two rays cost more than BSDF sampling's
-/// rare finds of it; where the vertex is seen sharply, or is glossy and
-/// shows the lamp's image in the ball, they do not. Measured on
-/// `glass-and-metals.xml` at equal time against Mitsuba (8 seeds):
-/// relMSE 0.50 of Mitsuba's with these shares; 0.57 running every kind
-/// a quarter of the time at diffusely seen vertices; 0.62 running
-/// reflections always and the rest a quarter of the time there; 0.83
-/// running reflections only at glossy vertices. (Over 32 seeds these
-/// shares give 0.66, and light through the ball at ¼ or ½ there is
-/// within that noise: docs/caustics.md.)
-/// The estimator's density in MIS is scaled by its share, so the choice,
-/// drawn from the path's own stream, keeps the sum unbiased (one-sample
-/// MIS, Veach 1997 §9.2.4).
-pub(super) fn lens_shares(delta: bool, pdf: f32, bsdf: &Bsdf) -> Shares {
-    if delta || pdf > SHARP || glossy(bsdf) {
-        Shares([1.0, 1.0, 1.0, HIGHER_SHARE, HIGHER_SHARE])
-    } else {
-        Shares([
-            DIFFUSE_REFLECTED_SHARE,
-            1.0,
-            1.0,
-            HIGHER_SHARE,
-            HIGHER_SHARE,
-        ])
-    }
-}
+/// The probability the estimator runs for each kind of path, at every
+/// vertex where it runs. The choice is drawn from the path's own stream
+/// and the estimator's density in MIS is scaled by it, which keeps the
+/// sum unbiased (one-sample MIS, Veach 1997 §9.2.4). Measured on
+/// `glass-and-metals.xml` (docs/caustics.md, paired renders of the same
+/// seeds, so that only the estimator's share of the noise differs):
+///
+/// - light through the ball, straight or with one reflection inside:
+///   always. It is the caustic.
+/// - reflected off the ball: a tenth of the time. A convex mirror spreads
+///   that light thin, so it is faint, and the search and two shadow rays
+///   cost as much as for the caustic: run always it took a fifth of the
+///   render's time for no change in relMSE (0.0771 against 0.0772 over 40
+///   seeds at 32 spp; it once ran always where the vertex is seen
+///   sharply, a quarter of the time elsewhere).
+/// - two and three reflections inside: a twentieth of the time. Their
+///   light is fainter still (F², F³); what they are wanted for is MIS. A
+///   BSDF-sampled path of these kinds is chosen with the dielectric's
+///   probability F² or F³ and then carries the lamp's whole radiance, a
+///   firefly, unless weighed against an estimator that runs there; at a
+///   twentieth the estimator's density still outweighs BSDF sampling's by
+///   far where those fireflies are.
+pub(super) const SHARES: Shares = Shares([0.1, 1.0, 1.0, 0.05, 0.05]);
 
 /// A ball light is found through: its shape (the scene's number; in the
 /// instance `instance` when it belongs to a shape group), its material
