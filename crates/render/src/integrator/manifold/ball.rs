@@ -106,7 +106,7 @@ pub struct Refracted {
     /// The unit direction from `x` to `entry`.
     pub dir: Vec3,
     pub entry: Vec3,
-    /// Where it is reflected inside (`exit` when it is not).
+    /// Where it is first reflected inside (`exit` when it is not).
     pub mid: Vec3,
     /// Where it leaves the ball (`entry` for a reflection).
     pub exit: Vec3,

@@ -430,24 +430,11 @@ impl Renderer<'_> {
             Kind::Reflected => true,
             Kind::Through(0) => clear(a, normal(a), b, traced),
             Kind::Through(k) => {
-                // Each chord turns about the centre by the first one's
-                // angle, in the path's plane: the reflections inside are
-                // the entry turned once, twice, ….
-                let (c, from, to) = (lens.ball.center, a - lens.ball.center, m - lens.ball.center);
-                let axis = from.cross(to).normalize();
-                let (cos, sin) = (
-                    from.normalize().dot(to.normalize()),
-                    from.cross(to).length() / (from.length() * to.length()),
-                );
+                let turn = chord_turn(lens.ball.center, a, m);
                 let mut p = a;
                 let mut open = true;
                 for i in 0..=k {
-                    let next = if i == k {
-                        b
-                    } else {
-                        let v = p - c;
-                        c + v * cos + axis.cross(v) * sin
-                    };
+                    let next = if i == k { b } else { turn(p) };
                     open = open && clear(p, normal(p), next, traced);
                     p = next;
                 }
@@ -518,6 +505,26 @@ impl Renderer<'_> {
     }
 }
 
+/// The turn about the ball's centre `c` that takes a path's entry `a` to
+/// its first reflection inside `m`, in the path's plane. Each chord
+/// inside turns by the same angle, so the reflections inside are the
+/// entry turned once, twice, …, and the exit is the last. Along a
+/// diameter the turn is by π, about no axis in particular.
+fn chord_turn(c: Vec3, a: Vec3, m: Vec3) -> impl Fn(Vec3) -> Vec3 {
+    let (from, to) = (a - c, m - c);
+    let normal = from.cross(to);
+    let axis = match normal.length_squared() > 0.0 {
+        true => normal.normalize(),
+        false => Vec3::ZERO,
+    };
+    let cos = from.normalize().dot(to.normalize());
+    let sin = normal.length() / (from.length() * to.length());
+    move |p: Vec3| {
+        let v = p - c;
+        c + v * cos + axis.cross(v) * sin
+    }
+}
+
 /// How close (radians) the nearest path found must be to a sampled one to
 /// be it: far above the error of tracing in f32, which the caustic's
 /// focusing magnifies (at 2e-4 a share of the caustic's sampled paths
@@ -532,6 +539,34 @@ mod tests {
 
     /// The floor a ball rests on touches it and leaves it hollow; a box
     /// inside it, or one that cuts into it, does not.
+    /// Turning the entry by the first chord's angle, once per chord, lands
+    /// on the exit the search traced, for every kind through the ball.
+    #[test]
+    fn the_chords_inside_are_the_entry_turned() {
+        let ball = Ball::new(Vec3::new(0.0, 0.25, 0.0), 0.25, 1.5);
+        let (x, y) = (Vec3::new(0.6, 0.05, 0.3), Vec3::new(-0.3, 1.6, -0.3));
+        let mut checked = 0;
+        for k in 1..=3u8 {
+            for (dx, dz) in [(0.0, 0.0), (0.4, -0.2), (-0.5, 0.1), (0.2, 0.6)] {
+                let y = y + Vec3::new(dx, 0.0, dz);
+                for p in ball.paths(Kind::Through(k), x, y).iter() {
+                    let turn = chord_turn(ball.center, p.entry, p.mid);
+                    let mut q = p.entry;
+                    for _ in 0..=k {
+                        q = turn(q);
+                    }
+                    assert!(
+                        (q - p.exit).length() < 1e-4,
+                        "{k}: {q:?} against {:?}",
+                        p.exit
+                    );
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked >= 6, "only {checked} paths");
+    }
+
     #[test]
     fn only_boxes_that_reach_inside_a_ball_fill_it() {
         let ball = Ball::new(Vec3::new(0.0, 0.25, 0.0), 0.25, 1.5);

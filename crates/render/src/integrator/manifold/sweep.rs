@@ -1,10 +1,10 @@
 //! The grid of a ball's search (`ball.rs`) for the paths through it,
 //! straight and with up to three reflections inside, traced together:
 //! each shares the ray from `x`, its refraction in and its chords with
-//! the kinds before it. The grid's
-//! angles are traced as lanes of plain loops over arrays, compiled for
-//! the widest level the CPU has (`simd::Level`), where the compiler turns
-//! them into vector instructions: four angles per instruction at AVX2.
+//! the kinds before it. The grid's angles are traced as lanes of plain
+//! loops over arrays, compiled for the widest level the CPU has
+//! (`simd::Level`), where the compiler turns them into vector
+//! instructions: four angles per instruction at AVX2.
 //! The same IEEE operations run at every level, so every level gives the
 //! same bits.
 
