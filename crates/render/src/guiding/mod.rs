@@ -163,6 +163,18 @@ impl Cell {
     }
 }
 
+/// What a cell learned in an iteration: the density it samples with,
+/// whether it guides, its records (and those that found light), and its
+/// doubts ([`GIVE_UP`]).
+#[derive(Clone)]
+struct Learned {
+    sampling: DTree,
+    guides: bool,
+    count: u64,
+    lit: u64,
+    doubts: u8,
+}
+
 /// The learned light field of one iteration.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Field {
@@ -260,15 +272,22 @@ impl Field {
     /// an iteration of `spp` samples per pixel.
     pub fn next(&self, stats: &Stats, spp: u32) -> Self {
         let threshold = SPLIT * f64::from(spp.max(1)).sqrt();
-        let learned: Vec<(DTree, bool, u64, u64, u8)> = self
+        let learned: Vec<Learned> = self
             .cells
             .iter()
             .enumerate()
             .map(|(i, c)| {
                 // A cell that gave up keeps what it knew, whatever a
                 // jittered neighbour's record brought it.
+                let kept = |count, lit| Learned {
+                    sampling: c.sampling.clone(),
+                    guides: c.guides,
+                    count,
+                    lit,
+                    doubts: c.doubts,
+                };
                 if !c.learns() {
-                    return (c.sampling.clone(), c.guides, 0, 0, c.doubts);
+                    return kept(0, 0);
                 }
                 let range = c.offset as usize..c.offset as usize + c.building.slots();
                 let count = stats.count[range.clone()].iter().sum();
@@ -287,13 +306,23 @@ impl Field {
                         Some(gain) => (gain <= MAX_GAIN, 0),
                         None => (tree.peak() >= MIN_PEAK, 0),
                     };
-                    (tree, guides, count, lit, doubts)
+                    Learned {
+                        sampling: tree,
+                        guides,
+                        count,
+                        lit,
+                        doubts,
+                    }
                 } else if c.guides || tree.energy() <= 0.0 {
-                    (c.sampling.clone(), c.guides, count, lit, c.doubts)
+                    kept(count, lit)
                 } else {
                     // Not enough to guide by, but enough to refine where
                     // the next iteration records.
-                    (tree, false, count, lit, c.doubts)
+                    Learned {
+                        sampling: tree,
+                        guides: false,
+                        ..kept(count, lit)
+                    }
                 }
             })
             .collect();
@@ -302,8 +331,8 @@ impl Field {
         // [`MIN_LIT`] records that found light.
         let halvings = |cell: u32| {
             let sides = &learned[cell as usize * SIDES..(cell as usize + 1) * SIDES];
-            let count: u64 = sides.iter().map(|l| l.2).sum();
-            let lit: u64 = sides.iter().map(|l| l.3).sum();
+            let count: u64 = sides.iter().map(|l| l.count).sum();
+            let lit: u64 = sides.iter().map(|l| l.lit).sum();
             let (mut n, mut lit) = (count as f64, lit as f64);
             let mut k = 0;
             while n > threshold && lit >= MIN_LIT as f64 && k < MAX_HALVINGS {
@@ -319,7 +348,12 @@ impl Field {
             .iter()
             .flat_map(|&old| (0..SIDES).map(move |s| old as usize * SIDES + s))
             .map(|old| {
-                let (sampling, guides, _, _, doubts) = learned[old].clone();
+                let Learned {
+                    sampling,
+                    guides,
+                    doubts,
+                    ..
+                } = learned[old].clone();
                 let building = if sampling.energy() > 0.0 {
                     sampling.refined()
                 } else {

@@ -181,11 +181,28 @@ fn iterate_lit(
     field.next(&stats, spp)
 }
 
+/// The tests' field: a slab 20 m × 2 m × 2 m, seen from above (`up`),
+/// lit along `axis`.
+struct Slab {
+    lo: Vec3,
+    hi: Vec3,
+    up: usize,
+    axis: Vec3,
+}
+
+fn slab() -> Slab {
+    let axis = Vec3::new(0.0, 1.0, 0.0);
+    Slab {
+        lo: Vec3::new(-10.0, 0.0, -1.0),
+        hi: Vec3::new(10.0, 2.0, 1.0),
+        up: side(Some(axis)),
+        axis,
+    }
+}
+
 #[test]
 fn a_cell_with_many_records_is_halved_and_keeps_its_light() {
-    let (lo, hi) = (Vec3::new(-10.0, 0.0, -1.0), Vec3::new(10.0, 2.0, 1.0));
-    let up = side(Some(Vec3::new(0.0, 1.0, 0.0)));
-    let axis = Vec3::new(0.0, 1.0, 0.0);
+    let Slab { lo, hi, up, axis } = slab();
     let mut rng = Rng(11);
     let first = iterate(&Field::new(lo, hi), 100_000, axis, &mut rng, 1);
     // 100 000 records over c = 12 000: halved 4 times, into 16 cells;
@@ -304,9 +321,7 @@ fn each_cell_box_holds_the_points_found_in_it_and_the_boxes_fill_the_field() {
 
 #[test]
 fn only_points_near_a_guiding_cell_look_it_up() {
-    let (lo, hi) = (Vec3::new(-10.0, 0.0, -1.0), Vec3::new(10.0, 2.0, 1.0));
-    let up = side(Some(Vec3::new(0.0, 1.0, 0.0)));
-    let axis = Vec3::new(0.0, 1.0, 0.0);
+    let Slab { lo, hi, up, axis } = slab();
     let mut rng = Rng(11);
     let first = iterate(&Field::new(lo, hi), 100_000, axis, &mut rng, 1);
     assert!(!first.guides() && !first.may_guide(lo, up));
@@ -320,9 +335,7 @@ fn only_points_near_a_guiding_cell_look_it_up() {
 
 #[test]
 fn cells_that_twice_predict_no_gain_stop_learning_and_keep_what_they_learned() {
-    let (lo, hi) = (Vec3::new(-10.0, 0.0, -1.0), Vec3::new(10.0, 2.0, 1.0));
-    let up = side(Some(Vec3::new(0.0, 1.0, 0.0)));
-    let axis = Vec3::new(0.0, 1.0, 0.0);
+    let Slab { lo, hi, up, axis } = slab();
     let mut rng = Rng(3);
     // Uniform light predicts no gain (1.40): one iteration is a doubt,
     // two in a row and the cells record no more.

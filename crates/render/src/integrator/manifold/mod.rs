@@ -341,8 +341,7 @@ impl Renderer<'_> {
             let Some(search) = lens.ball.search(x, y.p) else {
                 continue;
             };
-            for kind in Kind::SEARCHED {
-                let share = shares.of(kind);
+            for (kind, share) in Kind::SEARCHED.into_iter().zip(shares.0) {
                 if u >= share {
                     continue;
                 }
@@ -392,12 +391,14 @@ impl Renderer<'_> {
             return SampledSpectrum::splat(0.0);
         };
         let (r, t) = kind.events();
+        let reflectance = d.specular_reflectance.eval(now, TexPoint::default());
+        let transmittance = d.specular_transmittance.eval(now, TexPoint::default());
         let mut tint = SampledSpectrum::splat(1.0);
         for _ in 0..r {
-            tint *= d.specular_reflectance.eval(now, TexPoint::default());
+            tint *= reflectance;
         }
         for _ in 0..t {
-            tint *= d.specular_transmittance.eval(now, TexPoint::default());
+            tint *= transmittance;
         }
         tint
     }
