@@ -9,12 +9,12 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::direct::{power_heuristic, spawn};
 use super::guided::{Pending, Trail};
-use super::manifold::{Passage, Shares, SHARES};
+use super::manifold::{area_density, shares_at, Caustic, Passage, Shares};
 use super::renderer::SampleStart;
 use super::select::Media;
 use super::Renderer;
 use crate::bsdf::{Bsdf, ShadingPoint, Transport};
-use crate::geometry::Hit;
+use crate::geometry::{Hit, Surface};
 use crate::light::Light;
 use crate::math::{Frame, Ray, Vec3};
 use crate::sampling::sobol::Sampler;
@@ -74,6 +74,9 @@ pub struct PathState<const K: usize> {
     /// The path's way through a glass ball since its last diffuse vertex
     /// (`manifold`).
     pub passage: Passage,
+    /// The light subpath through a glass ball its vertices join
+    /// (`manifold::connect`).
+    pub caustic: Caustic,
 }
 
 /// Where a path scatters at a surface: the point, its geometric normal,
@@ -84,6 +87,25 @@ pub(super) struct ScatterPoint {
     pub ng: Vec3,
     pub frame: Frame,
     pub at: ShadingPoint,
+}
+
+impl ScatterPoint {
+    /// Where a path scatters on `surface`, hit at `hit`.
+    pub(super) fn of(surface: &Surface, hit: &Hit) -> Self {
+        let (frame, at) = ShadingPoint::at(
+            surface.tex(hit),
+            surface.n_shading,
+            surface.n_geometric,
+            surface.dpdu,
+            surface.dpdv,
+        );
+        Self {
+            p: surface.p,
+            ng: surface.n_geometric,
+            frame,
+            at,
+        }
+    }
 }
 
 /// What a bounce leaves to do: a shadow ray whose contribution counts if
@@ -221,6 +243,9 @@ impl Renderer<'_> {
         let ray = self.scene.camera.generate_ray(film, lens);
         let mut path = PathState::new(ray, wl, 1);
         path.medium = self.scene.camera_medium;
+        if self.lenses.joined() {
+            path.caustic = Caustic::Due;
+        }
         path
     }
 
@@ -301,20 +326,8 @@ impl Renderer<'_> {
         if !self.within(path.depth + 1) && !passes {
             return Bounce::STOP;
         }
-        let (frame, at) = ShadingPoint::at(
-            surface.tex(hit),
-            surface.n_shading,
-            surface.n_geometric,
-            surface.dpdu,
-            surface.dpdv,
-        );
-        let ng = surface.n_geometric;
-        let point = ScatterPoint {
-            p: surface.p,
-            ng,
-            frame,
-            at,
-        };
+        let point = ScatterPoint::of(&surface, hit);
+        let ng = point.ng;
         let mut b = self.scatter::<K, MEDIA>(path, u, &point, bsdf);
         if path.delta && b.goes_on {
             let d = path.ray.d;
@@ -360,6 +373,22 @@ impl Renderer<'_> {
         let wi = frame.to_local(wo_world);
         let uv = at.tex();
         let [[u_light, u_select, u_l0, u_l1], [u_lobe, u_rr, u_b0, u_b1]] = u;
+        // Whether the last vertex could have joined a light subpath that
+        // lands here, and the density its bounce gives this point per area
+        // (for the MIS weights of the paths through glass balls, which are
+        // weighed only where the estimator can run).
+        let joins = !MEDIA && path.caustic.is_on() && bsdf.fluorescent().is_none();
+        let joins = joins && !bsdf.is_delta() && self.within(path.depth + 3);
+        let joined = match joins && path.delta {
+            true => self.joined_through(&path.passage, p, ng),
+            false => area_density(
+                joins && path.prev_n.is_some(),
+                path.bsdf_pdf,
+                path.prev,
+                p,
+                ng,
+            ),
+        };
         // Fluorescence: members move to their excitation wavelengths
         // before light is sampled there.
         if let Some(f) = bsdf.reradiate(&mut path.now, uv, u_lobe) {
@@ -404,7 +433,7 @@ impl Renderer<'_> {
         let mut traced = 0;
         let shares = match MEDIA || self.lenses.is_empty() || !self.within(path.depth + 3) {
             true => Shares::default(),
-            false => SHARES,
+            false => shares_at(joined),
         };
         if let (true, Some(choice)) = (shares.any(), choice) {
             let chance = if shares.by_chance() {
@@ -413,10 +442,17 @@ impl Renderer<'_> {
                 0.0
             };
             let at_x = (bsdf, guide, wi);
-            let u = [u_select, u_l0, u_l1];
+            let u = ([u_select, u_l0, u_l1], joined);
             let (beta, traced) = (&path.beta, &mut traced);
             let run = (choice, (shares, chance));
             path.l += self.through_lenses(&now, beta, point, at_x, run, u, traced);
+        }
+        // The caustic as a light: the path's light subpath through a ball,
+        // joined here where the estimator would run at its vertex (a
+        // straight leg; legs by way of a ball check their own depth).
+        if !MEDIA && path.caustic.is_on() && !bsdf.is_delta() && self.within(path.depth + 4) {
+            let light = self.join_caustic(path, point, (bsdf, guide, wi), &mut traced);
+            path.l += light;
         }
         let mut stop = Bounce {
             shadow,
@@ -461,7 +497,7 @@ impl Renderer<'_> {
         };
         if !bs.delta {
             path.passage = match shares.any() && !bsdf.is_delta() {
-                true => Passage::left((p, ng), d, bs.pdf, shares),
+                true => Passage::left((p, ng), d, bs.pdf, (shares, joined)),
                 false => Passage::default(),
             };
         }
@@ -533,6 +569,7 @@ impl<const K: usize> PathState<K> {
             rng: SplitMix(0),
             trail: Trail::default(),
             passage: Passage::default(),
+            caustic: Caustic::Off,
         }
     }
 }
