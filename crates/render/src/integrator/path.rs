@@ -9,7 +9,7 @@ use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::direct::{power_heuristic, spawn};
 use super::guided::{Pending, Trail};
-use super::manifold::{area_density, shares_at, Caustic, Passage, Shares};
+use super::manifold::{area_density, shares_at, Caustic, Passage, Shares, SHORTEST};
 use super::renderer::SampleStart;
 use super::select::Media;
 use super::Renderer;
@@ -303,8 +303,8 @@ impl Renderer<'_> {
                 let le = area.radiance(&path.now, surface.uv, surface.n_geometric, wo_world);
                 if !le.is_zero() {
                     let w = if path.delta {
-                        let (y, n) = (surface.p, surface.n_geometric);
-                        self.passage_weight(&path.passage, li as usize, y, n)
+                        let at_y = (surface.p, surface.n_geometric, ray.d);
+                        self.passage_weight(&path.passage, li as usize, at_y)
                     } else {
                         let p_light = self.lights.probability(path.prev, path.prev_n, li as usize)
                             * area.pdf_li(path.prev, surface.p, surface.n_geometric);
@@ -345,6 +345,17 @@ impl Renderer<'_> {
         b
     }
 
+    /// How many more segments a path of `depth` segments may have.
+    #[inline]
+    pub(super) fn room(&self, depth: i32) -> i32 {
+        let max_depth = self.scene.integrator.max_depth;
+        if max_depth < 0 {
+            i32::MAX
+        } else {
+            max_depth - depth
+        }
+    }
+
     /// Whether a path of `depth` segments is within `max_depth`.
     #[inline]
     pub(super) fn within(&self, depth: i32) -> bool {
@@ -378,7 +389,7 @@ impl Renderer<'_> {
         // (for the MIS weights of the paths through glass balls, which are
         // weighed only where the estimator can run).
         let joins = !MEDIA && path.caustic.is_on() && bsdf.fluorescent().is_none();
-        let joins = joins && !bsdf.is_delta() && self.within(path.depth + 3);
+        let joins = joins && !bsdf.is_delta() && self.within(path.depth + SHORTEST);
         let joined = match joins && path.delta {
             true => self.joined_through(&path.passage, p, ng),
             false => area_density(
@@ -431,9 +442,9 @@ impl Renderer<'_> {
         // The same light by way of glass balls (`manifold`), where a path
         // could reach it that way within the depth.
         let mut traced = 0;
-        let shares = match MEDIA || self.lenses.is_empty() || !self.within(path.depth + 3) {
+        let shares = match MEDIA || self.lenses.is_empty() {
             true => Shares::default(),
-            false => shares_at(joined),
+            false => shares_at(joined).fitting(self.room(path.depth)),
         };
         if let (true, Some(choice)) = (shares.any(), choice) {
             let chance = if shares.by_chance() {
@@ -450,7 +461,11 @@ impl Renderer<'_> {
         // The caustic as a light: the path's light subpath through a ball,
         // joined here where the estimator would run at its vertex (a
         // straight leg; legs by way of a ball check their own depth).
-        if !MEDIA && path.caustic.is_on() && !bsdf.is_delta() && self.within(path.depth + 4) {
+        if !MEDIA
+            && path.caustic.is_on()
+            && !bsdf.is_delta()
+            && self.within(path.depth + 1 + SHORTEST)
+        {
             let light = self.join_caustic(path, point, (bsdf, guide, wi), &mut traced);
             path.l += light;
         }

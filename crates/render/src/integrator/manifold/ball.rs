@@ -56,6 +56,15 @@ impl Kind {
         Kind::Through(3),
     ];
 
+    /// The segments of a path of this kind from a vertex by way of the
+    /// ball to the next vertex.
+    pub fn segments(self) -> i32 {
+        match self {
+            Kind::Reflected => 2,
+            Kind::Through(k) => 3 + k as i32,
+        }
+    }
+
     /// The least and greatest angles a path of this kind turns by, for
     /// index ratio `eta` > 1: a reflection π − 2θ; straight through
     /// D₀ = 2(θ − θ_t), at most 2(π/2 − θ_c); with one reflection inside
@@ -403,6 +412,25 @@ impl Ball {
         self.search(x, y).map_or(NONE, |s| s.paths(kind))
     }
 
+    /// The cosine at which the ray from `x` (outside) along `dir` meets
+    /// the ball first, if it does.
+    pub fn entry_cos(&self, x: Vec3, dir: Vec3) -> Option<f32> {
+        // In f64: near grazing the cosine is the root of a difference of
+        // nearly equal squares.
+        let d = to64(dir);
+        let d = scale3(d, 1.0 / dot3(d, d).sqrt());
+        let o = sub3(to64(x), to64(self.center));
+        let r = self.radius as f64;
+        let b = dot3(o, d);
+        let disc = b * b - (dot3(o, o) - r * r);
+        if !(disc > 0.0 && b < 0.0) {
+            return None;
+        }
+        // The cosine at the nearer meeting, −d · (o + t d) / r with
+        // t = −b − √disc.
+        Some(((disc.sqrt()) / r).clamp(0.0, 1.0) as f32)
+    }
+
     /// The plane of `x`, the centre and `y`, to search for paths of each
     /// kind in; `None` when there is none (a point inside the ball, or
     /// `y` on the axis, where every turn about it is a path: a set of no
@@ -727,6 +755,36 @@ mod tests {
     fn random_point(rng: &mut SplitMix, lo: f64, hi: f64) -> Vec3 {
         let mut v = || (lo + (hi - lo) * rng.next_f32() as f64) as f32;
         Vec3::new(v(), v(), v())
+    }
+
+    /// A ray's first meeting with the ball, computed from the ray alone
+    /// (for a path traced where the search found none), is where the
+    /// search's paths enter: the same cosine; and rays that miss the ball
+    /// or leave it behind meet none.
+    #[test]
+    fn a_rays_entry_cosine_is_the_searchs() {
+        let mut rng = SplitMix(7);
+        let mut checked = 0;
+        while checked < 200 {
+            let x = random_point(&mut rng, -1.0, 1.0);
+            let y = random_point(&mut rng, -1.0, 1.0) + Vec3::new(0.0, 1.5, 0.0);
+            for kind in Kind::SEARCHED {
+                for p in BALL.paths(kind, x, y).iter() {
+                    let cos = BALL.entry_cos(x, p.dir).expect("the path meets the ball");
+                    assert!(
+                        (cos - p.cos_in).abs() < 1e-4,
+                        "{kind:?}: {cos} against {}",
+                        p.cos_in
+                    );
+                    checked += 1;
+                }
+            }
+        }
+        let x = Vec3::new(1.0, 0.25, 0.0);
+        assert!(BALL.entry_cos(x, Vec3::new(1.0, 0.0, 0.0)).is_none());
+        assert!(BALL.entry_cos(x, Vec3::new(-1.0, 1.0, 0.0)).is_none());
+        let head_on = BALL.entry_cos(x, Vec3::new(-1.0, 0.0, 0.0)).unwrap();
+        assert!((head_on - 1.0).abs() < 1e-6);
     }
 
     /// Each path found leaves `x` along its direction, refracts through

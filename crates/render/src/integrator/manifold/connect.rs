@@ -56,15 +56,6 @@ const MOST_INSIDE: u8 = 3;
 /// inside).
 pub(super) const THROUGH: [Kind; 3] = [Kind::Reflected, Kind::Through(0), Kind::Through(1)];
 
-/// The segments of a path of `kind` from a vertex by way of a ball to the
-/// next vertex.
-pub(super) fn segments(kind: Kind) -> i32 {
-    match kind {
-        Kind::Reflected => 2,
-        Kind::Through(k) => 3 + k as i32,
-    }
-}
-
 /// The share of camera paths that draw a light subpath; the others join
 /// none, and the strategy's density carries the share (one-sample MIS, as
 /// the estimator's `SHARES`). Measured on `glass-and-metals.xml`, 16
@@ -295,7 +286,11 @@ impl Renderer<'_> {
         };
         let to = lv.v.p - point.p;
         let dist2 = to.length_squared();
-        if dist2.is_finite() && dist2 > 0.0 {
+        // Each join makes a path of the depth the camera path's would
+        // reach that way, and is made only where that is within the
+        // depth: there, and only there, the other strategies find it too.
+        let chain = lv.kind.segments();
+        if dist2.is_finite() && dist2 > 0.0 && self.within(path.depth + 1 + chain) {
             let dir = to / dist2.sqrt();
             let per_area = lv.v.ng.dot(dir).abs() / dist2;
             let leg = (dir, dir, per_area, SampledSpectrum::splat(1.0));
@@ -309,7 +304,7 @@ impl Renderer<'_> {
                 continue;
             };
             for kind in THROUGH {
-                if !self.within(path.depth + segments(kind) + 3) {
+                if !self.within(path.depth + kind.segments() + chain) {
                     continue;
                 }
                 let tint = self.lens_tint(lens, kind, &path.now);

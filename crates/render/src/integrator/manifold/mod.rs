@@ -53,6 +53,19 @@ impl Shares {
         self.0.iter().any(|&s| s > 0.0)
     }
 
+    /// These shares at a vertex from which a path may have `room` more
+    /// segments: none for the kinds whose paths would be longer, so that
+    /// the estimator finds a path exactly where BSDF sampling can.
+    pub fn fitting(self, room: i32) -> Shares {
+        let mut fit = self;
+        for (share, kind) in fit.0.iter_mut().zip(Kind::SEARCHED) {
+            if kind.segments() > room {
+                *share = 0.0;
+            }
+        }
+        fit
+    }
+
     /// Whether it runs for some kinds only by chance.
     pub fn by_chance(&self) -> bool {
         self.0.iter().any(|&s| s > 0.0 && s < 1.0)
@@ -101,6 +114,10 @@ pub(super) const SHARES: Shares = Shares([0.1, 1.0, 1.0, 0.05, 0.05]);
 /// against 0.716 (relMSE × s 0.0336 against 0.0401); a twentieth and a
 /// fifth of them measured 0.0331 and 0.0343.
 pub(super) const SHARES_JOINED: Shares = Shares([0.01, 0.1, 0.1, 0.005, 0.005]);
+
+/// The segments of the shortest path by way of a ball from a vertex to the
+/// next (a reflection off it: [`Kind::segments`]).
+pub(super) const SHORTEST: i32 = 2;
 
 /// The estimator's shares at a vertex reached with density `joined` per
 /// area (`Passage::joined`; 0 where no light subpath could be joined to
@@ -539,9 +556,15 @@ impl Renderer<'_> {
     }
 
     /// The MIS weight of a BSDF-sampled path that reached area light
-    /// `light` at `y` (normal `n`) along its `passage`: 1 unless the
-    /// estimator at its last vertex finds the same path.
-    pub(super) fn passage_weight(&self, passage: &Passage, light: usize, y: Vec3, n: Vec3) -> f32 {
+    /// `light` at `y` (normal `n`, arriving along `out`) along its
+    /// `passage`: 1 unless the estimator at its last vertex finds the same
+    /// path or a light subpath could have been joined to that vertex.
+    pub(super) fn passage_weight(
+        &self,
+        passage: &Passage,
+        light: usize,
+        (y, n, out): (Vec3, Vec3, Vec3),
+    ) -> f32 {
         let Stage::Out(kind) = passage.stage else {
             return 1.0;
         };
@@ -553,17 +576,26 @@ impl Renderer<'_> {
         }
         let ball = &self.lenses.list[passage.lens as usize].ball;
         let found = ball.paths(kind, passage.x, y);
-        let Some(path) = nearest(&found, passage.dir) else {
-            return 1.0;
+        let (p_est, cos_in, out) = match nearest(&found, passage.dir) {
+            Some(path) => {
+                let p_choice = self.lights.probability(passage.x, Some(passage.n), light);
+                let p_area = passage.shares.of(kind) * p_choice / area.area();
+                let spread = path.spread * path.out.dot(n).abs();
+                (p_area / spread, path.cos_in, path.out)
+            }
+            // A path traced in f32 can land a hair beyond the caustic's
+            // fold, where the search finds no root: the estimator cannot
+            // draw it, but a light subpath, traced too, can.
+            None => match ball.entry_cos(passage.x, passage.dir) {
+                Some(cos_in) => (0.0, cos_in, out),
+                None => return 1.0,
+            },
         };
-        let p_choice = self.lights.probability(passage.x, Some(passage.n), light);
-        let p_area = passage.shares.of(kind) * p_choice / area.area();
-        let spread = path.spread * path.out.dot(n).abs();
-        let fr = fresnel(kind, reflected(path.cos_in, ball.eta));
+        let fr = fresnel(kind, reflected(cos_in, ball.eta));
         let run = (light, passage.lens, fr);
         let at_x = (passage.n, passage.dir);
-        let p_join = self.join_density(passage.joined, run, at_x, (y, n, path.out));
-        power_heuristic(passage.pdf, (p_area / spread).hypot(p_join))
+        let p_join = self.join_density(passage.joined, run, at_x, (y, n, out));
+        power_heuristic(passage.pdf, p_est.hypot(p_join))
     }
 
     /// The density per area at `p` (geometric normal `ng`) of a path that
@@ -639,8 +671,22 @@ const SAME: f32 = 2e-2;
 mod tests {
     use super::*;
 
-    /// The floor a ball rests on touches it and leaves it hollow; a box
-    /// inside it, or one that cuts into it, does not.
+    /// At a vertex with room for n more segments the estimator runs only
+    /// for the kinds whose paths to the lamp have at most n: a reflection
+    /// off the ball 2 (vertex, ball, lamp), through it 3 and one more per
+    /// reflection inside.
+    #[test]
+    fn the_estimator_runs_for_the_paths_that_fit_the_depth() {
+        let all = SHARES;
+        assert_eq!(all.fitting(1), Shares::default());
+        assert_eq!(all.fitting(2), Shares([0.1, 0.0, 0.0, 0.0, 0.0]));
+        assert_eq!(all.fitting(3), Shares([0.1, 1.0, 0.0, 0.0, 0.0]));
+        assert_eq!(all.fitting(5), Shares([0.1, 1.0, 1.0, 0.05, 0.0]));
+        assert_eq!(all.fitting(6), all);
+        assert_eq!(all.fitting(i32::MAX), all);
+        assert!(!all.fitting(SHORTEST - 1).any() && all.fitting(SHORTEST).any());
+    }
+
     /// Turning the entry by the first chord's angle, once per chord, lands
     /// on the exit the search traced, for every kind through the ball.
     #[test]
@@ -669,6 +715,8 @@ mod tests {
         assert!(checked >= 6, "only {checked} paths");
     }
 
+    /// The floor a ball rests on touches it and leaves it hollow; a box
+    /// inside it, or one that cuts into it, does not.
     #[test]
     fn only_boxes_that_reach_inside_a_ball_fill_it() {
         let ball = Ball::new(Vec3::new(0.0, 0.25, 0.0), 0.25, 1.5);
