@@ -203,6 +203,7 @@ impl Renderer<'_> {
                 match sample {
                     Some(s) => {
                         counts.collapsed += s.collapsed as u64;
+                        splats.extend(s.seen);
                         let offset = if job.reach == 0 {
                             [0.0; 2]
                         } else {
@@ -405,6 +406,7 @@ mod tests {
                             radiance: SampledSpectrum::splat(l),
                             wl,
                             collapsed: false,
+                            seen: None,
                         };
                         sums.add(x, &s, offset);
                     }

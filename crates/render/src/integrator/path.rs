@@ -7,6 +7,7 @@
 use scotopia_color::photometry::estimate_xyzv;
 use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
+use super::bdpt::Splat;
 use super::direct::{power_heuristic, spawn};
 use super::guided::{Pending, Trail};
 use super::manifold::{area_density, shares_at, Caustic, Passage, Shares, SHORTEST};
@@ -28,6 +29,9 @@ pub struct CameraSample<const K: usize> {
     /// The path started with several wavelengths and a dispersive
     /// refraction collapsed them to one.
     pub collapsed: bool,
+    /// Its light subpath's light as the camera sees it, on another pixel
+    /// (`manifold::seen`).
+    pub seen: Option<Splat<K>>,
 }
 
 /// One path in flight: everything the next bounce needs. The scalar
@@ -77,6 +81,8 @@ pub struct PathState<const K: usize> {
     /// The light subpath through a glass ball its vertices join
     /// (`manifold::connect`).
     pub caustic: Caustic,
+    /// Its light subpath's light as the camera sees it (`manifold::seen`).
+    pub seen: Option<Splat<K>>,
 }
 
 /// Where a path scatters at a surface: the point, its geometric normal,
@@ -148,6 +154,9 @@ impl Renderer<'_> {
         records: &mut Vec<(u32, f32)>,
     ) -> Option<CameraSample<K>> {
         let mut path = self.start_path::<K>(sampler, pixel, index);
+        if media.is_none() {
+            self.draw_caustic(&mut path);
+        }
         match media {
             None => self.trace(sampler, &mut path, rays),
             Some(media) => self.trace_media(media, sampler, &mut path, rays),
@@ -258,6 +267,7 @@ impl Renderer<'_> {
             radiance: path.l,
             wl: path.wl,
             collapsed: path.whole && path.wl.secondary_terminated(),
+            seen: path.seen,
         })
     }
 
@@ -390,9 +400,12 @@ impl Renderer<'_> {
         // weighed only where the estimator can run).
         let joins = !MEDIA && path.caustic.is_on() && bsdf.fluorescent().is_none();
         let joins = joins && !bsdf.is_delta() && self.within(path.depth + SHORTEST);
-        let joined = match joins && path.delta {
-            true => self.joined_through(&path.passage, p, ng),
-            false => area_density(
+        // The camera's own ray reaches a first hit that light subpaths
+        // are seen at (`manifold::seen`).
+        let joined = match (joins && path.delta, path.depth == 1) {
+            (true, true) => self.camera_density(&path.ray, p, ng),
+            (true, false) => self.joined_through(&path.passage, p, ng),
+            (false, _) => area_density(
                 joins && path.prev_n.is_some(),
                 path.bsdf_pdf,
                 path.prev,
@@ -585,6 +598,7 @@ impl<const K: usize> PathState<K> {
             trail: Trail::default(),
             passage: Passage::default(),
             caustic: Caustic::Off,
+            seen: None,
         }
     }
 }

@@ -190,6 +190,7 @@ impl Renderer<'_> {
             radiance,
             wl,
             collapsed: K > 1 && (light_collapsed || camera_collapsed),
+            seen: None,
         })
     }
 }

@@ -30,7 +30,7 @@
 //! area at v (by way of a ball, p_u times the Fresnel choices times the
 //! leg's dω_u/dA_v). All three are weighed by the power heuristic.
 
-use scotopia_color::SampledSpectrum;
+use scotopia_color::{SampledSpectrum, SampledWavelengths};
 
 use super::ball::Kind;
 use super::{along, fresnel, reflected, Lens, SHARES_JOINED};
@@ -71,15 +71,15 @@ const JOIN_SHARE: f32 = 0.05;
 /// Where a light subpath through a ball lands, and what joining it needs.
 #[derive(Clone, Copy)]
 pub struct LightVertex {
-    light: u32,
-    lens: u16,
-    kind: Kind,
+    pub(super) light: u32,
+    pub(super) lens: u16,
+    pub(super) kind: Kind,
     /// The lamp's normal and texture coordinates where the light leaves
     /// it, and the direction it leaves along.
     y: (Vec3, [f32; 2]),
     leaves: Vec3,
     /// Where it lands, and the material there.
-    v: ScatterPoint,
+    pub(super) v: ScatterPoint,
     material: u32,
     /// The unit direction from `v` back towards the ball.
     back: Vec3,
@@ -129,7 +129,7 @@ fn seen(lens: &Lens, p: Vec3) -> Option<(Vec3, f32)> {
 impl Renderer<'_> {
     /// The light vertex path `path` joins, drawn from its stream the
     /// first time.
-    fn light_vertex<const K: usize>(
+    pub(super) fn light_vertex<const K: usize>(
         &self,
         path: &mut PathState<K>,
         traced: &mut u32,
@@ -338,13 +338,31 @@ impl Renderer<'_> {
         lv: &LightVertex,
         (dir, arrive, per_area, tint): (Vec3, Vec3, f32, SampledSpectrum<K>),
     ) -> SampledSpectrum<K> {
-        let zero = SampledSpectrum::splat(0.0);
         let now = &path.now;
         let wo = point.frame.to_local(dir);
         let f_u = bsdf.eval(now, point.at, wi, wo, Transport::Radiance);
         if f_u.is_zero() || !per_area.is_finite() || per_area <= 0.0 {
-            return zero;
+            return SampledSpectrum::splat(0.0);
         }
+        let p_u = bsdf.pdf_at(now, point.at, wi, wo);
+        let a = self.bounce_pdf(guide, bsdf, point.p, dir, p_u) * per_area;
+        let light = self.light_vertex_sends(now, lv, arrive, a);
+        path.beta * f_u * tint * light * per_area
+    }
+
+    /// The light of `lv` that its vertex v sends back along `arrive` (the
+    /// direction a leg from another vertex reaches v along), per unit of
+    /// the leg's geometry there; weighed against the estimator and BSDF
+    /// sampling at v, given `a`, the density per area at v of the other
+    /// end's bounce (or the camera's ray) that would reach v along the leg.
+    pub(super) fn light_vertex_sends<const K: usize>(
+        &self,
+        now: &SampledWavelengths<K>,
+        lv: &LightVertex,
+        arrive: Vec3,
+        a: f32,
+    ) -> SampledSpectrum<K> {
+        let zero = SampledSpectrum::splat(0.0);
         let scene = self.scene;
         let bsdf_v = &scene.materials[lv.material as usize];
         let (wi_v, wo_v) = (lv.v.frame.to_local(-arrive), lv.v.frame.to_local(lv.back));
@@ -358,17 +376,15 @@ impl Renderer<'_> {
             return zero;
         }
         let lens = &self.lenses.list[lv.lens as usize];
-        let tint = tint * self.lens_tint(lens, lv.kind, now);
+        let tint = self.lens_tint(lens, lv.kind, now);
         // The other two strategies' densities, per area at v.
-        let p_u = bsdf.pdf_at(now, point.at, wi, wo);
-        let a = self.bounce_pdf(guide, bsdf, point.p, dir, p_u) * per_area;
         let ng_v = lv.v.ng;
         let facing = if ng_v.dot(arrive) > 0.0 { -ng_v } else { ng_v };
         let guide_v = self.surface_guide(self.spot(lv.v.p, Some(facing)), bsdf_v);
         let p_v = bsdf_v.pdf_at(now, lv.v.at, wi_v, wo_v);
         let p_bsdf = self.bounce_pdf(guide_v, bsdf_v, lv.v.p, lv.back, p_v) * lv.fr;
         let w = power_heuristic(lv.p_join, a * lv.p_nee.hypot(p_bsdf));
-        path.beta * f_u * f_v * le * tint * (lv.fr / lv.p_join * per_area * w)
+        f_v * le * tint * (lv.fr / lv.p_join * w)
     }
 
     /// This strategy's density of a path the estimator or BSDF sampling

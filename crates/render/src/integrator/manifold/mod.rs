@@ -22,6 +22,7 @@
 
 mod ball;
 mod connect;
+mod seen;
 mod sweep;
 
 use ball::{Ball, Kind, Paths, Refracted};

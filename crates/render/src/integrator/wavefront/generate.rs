@@ -61,6 +61,7 @@ pub fn refill<const K: usize>(
         let mut path = r.start_path_with::<K>([scratch.xs[k], work.y], scratch.sets_of(k));
         // The path's own stream, as the scalar tracer's (`start_path`).
         path.rng = sampler.stream();
+        r.draw_caustic(&mut path);
         let lane = Lane {
             path,
             sampler,
