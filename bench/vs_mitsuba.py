@@ -51,6 +51,7 @@ Usage: python bench/vs_mitsuba.py [--scene cornell-box.xml | --all] [--spp 64]
 """
 
 import argparse
+import os
 import re
 import subprocess
 import sys
@@ -62,6 +63,13 @@ import numpy as np
 from scipy import ndimage
 
 import scotopia
+
+# Dr.Jit loads the first libLLVM it finds; Debian 12 also ships LLVM 14 and
+# 15, which abort on some of the glass scene's kernels. Point it at
+# Debian's libllvm19 where that is installed (`apt-get install libllvm19`).
+LLVM19 = "/usr/lib/x86_64-linux-gnu/libLLVM-19.so"
+if os.path.exists(LLVM19):
+    os.environ.setdefault("DRJIT_LIBLLVM_PATH", LLVM19)
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = ROOT / "scenes"
