@@ -155,7 +155,7 @@ impl Renderer<'_> {
     ) -> Option<CameraSample<K>> {
         let mut path = self.start_path::<K>(sampler, pixel, index);
         if media.is_none() {
-            self.draw_caustic(&mut path);
+            *rays += self.draw_caustic(&mut path) as u64;
         }
         match media {
             None => self.trace(sampler, &mut path, rays),

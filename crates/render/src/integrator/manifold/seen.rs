@@ -27,19 +27,22 @@ use crate::sampling::splitmix::SplitMix;
 
 impl Renderer<'_> {
     /// Draws the light subpath of a camera path about to start in clear
-    /// air, and its splat where the camera sees where it lands. Every
-    /// camera path that joins light subpaths comes here first, so each
-    /// draws one with the same probability.
-    pub(in crate::integrator) fn draw_caustic<const K: usize>(&self, path: &mut PathState<K>) {
-        if !matches!(path.caustic, Caustic::Due) {
-            return;
-        }
+    /// air, and its splat where the camera sees where it lands; the rays
+    /// that took. Every camera path that joins light subpaths comes here
+    /// first, so each draws one with the same probability.
+    pub(in crate::integrator) fn draw_caustic<const K: usize>(
+        &self,
+        path: &mut PathState<K>,
+    ) -> u32 {
         let mut traced = 0;
-        let Some(lv) = self.light_vertex(path, &mut traced) else {
-            return;
-        };
-        let wl = path.wl;
-        path.seen = self.seen(&lv, &wl, &mut path.rng, &mut traced);
+        if !matches!(path.caustic, Caustic::Due) {
+            return traced;
+        }
+        if let Some(lv) = self.light_vertex(path, &mut traced) {
+            let wl = path.wl;
+            path.seen = self.seen(&lv, &wl, &mut path.rng, &mut traced);
+        }
+        traced
     }
 
     /// The light of `lv` at the camera: where on the film and how much,

@@ -33,7 +33,8 @@ impl RowWork {
 
 /// Starts the row's next work items (from `*next`) in the lanes listed in
 /// `free` and in new lanes up to [`BATCH`]; free lanes left when the row
-/// has no more work are removed.
+/// has no more work are removed. Returns the rays their light subpaths
+/// traced (`manifold::seen`).
 pub fn refill<const K: usize>(
     r: &Renderer,
     work: &RowWork,
@@ -42,7 +43,8 @@ pub fn refill<const K: usize>(
     free: &mut Vec<usize>,
     next: &mut usize,
     scratch: &mut Scratch,
-) {
+) -> u64 {
+    let mut rays = 0;
     let room = free.len() + (BATCH - lanes.len());
     let n = room.min(work.items() - *next);
     scratch.resize(n);
@@ -61,7 +63,7 @@ pub fn refill<const K: usize>(
         let mut path = r.start_path_with::<K>([scratch.xs[k], work.y], scratch.sets_of(k));
         // The path's own stream, as the scalar tracer's (`start_path`).
         path.rng = sampler.stream();
-        r.draw_caustic(&mut path);
+        rays += r.draw_caustic(&mut path) as u64;
         let lane = Lane {
             path,
             sampler,
@@ -82,4 +84,5 @@ pub fn refill<const K: usize>(
     for i in free.drain(..) {
         lanes.swap_remove(i);
     }
+    rays
 }

@@ -42,7 +42,7 @@ pub(super) fn trace_row<const K: usize>(
     let mut results: Vec<Option<CameraSample<K>>> = (0..total).map(|_| None).collect();
     let mut scratch = Scratch::default();
     let (mut lanes, mut free, mut next) = (Vec::with_capacity(BATCH), Vec::new(), 0);
-    generate::refill::<K>(
+    *rays += generate::refill::<K>(
         r,
         &work,
         level,
@@ -66,7 +66,7 @@ pub(super) fn trace_row<const K: usize>(
         );
         *rays += shadow::shadow(geometry, &mut lanes);
         retire::retire(&lanes, &mut free, &mut results);
-        generate::refill(
+        *rays += generate::refill(
             r,
             &work,
             level,
