@@ -19,6 +19,7 @@ use scotopia_color::photometry::estimate_xyzv;
 use scotopia_color::SampledWavelengths;
 
 use super::connect::{Caustic, LightVertex};
+use crate::camera::Projection;
 use crate::integrator::bdpt::Splat;
 use crate::integrator::path::PathState;
 use crate::integrator::Renderer;
@@ -54,7 +55,7 @@ impl Renderer<'_> {
         rng: &mut SplitMix,
         traced: &mut u32,
     ) -> Option<Splat<K>> {
-        if !self.within(1 + lv.kind.segments()) {
+        if !self.within(1 + lv.kind.segments()) || !self.sees_points() {
             return None;
         }
         let camera = &self.scene.camera;
@@ -83,6 +84,9 @@ impl Renderer<'_> {
     /// The density per area at `p` (geometric normal `ng`) of the camera
     /// ray `ray` that reached it, as the light subpaths' splats weigh it.
     pub(in crate::integrator) fn camera_density(&self, ray: &Ray, p: Vec3, ng: Vec3) -> f32 {
+        if !self.sees_points() {
+            return 0.0;
+        }
         let to = p - ray.o;
         let dist2 = to.length_squared();
         let a = self.scene.camera.pdf_direction(ray.o, ray.d) * ng.dot(ray.d).abs() / dist2;
@@ -91,5 +95,12 @@ impl Renderer<'_> {
         } else {
             0.0
         }
+    }
+
+    /// Whether a point can be joined to the camera: through a lens, not
+    /// along an orthographic camera's parallel rays, which no light path
+    /// reaches (there the first hits keep the estimator's full shares).
+    fn sees_points(&self) -> bool {
+        self.scene.camera.projection == Projection::Perspective
     }
 }
