@@ -11,7 +11,7 @@ mod common;
 use std::sync::atomic::AtomicBool;
 
 use common::{agree, inline, scene};
-use scotopia_render::integrator::{render, BdptStrategy, RenderOptions};
+use scotopia_render::integrator::{render, BdptStrategy, Quantity, RenderOptions};
 use scotopia_render::math::Vec3;
 use scotopia_render::scene::{IntegratorKind, Scene};
 use scotopia_scene::load_scene;
@@ -405,6 +405,59 @@ fn through_a_glass_ball_the_tracers_differ_only_by_their_noise() {
     let pick = |img: &[[f32; 4]]| bright.iter().map(|&i| img[i]).collect::<Vec<_>>();
     agree("glass ball, bright pixels", &pick(&b[0]), &pick(&p[0]));
     rmse_is_the_noise("glass ball", [&b[0], &b[1]], [&p[0], &p[1]], &scale);
+}
+
+/// The caustic on a white floor (the ball lifted 25 cm), seen by a
+/// perspective and by an orthographic camera away from the ball: per pixel
+/// the path tracer's radiance is ρ/π times the illuminance its receivers
+/// measure at the same points. The radiance reaches the caustic by light
+/// tracing (`manifold::seen`) and joins weighed against the estimator;
+/// the receivers by the estimator and BSDF sampling alone. An orthographic
+/// camera's rays meet no point a light path can be joined to: splatted as
+/// through a lens, its caustic came out wrong.
+#[test]
+fn the_caustics_radiance_on_a_white_floor_is_its_illuminance_times_rho_over_pi() {
+    let look = r#"<transform name="to_world">
+            <lookat origin="0.6, 0.3, 0.6" target="0.14, 0, 0.14" up="0, 1, 0"/>
+        </transform>"#;
+    let film = r#"<film type="hdrfilm">
+            <integer name="width" value="12"/><integer name="height" value="12"/>
+            <rfilter type="box"/>
+        </film>"#;
+    let perspective = format!(
+        r#"<sensor type="perspective"><float name="fov" value="12"/>{look}{film}</sensor>"#
+    );
+    let scaled = look.replace("<lookat", "<scale value=\"0.08\"/><lookat");
+    let orthographic = format!(r#"<sensor type="orthographic">{scaled}{film}</sensor>"#);
+    let sensors = [("perspective", perspective), ("orthographic", orthographic)];
+    let start = LENS.find("<sensor").unwrap();
+    let end = LENS.find("</sensor>").unwrap() + "</sensor>".len();
+    for (i, (what, sensor)) in sensors.iter().enumerate() {
+        let text = format!("{}{sensor}{}", &LENS[..start], &LENS[end..])
+            .replacen(
+                r#"<rgb name="reflectance" value="0.8"/>"#,
+                r#"<float name="reflectance" value="0.8"/>"#,
+                1,
+            )
+            .replace(r#"y="0.25" z="0"/>"#, r#"y="0.5" z="0"/>"#);
+        let s = inline(&format!("caustic-floor-{i}"), &text);
+        let radiance = image(&s, path(4096, 1));
+        let lux = image(
+            &s,
+            RenderOptions {
+                quantity: Quantity::Illuminance,
+                ..path(4096, 2)
+            },
+        );
+        let rho_over_pi = 0.8 / std::f32::consts::PI;
+        // Y only: the receivers measure illuminance (Y) and its scotopic V.
+        let pick = |img: &[[f32; 4]], k: f32| -> Vec<[f32; 4]> {
+            img.iter().map(|v| [v[1] * k; 4]).collect()
+        };
+        let level = lux.iter().map(|v| v[1]).sum::<f32>() / lux.len() as f32;
+        assert!(level > 1.0, "{what}: illuminance {level}");
+        agree(what, &pick(&radiance, 1.0), &pick(&lux, rho_over_pi));
+    }
 }
 
 /// [`LENS`] with its floor black but for a white square of half-width
