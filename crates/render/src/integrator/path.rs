@@ -252,9 +252,6 @@ impl Renderer<'_> {
         let ray = self.scene.camera.generate_ray(film, lens);
         let mut path = PathState::new(ray, wl, 1);
         path.medium = self.scene.camera_medium;
-        if self.lenses.joined() {
-            path.caustic = Caustic::Due;
-        }
         path
     }
 

@@ -93,14 +93,13 @@ pub struct LightVertex {
     p_nee: f32,
 }
 
-/// A camera path's light subpath, drawn at the first vertex that joins it.
+/// A camera path's light subpath, drawn when the path starts
+/// (`seen::draw_caustic`).
 #[derive(Clone, Copy, Default)]
 pub enum Caustic {
     /// Not joined: no balls, or not a camera path in clear air.
     #[default]
     Off,
-    /// Not drawn yet.
-    Due,
     /// Drawn, and lost (it missed the ball, or landed nowhere to join).
     Lost,
     At(LightVertex),
@@ -127,27 +126,12 @@ fn seen(lens: &Lens, p: Vec3) -> Option<(Vec3, f32)> {
 }
 
 impl Renderer<'_> {
-    /// The light vertex path `path` joins, drawn from its stream the
-    /// first time.
-    pub(super) fn light_vertex<const K: usize>(
+    /// A light subpath: lamp, ball, the surface it lands on.
+    pub(super) fn draw_light_vertex(
         &self,
-        path: &mut PathState<K>,
+        rng: &mut SplitMix,
         traced: &mut u32,
     ) -> Option<LightVertex> {
-        if let Caustic::Due = path.caustic {
-            path.caustic = match self.draw_light_vertex(&mut path.rng, traced) {
-                Some(v) => Caustic::At(v),
-                None => Caustic::Lost,
-            };
-        }
-        match path.caustic {
-            Caustic::At(v) => Some(v),
-            _ => None,
-        }
-    }
-
-    /// A light subpath: lamp, ball, the surface it lands on.
-    fn draw_light_vertex(&self, rng: &mut SplitMix, traced: &mut u32) -> Option<LightVertex> {
         let scene = self.scene;
         let pick = self.lenses.pick.as_ref()?;
         let u_pick = rng.next_f32();
@@ -281,7 +265,7 @@ impl Renderer<'_> {
         traced: &mut u32,
     ) -> SampledSpectrum<K> {
         let mut sum = SampledSpectrum::splat(0.0);
-        let Some(lv) = self.light_vertex(path, traced) else {
+        let Caustic::At(lv) = path.caustic else {
             return sum;
         };
         let to = lv.v.p - point.p;

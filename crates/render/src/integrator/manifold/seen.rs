@@ -28,21 +28,25 @@ use crate::sampling::splitmix::SplitMix;
 
 impl Renderer<'_> {
     /// Draws the light subpath of a camera path about to start in clear
-    /// air, and its splat where the camera sees where it lands; the rays
-    /// that took. Every camera path that joins light subpaths comes here
-    /// first, so each draws one with the same probability.
+    /// air (where balls are joined), and its splat where the camera sees
+    /// where it lands; the rays that took. Every camera path in clear air
+    /// comes here first, so each draws one with the same probability.
     pub(in crate::integrator) fn draw_caustic<const K: usize>(
         &self,
         path: &mut PathState<K>,
     ) -> u32 {
         let mut traced = 0;
-        if !matches!(path.caustic, Caustic::Due) {
+        if !self.lenses.joined() {
             return traced;
         }
-        if let Some(lv) = self.light_vertex(path, &mut traced) {
-            let wl = path.wl;
-            path.seen = self.seen(&lv, &wl, &mut path.rng, &mut traced);
-        }
+        path.caustic = match self.draw_light_vertex(&mut path.rng, &mut traced) {
+            Some(lv) => {
+                let wl = path.wl;
+                path.seen = self.seen(&lv, &wl, &mut path.rng, &mut traced);
+                Caustic::At(lv)
+            }
+            None => Caustic::Lost,
+        };
         traced
     }
 
