@@ -64,7 +64,10 @@ def main():
     errors = [[] for _ in bins]
     seconds = [[] for _ in bins]
     for seed in range(a.seed0, a.seed0 + a.seeds):
-        for i, b in enumerate(bins):
+        # Every other seed in the opposite order, so that a machine that
+        # runs the second of two renders slower favours neither.
+        order = list(enumerate(bins))
+        for i, b in order if seed % 2 == 0 else order[::-1]:
             _, rate, img = render(b, a.scene, [], out / f"seeds_ab-{i}.exr", opts, seed,
                                   spp=a.spp)
             errors[i].append(rel_mse(img, ref[..., None].repeat(4, -1), 1))
@@ -75,6 +78,15 @@ def main():
         print(f"{name}: {a.spp} spp, {len(e)} seeds: relMSE {e.mean():.4f} (se {se:.4f}, "
               f"median {np.median(e):.4f}, largest {e.max():.3f}), {t.mean():.3f} s, "
               f"relMSE × s {e.mean() * t.mean():.4f}")
+    # Equal-time ratio of each build to the first (above 1: better), with
+    # its standard error from the seeds' paired errors (delta method).
+    e0, t0 = np.array(errors[0]), np.array(seconds[0])
+    for name, e, t in zip(a.bins[1:], errors[1:], seconds[1:]):
+        e, t = np.array(e), np.array(t)
+        ratio = e0.mean() * t0.mean() / (e.mean() * t.mean())
+        d = e0 / e0.mean() - e / e.mean()
+        se = ratio * d.std(ddof=1) / np.sqrt(len(d)) if len(d) > 1 else float("nan")
+        print(f"{a.bins[0]} / {name} at equal time: {ratio:.3f} (se {se:.3f})")
 
 
 if __name__ == "__main__":

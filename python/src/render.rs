@@ -168,6 +168,11 @@ fn render<'py>(
     d.set_item("nonfiniteSamples", rendered.nonfinite)?;
     d.set_item("nonfiniteSplats", rendered.nonfinite_splats)?;
     d.set_item("collapsedFraction", rendered.collapsed_fraction())?;
+    if let Some(g) = rendered.guide {
+        d.set_item("guidingLearnedSpp", g.learned_spp)?;
+        d.set_item("guidingWorth", g.worth)?;
+        d.set_item("guidingStopped", g.stopped)?;
+    }
     Ok((image.into_pyarray(py), d))
 }
 

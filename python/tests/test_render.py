@@ -70,6 +70,12 @@ def test_guiding_is_an_option_and_keeps_the_image():
     # against unguided ones within standard errors).
     assert np.isfinite(on).all() and not np.array_equal(on, off)
     assert abs(on[..., 1].mean() / off[..., 1].mean() - 1) < 0.03
+    # At 48 × 48 the guide finds its field worth too little within its
+    # 16 spp and stops (docs/guiding.md), and says so.
+    _, meta = scotopia.render(scene, spp=20, res=48, guiding="on")
+    assert meta["guidingStopped"] and meta["guidingLearnedSpp"] < 16
+    assert 0 <= meta["guidingWorth"] < 0.05
+    assert "guidingWorth" not in meta_off
     with pytest.raises(ValueError, match="on or off"):
         scotopia.render(scene, spp=1, res=4, guiding="yes")
     with pytest.raises(ValueError, match="--guiding off"):

@@ -283,8 +283,8 @@ pub fn run(args: Args) -> Result<()> {
 
     let pixels = scene.camera.width as u64 * scene.camera.height as u64;
     let bar = progress_bar(total as u64);
-    // Guiding first learns (spp the image does not keep): say so until
-    // the first pass reports.
+    // Guiding first learns (its first 16 spp): say so until the first
+    // pass reports.
     if options.guiding == Guiding::On {
         bar.set_message(format!(
             "guiding: learning from {} spp",
@@ -397,6 +397,20 @@ pub fn run(args: Args) -> Result<()> {
         "scotopia: {:.2} % of samples had their wavelength cluster collapsed to one wavelength (by a dispersive refraction, or by a chromatic medium in bdpt)",
         100.0 * rendered.collapsed_fraction()
     );
+    if let Some(g) = rendered.guide {
+        let worth = 100.0 * g.worth;
+        if g.stopped {
+            eprintln!(
+                "scotopia: guiding stopped after {} spp: what it learned would lower the bounces' variance by about {worth:.1} % at most, less than its cost (docs/guiding.md)",
+                g.learned_spp
+            );
+        } else {
+            eprintln!(
+                "scotopia: guiding learned from {} spp; its cells would lower the bounces' variance by about {worth:.0} %",
+                g.learned_spp
+            );
+        }
+    }
     if scene.meter.is_some() {
         // The one reading a lighting designer wants, without opening the EXR.
         let [_, y, _, v] = means[0];

@@ -186,6 +186,13 @@ fn hidden_lamp() -> Scene {
     inline("hidden-lamp", HIDDEN_LAMP)
 }
 
+/// The Cornell box at 48 × 48, whose guide stops after 2 spp, its field
+/// worth 0.02 (`guiding::STOP`): the tests of determinism run across the
+/// stop too.
+fn stopping() -> Scene {
+    scene("cornell-box.xml", &[("res", "48")])
+}
+
 /// Relative MSE of Y against `reference`, each pixel over its own level,
 /// over the pixels the reference sees lit (above 5 % of its mean: the
 /// floor, not the black around it, where a relative error means nothing).
@@ -320,10 +327,13 @@ fn a_resumed_guided_render_is_bit_identical_to_an_uninterrupted_one() {
         ("hidden lamp", 20),
         ("foggy-street.xml", 5),
         ("tube lamp", 6),
+        ("stopping", 1),
+        ("stopping", 6),
     ] {
         let s = match name {
             "tube lamp" => inline("tube-resume", TUBE_LAMP),
             "hidden lamp" => hidden_lamp(),
+            "stopping" => stopping(),
             _ => scene(name, &small),
         };
         let opts = RenderOptions {
@@ -384,13 +394,21 @@ fn a_resumed_guided_render_is_bit_identical_to_an_uninterrupted_one() {
 
 #[test]
 fn guided_shards_of_rows_are_the_rows_of_the_whole() {
-    let s = hidden_lamp();
+    for (s, rows) in [
+        (hidden_lamp(), [0..5u32, 5..72]),
+        (stopping(), [0..20, 20..48]),
+    ] {
+        shards_of_rows(&s, rows);
+    }
+}
+
+fn shards_of_rows(s: &Scene, shards: [std::ops::Range<u32>; 2]) {
     let o = options(24, 9, Guiding::On);
-    let whole = film(&s, &o);
+    let whole = film(s, &o);
     let w = whole.width as usize;
-    for rows in [0..5u32, 5..72] {
+    for rows in shards {
         let part = film(
-            &s,
+            s,
             &RenderOptions {
                 shard: Some(Shard {
                     samples: 0..24,
@@ -411,7 +429,12 @@ fn guided_shards_of_samples_add_up_to_the_whole() {
     // A shard of later samples uses the field the whole render learned;
     // so does the bidirectional tracer's (whose light paths splat on any
     // row, so its shards are of samples).
-    for s in [hidden_lamp(), inline("tube-shards", TUBE_LAMP)] {
+    // And across the stop of a guide not worth its cost.
+    for (s, cut) in [
+        (hidden_lamp(), 10),
+        (inline("tube-shards", TUBE_LAMP), 10),
+        (stopping(), 3),
+    ] {
         let o = options(24, 9, Guiding::On);
         let whole = film(&s, &o);
         let shard = |samples| {
@@ -421,7 +444,7 @@ fn guided_shards_of_samples_add_up_to_the_whole() {
             });
             film(&s, &RenderOptions { shard, ..o.clone() })
         };
-        let (early, late) = (shard(0..10), shard(10..24));
+        let (early, late) = (shard(0..cut), shard(cut..24));
         assert_sums(&early, &late, &whole);
     }
 }

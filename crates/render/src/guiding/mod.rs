@@ -19,10 +19,11 @@
 //! learning samples: each drew from a field learned without it, so each
 //! is an unbiased estimate. Müller et al. 2017 keep only the last
 //! iteration's image, because the first guides are poor; here iteration
-//! k's samples weigh 2^(k − 4) in the film instead, a weight fixed by
-//! their index (`integrator/learn.rs`), so that the first, barely guided
-//! samples add little noise and the guide costs little more than its
-//! records where it does not pay (the Cornell box).
+//! k's samples weigh 2^(k − 4) in the film instead, within a fixed
+//! budget for all of them ([`BUDGET`]), so that the first, barely guided
+//! samples add little noise. Where the field is not worth its cost after
+//! two iterations ([`Field::worth`], [`STOP`]: the Cornell box), learning
+//! and guiding stop, and the rest of the learning samples weigh 1.
 //!
 //! **Deterministic.** A field depends only on the records of the samples
 //! before its boundary, and those only on (seed, sample index, pixel).
@@ -154,6 +155,12 @@ struct Cell {
     building: DTree,
     /// Its first slot among the field's.
     offset: u32,
+    /// Records per spp in the last iteration it learned in: how often
+    /// paths bounce here ([`Field::worth`]).
+    rate: f32,
+    /// The share of its bounces' variance guiding is predicted to remove:
+    /// 1 − [`DTree::gain`] (within 0..1), 1 in media and at lamps.
+    removes: f32,
 }
 
 impl Cell {
@@ -173,6 +180,8 @@ struct Learned {
     count: u64,
     lit: u64,
     doubts: u8,
+    rate: f32,
+    removes: f32,
 }
 
 /// The learned light field of one iteration.
@@ -189,6 +198,10 @@ pub struct Field {
     /// For each side, the box around the cells that still learn on it:
     /// vertices outside it make no record.
     learning: [Option<(Vec3, Vec3)>; SIDES],
+    /// The share of all bounces' variance that the cells which guide or
+    /// still learn are predicted to remove, each cell counted by how
+    /// often paths bounce in it ([`Field::worth`]).
+    worth: f32,
 }
 
 /// A cell of a field, found from a point.
@@ -215,8 +228,11 @@ impl Field {
                     doubts: 0,
                     building: building.clone(),
                     offset: (s * slots) as u32,
+                    rate: 0.0,
+                    removes: 0.0,
                 })
                 .collect(),
+            worth: 1.0,
         }
     }
 
@@ -257,6 +273,20 @@ impl Field {
         within(self.learning[side.min(SIDES - 1)], self.tree.clamp(p))
     }
 
+    /// The share of the variance of all the bounces paths made in the
+    /// last iteration that the cells which guide or still learn are
+    /// predicted to remove: Σ rate·(1 − gain) over those cells, over
+    /// Σ rate over all, a cell's rate being its records per spp when it
+    /// last learned; cells in media and at lamps, for which no gain is
+    /// predicted, and cells whose light is too rare yet to predict from
+    /// ([`MIN_LIT`]) count as removing all of it, cells that never found
+    /// light as removing nothing. 1 before anything is
+    /// learned. Where it is small (the Cornell box's 0.02), guiding cannot
+    /// pay for its lookups and records ([`Guide::advance`] stops it).
+    pub fn worth(&self) -> f32 {
+        self.worth
+    }
+
     /// Slots of statistics an iteration records into.
     pub fn slots(&self) -> usize {
         self.slots
@@ -285,12 +315,15 @@ impl Field {
                     count,
                     lit,
                     doubts: c.doubts,
+                    rate: c.rate,
+                    removes: c.removes,
                 };
                 if !c.learns() {
                     return kept(0, 0);
                 }
                 let range = c.offset as usize..c.offset as usize + c.building.slots();
-                let count = stats.count[range.clone()].iter().sum();
+                let count: u64 = stats.count[range.clone()].iter().sum();
+                let rate = count as f32 / spp.max(1) as f32;
                 let lit: u64 = stats.lit[range.clone()].iter().sum();
                 let tree = c.building.with_energy(
                     &stats.energy[range.clone()],
@@ -301,7 +334,8 @@ impl Field {
                 if tree.energy() > 0.0 && lit >= MIN_LIT {
                     // Surfaces guide where guiding is predicted to pay;
                     // media where their light is peaked.
-                    let (guides, doubts) = match tree.gain(i % SIDES) {
+                    let gain = tree.gain(i % SIDES);
+                    let (guides, doubts) = match gain {
                         Some(gain) if gain > GIVE_UP => (false, c.doubts + 1),
                         Some(gain) => (gain <= MAX_GAIN, 0),
                         None => (tree.peak() >= MIN_PEAK, 0),
@@ -312,15 +346,25 @@ impl Field {
                         count,
                         lit,
                         doubts,
+                        rate,
+                        removes: gain.map_or(1.0, |g| (1.0 - g).clamp(0.0, 1.0)),
                     }
                 } else if c.guides || tree.energy() <= 0.0 {
-                    kept(count, lit)
+                    Learned {
+                        rate,
+                        ..kept(count, lit)
+                    }
                 } else {
                     // Not enough to guide by, but enough to refine where
-                    // the next iteration records.
+                    // the next iteration records. Light found too rarely
+                    // to predict from (the hidden lamp's floor after 2
+                    // spp, a small image's cells) may be what guiding is
+                    // for: counted as worth all.
                     Learned {
                         sampling: tree,
                         guides: false,
+                        rate,
+                        removes: 1.0,
                         ..kept(count, lit)
                     }
                 }
@@ -343,6 +387,11 @@ impl Field {
             k
         };
         let (tree, origin) = self.tree.split(halvings);
+        // A halved cell's bounces are shared among its parts.
+        let mut parts = vec![0u32; self.cells.len() / SIDES];
+        for &old in &origin {
+            parts[old as usize] += 1;
+        }
         let mut offset = 0;
         let cells = origin
             .iter()
@@ -352,6 +401,8 @@ impl Field {
                     sampling,
                     guides,
                     doubts,
+                    rate,
+                    removes,
                     ..
                 } = learned[old].clone();
                 let building = if sampling.energy() > 0.0 {
@@ -365,6 +416,8 @@ impl Field {
                     guides,
                     doubts,
                     building,
+                    rate: rate / parts[old / SIDES].max(1) as f32,
+                    removes,
                 };
                 offset += cell.building.slots() as u32;
                 cell
@@ -381,12 +434,23 @@ impl Field {
             sides
         };
         let (guided, learning) = (around(|c| c.guides), around(Cell::learns));
+        let all: f64 = cells.iter().map(|c| f64::from(c.rate)).sum();
+        let removed: f64 = cells
+            .iter()
+            .filter(|c| c.guides || c.learns())
+            .map(|c| f64::from(c.rate * c.removes))
+            .sum();
         Self {
             tree,
             guided,
             learning,
             cells,
             slots: offset as usize,
+            worth: if all > 0.0 {
+                (removed / all) as f32
+            } else {
+                0.0
+            },
         }
     }
 }
@@ -478,12 +542,47 @@ impl RowStats {
     }
 }
 
-/// The field learned so far, and how many iterations learned it.
+/// The field learned so far, how many iterations learned it, and the
+/// weights in the film of the learning iterations' samples.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Guide {
     field: Field,
     learned: usize,
+    /// The weight of a sample of each iteration decided so far: each is
+    /// decided before its iteration's first sample ([`Guide::weight`]).
+    weights: Vec<f32>,
+    /// Whether learning and guiding stopped ([`STOP`]).
+    stopped: bool,
 }
+
+/// The learning iterations' samples weigh, all together, as many as
+/// `BUDGET` of the later samples: iteration k's samples weigh w_k each,
+/// and Σ n_k·w_k = `BUDGET` over the [`LEARNED`] samples. A pixel is
+/// (Σ n_k·w_k·Ī_k + n·Ī)/(BUDGET + n) after n more samples of mean Ī.
+/// Each w_k is decided before iteration k from what the iterations
+/// before it learned (and the last is what is left of the budget), so
+/// E[w_k·Ī_k] = E[w_k]·μ, and with the sum of the weights fixed the
+/// pixel's mean is unbiased whatever the weights: adaptive weights
+/// normalised by their own sum would not be. 14 is about their weight
+/// when all but the first two weigh 1 (1/16 + 1/8 + 14), as after guiding
+/// stopped ([`STOP`]): then the last iteration's weigh 0.98, and the 16
+/// are worth 14.4 equal samples ((Σw)²/Σw²; 12.5 with the weights 2^(k − 4)
+/// alone). Where guiding goes on, the last iteration's samples weigh
+/// 1.41, its field learned from half of the learning samples.
+pub const BUDGET: f32 = 14.0;
+
+/// The least [`Field::worth`] at which guiding goes on after [`DOUBTS`]
+/// iterations: below it learning stops, nothing guides, and the
+/// remaining learning iterations' samples weigh 1 (but the last, which
+/// takes what is left of [`BUDGET`]). A field worth 5 % can lower the
+/// variance by at most about that, while its records and lookups cost
+/// about 3 % of a 128-spp render's time (the Cornell box). Measured
+/// after 2 spp: the Cornell box 0.008–0.023 (160×90 to 640×360: two
+/// cells guide, the surfaces gave up), the long street 0.08, the night
+/// street and the glass scene 0.24, the foggy street and the material
+/// showcase 0.5, the lamp-lit floor of `guiding/tests.rs` …, and 1
+/// where the bidirectional tracer guides its lamps' emission.
+pub const STOP: f32 = 0.05;
 
 impl Guide {
     /// Nothing learned yet, over the box `lo`..`hi` (the scene's).
@@ -491,7 +590,31 @@ impl Guide {
         Self {
             field: Field::new(lo, hi),
             learned: 0,
+            // The first iteration draws from nothing learned: where
+            // guiding matters its samples are the unguided ones, tens of
+            // times a guided sample's variance (the prism's confetti).
+            weights: vec![Self::halved(0)],
+            stopped: false,
         }
+    }
+
+    /// The weight 2^(k − 4) of iteration k's samples while guiding goes
+    /// on: each iteration's field learned from twice the samples of the
+    /// one before.
+    fn halved(k: usize) -> f32 {
+        0.5f32.powi((BOUNDARIES.len() - 2 - k) as i32)
+    }
+
+    /// The weight in the film of a sample of learning iteration `k` (1
+    /// after the last); decided before the iteration's first sample.
+    pub fn weight(&self, k: usize) -> f32 {
+        self.weights.get(k).copied().unwrap_or(1.0)
+    }
+
+    /// Whether learning and guiding stopped: the field was not worth its
+    /// cost ([`STOP`]).
+    pub fn stopped(&self) -> bool {
+        self.stopped
     }
 
     /// The field learned so far: the one samples draw from, and the one
@@ -509,11 +632,27 @@ impl Guide {
     /// this one; nothing after the last iteration of [`BOUNDARIES`].
     pub fn advance(&mut self, stats: &Stats) {
         let k = self.learned;
-        if k + 1 >= BOUNDARIES.len() {
+        if k + 1 >= BOUNDARIES.len() || self.stopped {
             return;
         }
         let spp = BOUNDARIES[k + 1] - BOUNDARIES[k];
         self.field = self.field.next(stats, spp);
         self.learned += 1;
+        self.stopped = self.learned >= usize::from(DOUBTS) && self.field.worth() < STOP;
+        let last = BOUNDARIES.len() - 2;
+        while self.weights.len() <= last && (self.stopped || self.weights.len() <= self.learned) {
+            let j = self.weights.len();
+            let w = if j == last {
+                let spent: f32 = (0..last)
+                    .map(|i| self.weights[i] * (BOUNDARIES[i + 1] - BOUNDARIES[i]) as f32)
+                    .sum();
+                (BUDGET - spent) / (BOUNDARIES[last + 1] - BOUNDARIES[last]) as f32
+            } else if self.stopped {
+                1.0
+            } else {
+                Self::halved(j)
+            };
+            self.weights.push(w);
+        }
     }
 }

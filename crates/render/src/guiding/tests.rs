@@ -161,11 +161,22 @@ fn iterate_over(field: &Field, n: usize, axis: Vec3, rng: &mut Rng, spp: u32, sh
 fn iterate_lit(
     field: &Field,
     n: usize,
-    (axis, sharp): (Vec3, f32),
+    light: (Vec3, f32),
     rng: &mut Rng,
     spp: u32,
     share: f32,
 ) -> Field {
+    field.next(&records_lit(field, n, light, rng, share), spp)
+}
+
+/// The records of [`iterate_lit`], before they are learned.
+fn records_lit(
+    field: &Field,
+    n: usize,
+    (axis, sharp): (Vec3, f32),
+    rng: &mut Rng,
+    share: f32,
+) -> Stats {
     let (lo, hi) = (Vec3::new(-10.0, 0.0, -1.0), Vec3::new(10.0, 2.0, 1.0));
     let up = side(Some(Vec3::new(0.0, 1.0, 0.0)));
     let mut stats = Stats::new(field);
@@ -178,7 +189,117 @@ fn iterate_lit(
         })
         .collect();
     stats.add(&RowStats::of(records));
-    field.next(&stats, spp)
+    stats
+}
+
+/// A guide over the slab after `iterations` of `n` records each, lit
+/// by exp(`sharp` (d · y − 1)) over the box's first `share` along x.
+fn guide_lit(iterations: usize, n: usize, sharp: f32, share: f32) -> Guide {
+    let Slab { lo, hi, axis, .. } = slab();
+    let mut guide = Guide::new(lo, hi);
+    let mut rng = Rng(17);
+    for _ in 0..iterations {
+        let stats = records_lit(guide.field(), n, (axis, sharp), &mut rng, share);
+        guide.advance(&stats);
+    }
+    guide
+}
+
+/// Σ n_k·w_k over the learning iterations.
+fn spent(guide: &Guide) -> f32 {
+    (0..BOUNDARIES.len() - 1)
+        .map(|k| guide.weight(k) * (BOUNDARIES[k + 1] - BOUNDARIES[k]) as f32)
+        .sum()
+}
+
+#[test]
+fn a_field_is_worth_the_share_of_the_bounces_its_guiding_cells_would_improve() {
+    // Sharp light everywhere: every cell guides, and is predicted to
+    // remove most of its bounces' variance.
+    let sharp = guide_lit(3, 100_000, 200.0, 1.0);
+    let w = sharp.field().worth();
+    assert!(w > 0.5 && w <= 1.0, "{w}");
+    // Paths that bounce all over the slab, but find light only on its
+    // first tenth along x: about a tenth as much.
+    let Slab { lo, hi, up, axis } = slab();
+    let mut field = Field::new(lo, hi);
+    let mut rng = Rng(23);
+    for spp in [1, 1, 2] {
+        let mut stats = Stats::new(&field);
+        let records = (0..200_000)
+            .map(|_| {
+                let u = Vec3::new(rng.next(), rng.next(), rng.next());
+                let p = lo + (hi - lo).mul_elem(u);
+                let d = uniform_direction(&mut rng);
+                let e = if u.x < 0.1 {
+                    (200.0 * (d.dot(axis) - 1.0)).exp()
+                } else {
+                    0.0
+                };
+                (field.at(p, up).slot(d), e)
+            })
+            .collect();
+        stats.add(&RowStats::of(records));
+        field = field.next(&stats, spp);
+    }
+    let part = field.worth();
+    assert!(
+        part > 0.7 * w * 0.1 && part < 1.3 * w * 0.1,
+        "{part} against {w}"
+    );
+    // Uniform light: nothing to gain anywhere.
+    assert_eq!(guide_lit(3, 100_000, 0.0, 1.0).field().worth(), 0.0);
+    // Light found by a handful of records (fewer than MIN_LIT) is too
+    // rare to predict from, and may be what guiding is for: worth all.
+    let mut rare = Guide::new(lo, hi);
+    for _ in 0..2 {
+        let mut stats = Stats::new(rare.field());
+        let records = (0..2000)
+            .map(|i| {
+                let p = lo + (hi - lo).mul_elem(Vec3::new(rng.next(), rng.next(), rng.next()));
+                (
+                    rare.field().at(p, up).slot(axis),
+                    if i % 200 == 0 { 1.0 } else { 0.0 },
+                )
+            })
+            .collect();
+        stats.add(&RowStats::of(records));
+        rare.advance(&stats);
+    }
+    assert_eq!(rare.field().worth(), 1.0);
+    assert!(!rare.stopped());
+}
+
+#[test]
+fn a_guide_worth_too_little_stops_and_its_learning_samples_keep_their_budget() {
+    // Uniform light predicts no gain: after DOUBTS iterations the guide
+    // stops, and the learning samples still to come weigh 1 but the
+    // last iteration's, which takes what is left of the budget.
+    let flat = guide_lit(2, 100_000, 0.0, 1.0);
+    assert!(flat.stopped());
+    let last = (BUDGET - 1.0 / 16.0 - 1.0 / 8.0 - 2.0 - 4.0) / 8.0;
+    let w: Vec<f32> = (0..6).map(|k| flat.weight(k)).collect();
+    assert_eq!(w, [0.0625, 0.125, 1.0, 1.0, last, 1.0]);
+    assert!((spent(&flat) - BUDGET).abs() < 1e-5);
+    // It learns no more.
+    let mut more = flat.clone();
+    more.advance(&Stats::new(flat.field()));
+    assert_eq!(more, flat);
+    // Where guiding pays it goes on, each iteration weighing twice the
+    // one before but the last, and the budget is the same.
+    let mut sharp = guide_lit(2, 100_000, 200.0, 1.0);
+    assert!(!sharp.stopped());
+    assert_eq!(sharp.weight(2), 0.25);
+    let mut rng = Rng(5);
+    for _ in 2..5 {
+        let stats = records_lit(sharp.field(), 100_000, (slab().axis, 200.0), &mut rng, 1.0);
+        sharp.advance(&stats);
+    }
+    assert!(!sharp.stopped());
+    let w: Vec<f32> = (0..6).map(|k| sharp.weight(k)).collect();
+    let last = (BUDGET - 1.0 / 16.0 - 1.0 / 8.0 - 0.5 - 2.0) / 8.0;
+    assert_eq!(w, [0.0625, 0.125, 0.25, 0.5, last, 1.0]);
+    assert!((spent(&sharp) - BUDGET).abs() < 1e-5);
 }
 
 /// The tests' field: a slab 20 m × 2 m × 2 m, seen from above (`up`),
@@ -263,13 +384,15 @@ fn rows_sum_their_records_in_order() {
 #[test]
 fn the_schedule_ends_iterations_at_its_boundaries() {
     // Five iterations, then the guide learns no more.
-    let mut guide = Guide::new(Vec3::splat(-1.0), Vec3::splat(1.0));
+    let mut guide = Guide::new(slab().lo, slab().hi);
+    let mut rng = Rng(9);
     for k in 0..7 {
         assert_eq!(guide.learned(), k.min(5));
-        let stats = Stats::new(guide.field());
+        let stats = records_lit(guide.field(), 20_000, (slab().axis, 200.0), &mut rng, 1.0);
         guide.advance(&stats);
     }
     assert_eq!(guide.learned(), 5);
+    assert!(!guide.stopped());
     assert_eq!(next_boundary(0), Some(1));
     assert_eq!(next_boundary(5), Some(8));
     assert_eq!(next_boundary(16), None);

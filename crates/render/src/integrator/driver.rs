@@ -36,6 +36,20 @@ pub struct Rendered {
     /// What the pixels hold: `RenderOptions::quantity`, or illuminance
     /// when the scene's sensor is an irradiancemeter.
     pub quantity: Quantity,
+    /// With guiding on, what the guide learned.
+    pub guide: Option<GuideFacts>,
+}
+
+/// What a render's guide learned (`crate::guiding`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GuideFacts {
+    /// Samples per pixel it learned from.
+    pub learned_spp: u32,
+    /// The share of the bounces' variance its last field was predicted
+    /// to remove (`Field::worth`).
+    pub worth: f32,
+    /// Whether it stopped, worth too little (`guiding::STOP`).
+    pub stopped: bool,
 }
 
 /// What a render has done so far (or did): for an image's metadata and
@@ -331,7 +345,13 @@ fn render_k<const K: usize>(
         film,
         ..
     } = state;
+    let guide = renderer.guiding.as_ref().map(|g| GuideFacts {
+        learned_spp: crate::guiding::BOUNDARIES[g.guide.learned()],
+        worth: g.guide.field().worth(),
+        stopped: g.guide.stopped(),
+    });
     let rendered = Rendered {
+        guide,
         film,
         spp: done,
         nonfinite: dropped,

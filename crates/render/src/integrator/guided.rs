@@ -200,7 +200,10 @@ impl Renderer<'_> {
     /// The field the pass draws from, when guiding.
     #[inline]
     pub(super) fn field(&self) -> Option<&Field> {
-        self.guiding.as_ref().map(|g| g.guide.field())
+        self.guiding
+            .as_ref()
+            .filter(|g| !g.guide.stopped())
+            .map(|g| g.guide.field())
     }
 
     /// The field's density at `p` for a vertex whose normal, turned to

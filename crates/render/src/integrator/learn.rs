@@ -5,11 +5,10 @@
 //! them twice. The first iterations' fields are poor where guiding
 //! matters (the prism's first samples are the unguided confetti, tens of
 //! times a guided sample's variance), so a sample of iteration k weighs
-//! [`weight`]`(k)` = 2^(k − 4) in the film: each iteration's field learned
-//! from twice the samples of the one before. A weight fixed by the
-//! sample's index, not by what it found, leaves the pixel's weighted mean
-//! unbiased; where guiding does not pay (the Cornell box), the 16
-//! samples so weighed are worth 12.5 equal ones ((Σw)²/Σw²).
+//! `Guide::weight(k)` in the film, decided before the iteration from what
+//! the guide learned: 2^(k − 4) while guiding goes on, 1 once it stopped
+//! for want of anything to guide, within a fixed budget for all 16
+//! (`guiding::BUDGET`) that keeps the pixel's weighted mean unbiased.
 //!
 //! The field after an iteration must be the same in every render of the
 //! same seed (fresh, resumed, a shard of rows or of samples), and it
@@ -25,13 +24,6 @@ use crate::film::{Film, SampleCounts};
 use crate::guiding::{next_boundary, Stats, BOUNDARIES, LEARNED};
 
 use super::{RenderError, Renderer};
-
-/// The weight in the film of a sample of learning iteration `k` (of
-/// [`BOUNDARIES`]; 1 for the last and after).
-pub(super) fn weight(k: usize) -> f32 {
-    let last = BOUNDARIES.len() - 2;
-    0.5f32.powi(last.saturating_sub(k) as i32)
-}
 
 /// The samples `[b0, b1)` of the learning iteration that sample `done`
 /// lies in, while learning goes on.
@@ -82,7 +74,13 @@ impl Renderer<'_> {
             return Ok(self.pass::<K>(seed, film, (done, count, 1.0), None));
         };
         let k = BOUNDARIES.iter().position(|&b| b == b0).unwrap_or(0);
-        let samples = (done, count, weight(k));
+        let Some(g) = self.guiding.as_ref() else {
+            return Ok(self.pass::<K>(seed, film, (done, count, 1.0), None));
+        };
+        let samples = (done, count, g.guide.weight(k));
+        if g.guide.stopped() {
+            return Ok(self.pass::<K>(seed, film, samples, None));
+        }
         let every_row = self.rows.start == 0 && self.rows.end >= film.height;
         if done == b0 && done + count == b1 && every_row {
             let mut stats = self.recording();
@@ -100,7 +98,7 @@ impl Renderer<'_> {
     /// The samples per pixel the guide has learned from, while learning
     /// goes on.
     fn learned(&self) -> Option<u32> {
-        let g = self.guiding.as_ref()?;
+        let g = self.guiding.as_ref().filter(|g| !g.guide.stopped())?;
         BOUNDARIES
             .get(g.guide.learned())
             .copied()
@@ -146,13 +144,7 @@ impl Renderer<'_> {
 
 #[cfg(test)]
 mod tests {
-    use super::{iteration, weight};
-
-    #[test]
-    fn each_learning_iteration_weighs_twice_the_one_before() {
-        let w: Vec<f32> = (0..6).map(weight).collect();
-        assert_eq!(w, [0.0625, 0.125, 0.25, 0.5, 1.0, 1.0]);
-    }
+    use super::iteration;
 
     #[test]
     fn learning_iterations_are_the_first_samples_cut_at_the_boundaries() {

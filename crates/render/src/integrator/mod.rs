@@ -38,7 +38,9 @@ mod volume;
 mod wavefront;
 
 pub use bdpt::Splat;
-pub use driver::{render, render_with, Checkpointing, Hooks, Observer, Rendered, RunFacts};
+pub use driver::{
+    render, render_with, Checkpointing, GuideFacts, Hooks, Observer, Rendered, RunFacts,
+};
 pub use light_choice::LightChoice;
 pub use measure::{measure, Measured, Receiver};
 pub use options::{
