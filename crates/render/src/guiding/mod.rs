@@ -563,13 +563,14 @@ pub struct Guide {
 /// before it learned (and the last is what is left of the budget), so
 /// E[w_k·Ī_k] = E[w_k]·μ, and with the sum of the weights fixed the
 /// pixel's mean is unbiased whatever the weights: adaptive weights
-/// normalised by their own sum would not be. 14 is about their weight
-/// when all but the first two weigh 1 (1/16 + 1/8 + 14), as after guiding
-/// stopped ([`STOP`]): then the last iteration's weigh 0.98, and the 16
-/// are worth 14.4 equal samples ((Σw)²/Σw²; 12.5 with the weights 2^(k − 4)
-/// alone). Where guiding goes on, the last iteration's samples weigh
-/// 1.41, its field learned from half of the learning samples.
-pub const BUDGET: f32 = 14.0;
+/// normalised by their own sum would not be. 12 trades the two cases:
+/// after guiding stopped ([`STOP`]) the last iteration's samples weigh
+/// 0.73 and the 16 are worth 14.1 equal ones ((Σw)²/Σw²; 14.4 with a
+/// budget of 14, 12.5 with the weights 2^(k − 4) alone), and where
+/// guiding goes on they weigh 1.16, their field learned from half of the
+/// learning samples (1.41 with 14, with which the prism rendered 0.83×
+/// as well at 64 spp as with 12's 0.92×, ± 0.09 and ± 0.04: docs/guiding.md).
+pub const BUDGET: f32 = 12.0;
 
 /// The least [`Field::worth`] at which guiding goes on after [`DOUBTS`]
 /// iterations: below it learning stops, nothing guides, and the
