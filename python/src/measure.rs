@@ -21,7 +21,10 @@ use scotopia_vision::mode::Mesopic;
 /// (scotopic, K′m = 1700 lm/W), `Es_lx_se`, `SP` (their ratio), and CIE
 /// 191:2010 figures of a Lambertian surface of `reflectance` there:
 /// `L_cdm2` (its luminance ρE/π), `m` (the adaptation coefficient at it)
-/// and `Lmes_cdm2` (the mesopic luminance). `spp`: samples per point
+/// and `Lmes_cdm2` (the mesopic luminance); then the α-opic equivalent
+/// daylight (D65) illuminances of CIE S 026, lx: `scEDI_lx`, `mcEDI_lx`,
+/// `lcEDI_lx`, `rhEDI_lx`, `mEDI_lx` (and each with `_se`, its standard
+/// error). `spp`: samples per point
 /// (default: the scene's samples per pixel). The scene needs no sensor.
 /// The GIL is released while measuring; Ctrl-C stops it and raises
 /// KeyboardInterrupt.
@@ -107,6 +110,20 @@ fn measure<'py>(
     d.set_item("L_cdm2", figure(|m| m.luminance))?;
     d.set_item("m", figure(|m| m.m))?;
     d.set_item("Lmes_cdm2", figure(|m| m.mesopic))?;
+    for (k, name) in ["scEDI_lx", "mcEDI_lx", "lcEDI_lx", "rhEDI_lx", "mEDI_lx"]
+        .into_iter()
+        .enumerate()
+    {
+        let of = |se: bool| {
+            measured
+                .iter()
+                .map(|m| if se { m.edi_se[k] } else { m.edi[k] })
+                .collect::<Vec<f64>>()
+                .into_pyarray(py)
+        };
+        d.set_item(name, of(false))?;
+        d.set_item(format!("{name}_se"), of(true))?;
+    }
     Ok(d)
 }
 

@@ -170,6 +170,10 @@ def test_measure_gives_the_inverse_square_law_and_its_standard_errors(tmp_path):
     np.testing.assert_allclose(m["L_cdm2"], 0.02 * m["E_lx"] / np.pi, rtol=1e-12)
     assert np.all((m["m"] > 0) & (m["m"] < 1)), m["m"]
     assert np.all(m["Lmes_cdm2"] > m["L_cdm2"])
+    # CIE S 026: a D65 lamp's α-opic equivalent daylight illuminances are
+    # its illuminance.
+    for name in ["scEDI_lx", "mcEDI_lx", "lcEDI_lx", "rhEDI_lx", "mEDI_lx"]:
+        assert np.all(np.abs(m[name] - m["E_lx"]) <= 4 * m[name + "_se"] + 5e-3 * m["E_lx"]), name
     with pytest.raises(ValueError, match="reflectance"):
         scotopia.measure(str(scene), points, reflectance=1.5)
     with pytest.raises(ValueError, match="N × 6"):

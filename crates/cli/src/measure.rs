@@ -30,8 +30,12 @@ pub struct Args {
     points: PathBuf,
     /// The output: the points with photopic and scotopic illuminance, their
     /// standard errors and the S/P ratio, then CIE 191 mesopic figures of
-    /// the surface there (see --reflectance), as CSV with the header
-    /// x,y,z,nx,ny,nz,E_lx,E_lx_se,Es_lx,Es_lx_se,SP,L_cdm2,m,Lmes_cdm2.
+    /// the surface there (see --reflectance), then the five α-opic
+    /// equivalent daylight illuminances of CIE S 026 (S-, M-, L-cone,
+    /// rhodopic, melanopic: lx of D65 that would stimulate the receptor as
+    /// much), as CSV with the header
+    /// x,y,z,nx,ny,nz,E_lx,E_lx_se,Es_lx,Es_lx_se,SP,L_cdm2,m,Lmes_cdm2,
+    /// scEDI_lx,mcEDI_lx,lcEDI_lx,rhEDI_lx,mEDI_lx.
     #[arg(short, long, value_name = "OUT.csv")]
     output: PathBuf,
     /// Reflectance of the (Lambertian) surface at the points, for the
@@ -157,7 +161,8 @@ fn is_header(fields: &[&str]) -> bool {
 }
 
 /// The output's columns.
-pub const HEADER: &str = "x,y,z,nx,ny,nz,E_lx,E_lx_se,Es_lx,Es_lx_se,SP,L_cdm2,m,Lmes_cdm2\n";
+pub const HEADER: &str = "x,y,z,nx,ny,nz,E_lx,E_lx_se,Es_lx,Es_lx_se,SP,L_cdm2,m,Lmes_cdm2,\
+scEDI_lx,mcEDI_lx,lcEDI_lx,rhEDI_lx,mEDI_lx\n";
 
 fn reflectance(text: &str) -> Result<f64, String> {
     let rho = text
@@ -220,7 +225,8 @@ pub fn run(args: Args) -> Result<()> {
         let mes = Mesopic::of_surface(m.e, m.sp(), args.reflectance);
         let _ = writeln!(
             csv,
-            "{},{},{},{},{},{},{:.6e},{:.3e},{:.6e},{:.3e},{:.4},{:.6e},{:.4},{:.6e}",
+            "{},{},{},{},{},{},{:.6e},{:.3e},{:.6e},{:.3e},{:.4},{:.6e},{:.4},{:.6e},\
+             {:.6e},{:.6e},{:.6e},{:.6e},{:.6e}",
             r.p.x,
             r.p.y,
             r.p.z,
@@ -234,7 +240,12 @@ pub fn run(args: Args) -> Result<()> {
             m.sp(),
             mes.luminance,
             mes.m,
-            mes.mesopic
+            mes.mesopic,
+            m.edi[0],
+            m.edi[1],
+            m.edi[2],
+            m.edi[3],
+            m.edi[4]
         );
     }
     scotopia_image::write_atomic(&args.output, csv.as_bytes())

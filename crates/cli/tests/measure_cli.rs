@@ -33,7 +33,8 @@ fn measures_the_night_street_and_writes_the_documented_columns() {
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(
         lines[0],
-        "x,y,z,nx,ny,nz,E_lx,E_lx_se,Es_lx,Es_lx_se,SP,L_cdm2,m,Lmes_cdm2"
+        "x,y,z,nx,ny,nz,E_lx,E_lx_se,Es_lx,Es_lx_se,SP,L_cdm2,m,Lmes_cdm2,\
+         scEDI_lx,mcEDI_lx,lcEDI_lx,rhEDI_lx,mEDI_lx"
     );
     assert_eq!(lines.len(), 3, "{csv}");
     let row = |i: usize| -> Vec<f64> { lines[i].split(',').map(|v| v.parse().unwrap()).collect() };
@@ -54,6 +55,12 @@ fn measures_the_night_street_and_writes_the_documented_columns() {
         assert!(r[12] > 0.0 && r[12] < 1.0, "m {}: {csv}", r[12]);
     }
     assert!(sodium[13] < sodium[11] && led[13] > led[11], "{csv}");
+    // Melanopic light per lux (CIE S 026): where the sodium lamps light
+    // the road (0.18, some of the LEDs' light reaching it too), under half
+    // of where the LEDs do (0.44).
+    let mel = |r: &Vec<f64>| r[18] / r[6];
+    assert!(mel(&sodium) < 0.5 * mel(&led), "{csv}");
+    assert!(mel(&led) > 0.3 && mel(&led) < 0.7, "{csv}");
 }
 
 #[test]

@@ -5,6 +5,7 @@
 //! Units: wavelengths in nm; emission in spectral radiance
 //! W·sr⁻¹·m⁻²·nm⁻¹; photometric output in cd/m² (Y) and scotopic cd/m² (V′).
 
+pub mod alpha_opic;
 pub mod cct;
 pub mod cie;
 pub mod colorimetry;

@@ -553,3 +553,44 @@ fn a_street_of_forty_lamps_and_a_sky_give_the_sum_of_their_illuminances() {
         assert_close(&format!("x = {x}"), &m, expected);
     }
 }
+
+#[test]
+fn the_alpha_opic_daylight_illuminances_follow_the_lamps_spectrum() {
+    // CIE S 026: D65 of E lx has every α-opic equivalent daylight
+    // illuminance equal to E; illuminant A has E times its daylight
+    // efficacy ratios, ELR_A / ELR_D65 (luxpy 1.12.5, an independent
+    // implementation: sc mc lc rh mel, mW/lm).
+    let d65 = [0.817289, 1.455826, 1.628907, 1.449703, 1.326213];
+    let a = [0.254149, 1.174203, 1.656715, 0.830718, 0.657464];
+    for (kind, ratio) in [
+        ("d65", [1.0; 5]),
+        ("A", std::array::from_fn(|k| a[k] / d65[k])),
+    ] {
+        let s = scene(
+            &format!("aopic-{kind}"),
+            &format!(
+                r#"<integrator type="path"><integer name="max_depth" value="1"/></integrator>
+        <emitter type="point"><point name="position" x="0" y="3" z="0"/>
+          <spectrum name="intensity" type="{kind}"><float name="luminance" value="1000"/></spectrum></emitter>"#
+            ),
+        );
+        let r = Receiver {
+            p: Vec3::new(0.0, 0.0, 0.0),
+            n: Vec3::new(0.0, 1.0, 0.0),
+        };
+        let m = run(&s, &[r], 512)[0];
+        let e = 1000.0 / 9.0;
+        assert_close(kind, &m, e);
+        for (k, r) in ratio.into_iter().enumerate() {
+            let want = e * r;
+            let tol = 4.0 * m.edi_se[k] + 5e-3 * want;
+            assert!(
+                (m.edi[k] - want).abs() <= tol,
+                "{kind} {}: {} ± {} lx, expected {want}",
+                scotopia_color::alpha_opic::NAMES[k],
+                m.edi[k],
+                m.edi_se[k]
+            );
+        }
+    }
+}

@@ -10,8 +10,10 @@
 //! would see is measured, with no separate estimator.
 //!
 //! Photopic illuminance E = π Y (lx, Y with K_m = 683 lm/W) and scotopic
-//! illuminance E′ = π V′ (K′_m = 1700 lm/W), each with its standard error
-//! over the samples. The receiver does not block light: nothing is added
+//! illuminance E′ = π V′ (K′_m = 1700 lm/W), and the five α-opic
+//! equivalent daylight (D65) illuminances of CIE S 026
+//! (`scotopia_color::alpha_opic`), from the same paths' spectra, each with
+//! its standard error over the samples. The receiver does not block light: nothing is added
 //! to the scene; its ray origin is offset along its normal as a surface
 //! point's would be, so a receiver on a floor measures the floor's
 //! illuminance.
@@ -19,6 +21,7 @@
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 use rayon::prelude::*;
+use scotopia_color::alpha_opic;
 use scotopia_color::photometry::estimate_xyzv;
 use scotopia_color::{SampledWavelengths, Spectrum};
 
@@ -49,6 +52,11 @@ pub struct Measured {
     /// standard error.
     pub es: f64,
     pub es_se: f64,
+    /// The α-opic equivalent daylight (D65) illuminances, lx, in the order
+    /// of `scotopia_color::alpha_opic::NAMES` (sc, mc, lc, rh, mel), and
+    /// their standard errors.
+    pub edi: [f64; 5],
+    pub edi_se: [f64; 5],
     /// Samples that went into it.
     pub samples: u32,
 }
@@ -247,7 +255,9 @@ impl Renderer<'_> {
         cancel: &AtomicBool,
     ) -> Measured {
         let n = unit_normal(r.n);
-        let (mut sum, mut sum2) = ([0.0f64; 2], [0.0f64; 2]);
+        // E, E′ and the five α-opic EDIs.
+        let (mut sum, mut sum2) = ([0.0f64; 7], [0.0f64; 7]);
+        let k_d65 = alpha_opic::d65_efficacy();
         let mut samples = 0u32;
         for i in 0..spp {
             if i % 64 == 63 && cancel.load(Ordering::Relaxed) {
@@ -259,18 +269,21 @@ impl Renderer<'_> {
             let at = Receiver { p: r.p, n };
             let path = self.receiver_path(receivers, &mut sampler, &at, wl, &mut 0);
             let [_, y, _, v] = estimate_xyzv(&path.l, &path.wl);
-            let (e, es) = (
-                std::f64::consts::PI * y as f64,
-                std::f64::consts::PI * v as f64,
-            );
-            if !(e.is_finite() && es.is_finite()) {
+            let a = alpha_opic::estimate(&path.l, &path.wl);
+            let pi = std::f64::consts::PI;
+            let x: [f64; 7] = std::array::from_fn(|i| match i {
+                0 => pi * f64::from(y),
+                1 => pi * f64::from(v),
+                _ => pi * f64::from(a[i - 2]) / k_d65[i - 2],
+            });
+            if !x.iter().all(|v| v.is_finite()) {
                 continue;
             }
             samples += 1;
-            sum[0] += e;
-            sum[1] += es;
-            sum2[0] += e * e;
-            sum2[1] += es * es;
+            for i in 0..7 {
+                sum[i] += x[i];
+                sum2[i] += x[i] * x[i];
+            }
         }
         let n = samples.max(1) as f64;
         let stat = |s: f64, s2: f64| {
@@ -280,11 +293,14 @@ impl Renderer<'_> {
         };
         let (e, e_se) = stat(sum[0], sum2[0]);
         let (es, es_se) = stat(sum[1], sum2[1]);
+        let edi = std::array::from_fn(|i| stat(sum[i + 2], sum2[i + 2]));
         Measured {
             e,
             e_se,
             es,
             es_se,
+            edi: edi.map(|s| s.0),
+            edi_se: edi.map(|s| s.1),
             samples,
         }
     }
