@@ -184,8 +184,10 @@ def false_colour(image, quantity="luminance", *, range=None, log=False, output=N
 
     ``image`` is an H × W × 4 array of X, Y, Z, V′ or the path of an
     OpenEXR. ``quantity``: "luminance" (cd/m²), "mesopic" (CIE 191 mesopic
-    luminance per pixel, cd/m²) or "illuminance" (lx, of an image rendered
-    with ``quantity="illuminance"``). ``range`` is (lo, hi); by default 0
+    luminance per pixel, cd/m²), "illuminance" (lx, of an image rendered
+    with ``quantity="illuminance"`` or ``"melanopic-edi"``) or
+    "melanopic-edi" (the fourth channel of an image rendered with
+    ``quantity="melanopic-edi"``: CIE S 026's melanopic EDI, lx). ``range`` is (lo, hi); by default 0
     to the 99th percentile, or with ``log`` the three decades below it.
     Returns the picture, scale bar included, as an uint8 array
     (H + bar) × W × 3; ``output`` also writes it as a PNG.

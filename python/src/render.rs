@@ -38,7 +38,9 @@ use crate::scene::load_options;
 /// uninterrupted render; a damaged checkpoint, or one saved before a file
 /// the scene reads was edited, is a `ValueError`.
 /// `quantity` "illuminance" renders the illuminance (lx) at the first
-/// surface each pixel sees instead of radiance. `guiding` "on" learns
+/// surface each pixel sees instead of radiance; "melanopic-edi" the same
+/// with the melanopic equivalent daylight illuminance (CIE S 026, lx) as
+/// the fourth channel in place of V′. `guiding` "on" learns
 /// where light arrives (the first 16 spp, kept) and draws half of each diffuse
 /// bounce from it; with bdpt, half of each light path's first direction
 /// (docs/guiding.md; not with the wavefront tracer or illuminance). The

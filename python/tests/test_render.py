@@ -181,6 +181,13 @@ def test_measure_gives_the_inverse_square_law_and_its_standard_errors(tmp_path):
 
 
 def test_false_colour_maps_luminance_mesopic_and_illuminance(tmp_path):
+    # A melanopic image: illuminance with the melanopic EDI fourth.
+    mel, meta = scotopia.render(str(SCENES / "cornell-box.xml"), spp=2, res=8,
+                                quantity="melanopic-edi", output=tmp_path / "mel.exr")
+    # The Cornell box's warm lamp stirs melanopsin less than daylight does.
+    assert meta["quantity"] == "melanopic-edi" and mel[..., 3].mean() < mel[..., 1].mean()
+    m = scotopia.false_colour(tmp_path / "mel.exr", "melanopic-edi")
+    assert m.dtype == np.uint8 and m.shape[1] == 8
     img, _ = scotopia.render(str(SCENES / "night-street.xml"), spp=2, res=32)
     out = tmp_path / "map.png"
     lum = scotopia.false_colour(img, "luminance", range=(0, 5), output=out)
@@ -190,7 +197,7 @@ def test_false_colour_maps_luminance_mesopic_and_illuminance(tmp_path):
     # Mesopic and photopic maps differ where the light is mesopic.
     mes = scotopia.false_colour(img, "mesopic", range=(0, 5))
     assert mes.shape == lum.shape and np.any(mes[:32] != lum[:32])
-    with pytest.raises(ValueError, match="luminance, mesopic or illuminance"):
+    with pytest.raises(ValueError, match="mesopic, illuminance or melanopic-edi"):
         scotopia.false_colour(img, "photons")
     with pytest.raises(ValueError, match="lo < hi"):
         scotopia.false_colour(img, range=(5, 1))

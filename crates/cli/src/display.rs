@@ -193,9 +193,11 @@ pub struct Args {
     /// Instead of what the eye sees, write (-o, PNG) a false-colour map of
     /// luminance (cd/m²), of CIE 191 mesopic luminance (cd/m², each pixel
     /// at the adaptation coefficient of its own luminance and S/P), or of
-    /// illuminance (lx: an image made by `render --quantity illuminance`),
-    /// with a labelled scale bar.
-    #[arg(long, value_name = "luminance|mesopic|illuminance")]
+    /// illuminance (lx: an image made by `render --quantity illuminance`
+    /// or `melanopic-edi`), or of melanopic equivalent daylight illuminance
+    /// (lx, CIE S 026: `render --quantity melanopic-edi`), with a labelled
+    /// scale bar.
+    #[arg(long, value_name = "luminance|mesopic|illuminance|melanopic-edi")]
     pub false_colour: Option<String>,
     /// The false-colour range LO:HI (default: 0 to the 99th percentile;
     /// with --log, the three decades below it).
@@ -242,6 +244,19 @@ pub fn run(args: Args) -> Result<()> {
         .with_context(|| args.input.display().to_string())?;
     if let Some(quantity) = &args.false_colour {
         return write_false_colour(&args, quantity, &image);
+    }
+    // The eye model takes light reaching the eye; an illuminance map is
+    // read as levels, not seen.
+    if let Some(q) = image.quantity.as_deref().filter(|&q| q != "radiance") {
+        bail!(
+            "{} holds {q}, not radiance: the eye sees radiance; map it with --false-colour {}",
+            args.input.display(),
+            if q == "melanopic-edi" {
+                "melanopic-edi"
+            } else {
+                "illuminance"
+            }
+        );
     }
     let (params, png, notes) = args.vision.params(image.width, image.fov_horizontal)?;
     for note in notes {

@@ -30,7 +30,7 @@ pub fn map(
         bail!("--false-colour {quantity}: use {}", Mapped::NAMES);
     };
     let made = image.quantity.as_deref().unwrap_or("radiance");
-    if made != mapped.needs() {
+    if !mapped.reads(made) {
         bail!(
             "--false-colour {quantity}: {name} holds {made} (render --quantity {} makes it)",
             mapped.needs()

@@ -151,8 +151,15 @@ pub struct Setup {
     /// What each pixel holds: radiance (X, Y, Z in cd/m², V′) or
     /// illuminance (Y in lx, V′ in scotopic lx) at the first surface the
     /// pixel sees, on its side facing the camera — by the path tracer,
-    /// whatever the scene's integrator; zero where no surface is seen.
-    #[arg(long, default_value = "radiance", value_name = "radiance|illuminance")]
+    /// whatever the scene's integrator; zero where no surface is seen —
+    /// or melanopic-edi: that illuminance with the melanopic equivalent
+    /// daylight illuminance (CIE S 026, lx) in channel mEDI in place of V
+    /// (docs/lighting.md).
+    #[arg(
+        long,
+        default_value = "radiance",
+        value_name = "radiance|illuminance|melanopic-edi"
+    )]
     pub(crate) quantity: Quantity,
 }
 

@@ -346,3 +346,44 @@ fn an_endless_points_file_is_refused_at_its_size_limit() {
         "{err}"
     );
 }
+
+#[test]
+fn a_melanopic_image_names_its_channel_and_is_mapped_not_seen() {
+    let dir = out_dir("measure", "melanopic");
+    let scene = scenes().join("cornell-box.xml");
+    let (mel, png) = (dir.join("mel.exr"), dir.join("mel.png"));
+    let s = |p: &std::path::Path| p.to_str().unwrap().to_string();
+    let (code, _, err) = scotopia(&[
+        "render",
+        &s(&scene),
+        "--res",
+        "16",
+        "--spp",
+        "2",
+        "--quantity",
+        "melanopic-edi",
+        "-o",
+        &s(&mel),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    // X, Y, Z and mEDI: no V channel for anything to take it for V′. (In
+    // the header's channel list each name ends in NUL, then its pixel type,
+    // 2 for f32, and each entry in its y sampling, 1.)
+    let header = std::fs::read(&mel).unwrap();
+    let has = |name: &[u8]| header.windows(name.len()).any(|w| w == name);
+    assert!(has(b"\x01\0\0\0mEDI\0\x02\0\0\0"), "no mEDI channel");
+    assert!(has(b"\x01\0\0\0Z\0\x02\0\0\0") && !has(b"\x01\0\0\0V\0\x02\0\0\0"));
+    for (map, ok) in [
+        ("melanopic-edi", true),
+        ("illuminance", true),
+        ("luminance", false),
+    ] {
+        let (code, _, err) =
+            scotopia(&["display", &s(&mel), "--false-colour", map, "-o", &s(&png)]);
+        assert_eq!(code == 0, ok, "{map}: {err}");
+    }
+    // The eye model is for radiance.
+    let (code, _, err) = scotopia(&["display", &s(&mel), "-o", &s(&png)]);
+    assert_eq!(code, 1);
+    assert!(err.contains("--false-colour melanopic-edi"), "{err}");
+}

@@ -39,6 +39,7 @@ pub fn render_metadata(
             Meta::Text(match rendered.quantity {
                 Quantity::Radiance => "X, Y, Z in cd/m2 (CIE 1931, Km = 683 lm/W); V in scotopic cd/m2 (CIE 1951, K'm = 1700 lm/W)".into(),
                 Quantity::Illuminance => "illuminance at the surface each pixel sees: X, Y, Z with Y in lx (CIE 1931, Km = 683 lm/W); V in scotopic lx (CIE 1951, K'm = 1700 lm/W)".into(),
+                Quantity::MelanopicEdi => "illuminance at the surface each pixel sees: X, Y, Z with Y in lx (CIE 1931, Km = 683 lm/W); mEDI the melanopic equivalent daylight (D65) illuminance in lx (CIE S 026:2018)".into(),
             }),
         ),
         ("interrupted", Meta::I32(rendered.cancelled as i32)),
@@ -58,7 +59,9 @@ pub fn write_xyzv_exr(
 }
 
 /// Writes X, Y, Z, V′ pixels (row-major, `w` × `h`) as channels X, Y, Z,
-/// V of an OpenEXR, atomically.
+/// V of an OpenEXR, atomically; when the metadata's quantity is
+/// `melanopic-edi` the fourth channel is `mEDI`, so that nothing reads
+/// it as V′.
 pub fn write_xyzv_pixels(
     path: &Path,
     w: usize,
@@ -75,10 +78,23 @@ pub fn write_xyzv_pixels(
             ("X".into(), channel(0)),
             ("Y".into(), channel(1)),
             ("Z".into(), channel(2)),
-            ("V".into(), channel(3)),
+            (fourth_channel(metadata).into(), channel(3)),
         ],
         metadata,
     )
+}
+
+/// The name of an image's fourth channel: `V`, or `mEDI` for the
+/// quantity `melanopic-edi`.
+fn fourth_channel(metadata: &[(&str, Meta)]) -> &'static str {
+    let melanopic = metadata.iter().any(|(k, v)| {
+        *k == "quantity" && matches!(v, Meta::Text(t) if t == Quantity::MelanopicEdi.name())
+    });
+    if melanopic {
+        "mEDI"
+    } else {
+        "V"
+    }
 }
 
 /// The Fichet, Pacanowski & Wilkie 2021 channel name of an emissive band

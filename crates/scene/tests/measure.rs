@@ -158,6 +158,62 @@ fn an_illuminance_render_holds_the_illuminance_of_the_surfaces_seen() {
     assert_eq!(y[0], 0.0);
 }
 
+#[test]
+fn a_melanopic_render_holds_the_melanopic_edi_of_the_surfaces_seen() {
+    // 500 lx of illuminant A straight down on a floor seen from above:
+    // Y holds 500 lx, the fourth channel the melanopic EDI, 500 lx times
+    // A's melanopic daylight efficacy ratio (luxpy 1.12.5: 0.657464 /
+    // 1.326213 mW/lm), where `illuminance` holds V′ (scotopic lx).
+    use scotopia_render::integrator::{render, Quantity};
+    let s = scene(
+        "sunlit-a",
+        r#"<integrator type="path"><integer name="max_depth" value="2"/></integrator>
+        <emitter type="directional"><vector name="direction" x="0" y="-1" z="0"/>
+          <spectrum name="irradiance" type="A"><float name="luminance" value="500"/></spectrum></emitter>
+        <shape type="rectangle"><transform name="to_world"><scale value="0.5"/><rotate x="1" angle="-90"/></transform>
+          <bsdf type="diffuse"><float name="reflectance" value="0.3"/></bsdf></shape>
+        <sensor type="perspective"><float name="fov" value="20"/>
+          <transform name="to_world"><lookat origin="0, 2, 0" target="0, 0, 0" up="0, 0, 1"/></transform>
+          <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>"#,
+    );
+    let pixels = |quantity| {
+        let options = RenderOptions {
+            spp: Some(256),
+            seed: 1,
+            quantity,
+            ..RenderOptions::default()
+        };
+        let r = render(&s, &options, &AtomicBool::new(false), &|_, _| {}).unwrap();
+        assert_eq!(r.quantity, quantity);
+        r.film.xyzv()
+    };
+    let (mel, lux) = (
+        pixels(Quantity::MelanopicEdi),
+        pixels(Quantity::Illuminance),
+    );
+    let n = mel.len() as f64;
+    let mean = |px: &[[f32; 4]], c: usize| px.iter().map(|p| f64::from(p[c])).sum::<f64>() / n;
+    // Within 4 standard errors of the pixels' mean, and 0.5 %.
+    let close = |c: usize, want: f64| {
+        let m = mean(&mel, c);
+        let var = mel
+            .iter()
+            .map(|p| (f64::from(p[c]) - m).powi(2))
+            .sum::<f64>()
+            / (n - 1.0);
+        let tol = 4.0 * (var / n).sqrt() + 5e-3 * want;
+        assert!(
+            (m - want).abs() <= tol,
+            "channel {c}: {m}, expected {want} ± {tol}"
+        );
+        m
+    };
+    close(1, 500.0);
+    let m = close(3, 500.0 * 0.657464 / 1.326213);
+    // Illuminant A is rich in what rods see, poor in what melanopsin does.
+    assert!(mean(&lux, 3) > 500.0 && m < 250.0);
+}
+
 /// A type C luminaire, bilateral about C0–C180: 1000 cd down, falling
 /// off, brighter towards C = 90° than C = 0°.
 const IES: &str = "IESNA:LM-63-2002

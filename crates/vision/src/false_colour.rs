@@ -39,18 +39,23 @@ pub enum Mapped {
     /// CIE 191:2010's mesopic luminance of each pixel, at the adaptation
     /// coefficient of its own luminance and S/P (V′/Y), cd/m².
     Mesopic,
-    /// Y of an illuminance image (`render --quantity illuminance`), lx.
+    /// Y of an illuminance image (`render --quantity illuminance` or
+    /// `melanopic-edi`), lx.
     Illuminance,
+    /// The melanopic equivalent daylight illuminance of a `render
+    /// --quantity melanopic-edi` image (CIE S 026), lx.
+    MelanopicEdi,
 }
 
 impl Mapped {
-    pub const NAMES: &'static str = "luminance, mesopic or illuminance";
+    pub const NAMES: &'static str = "luminance, mesopic, illuminance or melanopic-edi";
 
     pub fn from_name(name: &str) -> Option<Self> {
         match name.trim() {
             "luminance" => Some(Self::Luminance),
             "mesopic" => Some(Self::Mesopic),
             "illuminance" => Some(Self::Illuminance),
+            "melanopic-edi" => Some(Self::MelanopicEdi),
             _ => None,
         }
     }
@@ -60,22 +65,31 @@ impl Mapped {
             Self::Luminance => "luminance",
             Self::Mesopic => "mesopic",
             Self::Illuminance => "illuminance",
+            Self::MelanopicEdi => "melanopic-edi",
         }
     }
 
     pub fn unit(self) -> &'static str {
         match self {
-            Self::Illuminance => "lx",
+            Self::Illuminance | Self::MelanopicEdi => "lx",
             _ => "cd/m2",
         }
     }
 
-    /// The quantity the image must hold (its EXR's `quantity`).
+    /// The quantity an image must hold (its EXR's `quantity`) to be
+    /// mapped so: the one `render --quantity` makes.
     pub fn needs(self) -> &'static str {
         match self {
             Self::Illuminance => "illuminance",
+            Self::MelanopicEdi => "melanopic-edi",
             _ => "radiance",
         }
+    }
+
+    /// Whether an image holding `quantity` can be mapped so: a melanopic
+    /// image holds illuminance too.
+    pub fn reads(self, quantity: &str) -> bool {
+        quantity == self.needs() || (self == Self::Illuminance && quantity == "melanopic-edi")
     }
 
     /// The value of each pixel.
@@ -89,6 +103,7 @@ impl Mapped {
                     crate::mode::mesopic_luminance(p[1] as f64, sp as f64) as f32
                 })
                 .collect(),
+            Self::MelanopicEdi => pixels.iter().map(|p| p[3]).collect(),
             _ => pixels.iter().map(|p| p[1]).collect(),
         }
     }

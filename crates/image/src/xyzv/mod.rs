@@ -27,7 +27,9 @@ pub struct XyzvImage {
     /// Horizontal field of view in degrees, from the file's metadata.
     pub fov_horizontal: Option<f64>,
     /// What the pixels hold, from the file's `quantity` metadata
-    /// (`radiance` or `illuminance`, as `scotopia render` writes it).
+    /// (`radiance`, `illuminance` or `melanopic-edi`, as `scotopia render`
+    /// writes it; with `melanopic-edi` the fourth value of a pixel is its
+    /// channel mEDI, the melanopic EDI in lx, not V′).
     pub quantity: Option<String>,
     /// What was assumed to read the file (estimated V′, RGB conversion),
     /// for the user to be told.
@@ -86,13 +88,23 @@ pub fn read_xyzv(path: &Path, rgb: RgbInput) -> Result<XyzvImage, ImageError> {
             .find(|c| c.name == *name || c.name.to_string().ends_with(&suffix))
             .map(|c| c.name.clone())
     };
+    let quantity = match header.own_attributes.other.get(&Text::from("quantity")) {
+        Some(AttributeValue::Text(t)) => Some(t.to_string()),
+        _ => None,
+    };
     let mut notes = Vec::new();
+    // `render --quantity melanopic-edi` writes the melanopic EDI where V′
+    // would be, named so that nothing takes it for V′.
+    let fourth = match quantity.as_deref() {
+        Some("melanopic-edi") => channel("mEDI"),
+        _ => channel("V"),
+    };
     let pixels = match (channel("X"), channel("Y"), channel("Z")) {
         (Some(x), Some(y), Some(z)) => {
             if rgb.units.is_some() {
                 notes.push("--units ignored: an XYZ image is already absolute".into());
             }
-            match channel("V") {
+            match fourth {
                 Some(v) => {
                     let index = |n: &Text| header.channels.list.iter().position(|c| c.name == *n);
                     let fast = match [&x, &y, &z, &v].map(index) {
@@ -177,10 +189,6 @@ pub fn read_xyzv(path: &Path, rgb: RgbInput) -> Result<XyzvImage, ImageError> {
             _ => None,
         })
         .filter(|f| f.is_finite() && *f > 0.0);
-    let quantity = match header.own_attributes.other.get(&Text::from("quantity")) {
-        Some(AttributeValue::Text(t)) => Some(t.to_string()),
-        _ => None,
-    };
     Ok(XyzvImage {
         width: header.layer_size.width(),
         height: header.layer_size.height(),

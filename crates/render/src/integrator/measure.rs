@@ -171,7 +171,12 @@ impl Renderer<'_> {
             rays,
         );
         path.l *= std::f32::consts::PI;
-        Self::finish(&path)
+        let mut sample = Self::finish(&path)?;
+        if receivers.melanopic {
+            let mel = alpha_opic::estimate(&path.l, &path.wl)[4];
+            sample.xyzv[3] = (f64::from(mel) / alpha_opic::d65_efficacy()[4]) as f32;
+        }
+        Some(sample)
     }
 
     /// One sample of an irradiancemeter (`Scene::meter`): the illuminance

@@ -69,14 +69,19 @@ pub enum Quantity {
     /// path tracer's own transport at a virtual receiver there,
     /// `measure.rs`); zero where the pixel sees no surface.
     Illuminance,
+    /// As [`Quantity::Illuminance`], with the melanopic equivalent
+    /// daylight (D65) illuminance of CIE S 026 (lx) in place of V′: the
+    /// EXR's fourth channel is `mEDI` (`scotopia_color::alpha_opic`).
+    MelanopicEdi,
 }
 
 impl Quantity {
-    /// `radiance` or `illuminance`.
+    /// `radiance`, `illuminance` or `melanopic-edi`.
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
             "radiance" => Some(Self::Radiance),
             "illuminance" => Some(Self::Illuminance),
+            "melanopic-edi" => Some(Self::MelanopicEdi),
             _ => None,
         }
     }
@@ -86,7 +91,13 @@ impl Quantity {
         match self {
             Self::Radiance => "radiance",
             Self::Illuminance => "illuminance",
+            Self::MelanopicEdi => "melanopic-edi",
         }
+    }
+
+    /// Whether its pixels are illuminances at the surfaces seen.
+    pub fn at_surfaces(self) -> bool {
+        self != Self::Radiance
     }
 }
 
@@ -286,7 +297,11 @@ macro_rules! named_option {
     };
 }
 
-named_option!(Quantity, "a quantity", "radiance or illuminance");
+named_option!(
+    Quantity,
+    "a quantity",
+    "radiance, illuminance or melanopic-edi"
+);
 named_option!(Tracer, "a tracer", "wavefront or scalar");
 named_option!(Guiding, "a guiding setting", "on or off");
 named_option!(
@@ -405,7 +420,11 @@ mod text_tests {
 
     #[test]
     fn every_option_prints_to_the_text_it_reads() {
-        round_trips([Quantity::Radiance, Quantity::Illuminance]);
+        round_trips([
+            Quantity::Radiance,
+            Quantity::Illuminance,
+            Quantity::MelanopicEdi,
+        ]);
         round_trips([Tracer::Wavefront, Tracer::Scalar]);
         round_trips([Guiding::On, Guiding::Off]);
         round_trips(WavelengthStrategy::ALL);
@@ -433,7 +452,8 @@ mod text_tests {
             e("rgb".parse::<WavelengthStrategy>().map(drop)).contains("use swc, hero or single")
         );
         assert!(e("gpu".parse::<Tracer>().map(drop)).contains("use wavefront or scalar"));
-        assert!(e("lux".parse::<Quantity>().map(drop)).contains("use radiance or illuminance"));
+        assert!(e("lux".parse::<Quantity>().map(drop))
+            .contains("use radiance, illuminance or melanopic-edi"));
         for bad in ["3", "0", "32", "four", "-4"] {
             let m = e(bad.parse::<ClusterSize>().map(drop));
             assert!(m.contains("use one of 1, 2, 4, 8, 16"), "{bad}: {m}");

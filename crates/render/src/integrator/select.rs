@@ -51,6 +51,9 @@ pub struct Receivers {
     /// The white Lambertian surface of a receiver.
     pub(super) white: Bsdf,
     pub(super) media: Option<Media>,
+    /// The fourth channel holds the melanopic EDI, not V′
+    /// ([`Quantity::MelanopicEdi`]).
+    pub(super) melanopic: bool,
 }
 
 /// Whether paths in `scene` are traced through media: its integrator
@@ -86,6 +89,7 @@ impl Receivers {
         Self {
             white: measure::white(),
             media: Media::of(scene, lights, scene_radius),
+            melanopic: false,
         }
     }
 }
@@ -120,8 +124,11 @@ impl Integrator {
         }
         let integrator = if scene.meter.is_some() {
             Self::Meter(Receivers::of(scene, lights, scene_radius))
-        } else if quantity == Quantity::Illuminance {
-            Self::Illuminance(Receivers::of(scene, lights, scene_radius))
+        } else if quantity.at_surfaces() {
+            Self::Illuminance(Receivers {
+                melanopic: quantity == Quantity::MelanopicEdi,
+                ..Receivers::of(scene, lights, scene_radius)
+            })
         } else if kind == IntegratorKind::Bdpt {
             Self::Bdpt(Bidirectional {
                 only: options.only_strategy.map(|s| s.pair()),
@@ -153,6 +160,7 @@ impl Integrator {
     /// What its pixels hold.
     pub fn quantity(&self) -> Quantity {
         match self {
+            Self::Illuminance(r) if r.melanopic => Quantity::MelanopicEdi,
             Self::Illuminance(_) | Self::Meter(_) => Quantity::Illuminance,
             _ => Quantity::Radiance,
         }
