@@ -8,7 +8,7 @@ use numpy::{AllowTypeChange, IntoPyArray, PyArrayLike2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use scotopia_render::integrator::{measure as measure_points, Receiver, RenderOptions};
+use scotopia_render::integrator::{measure_with, Receiver, ReceiverShape, RenderOptions};
 use scotopia_render::math::Vec3;
 use scotopia_scene::{load_scene_with, LoadOptions};
 use scotopia_vision::mode::Mesopic;
@@ -25,11 +25,16 @@ use scotopia_vision::mode::Mesopic;
 /// daylight (D65) illuminances of CIE S 026, lx: `scEDI_lx`, `mcEDI_lx`,
 /// `lcEDI_lx`, `rhEDI_lx`, `mEDI_lx` (and each with `_se`, its standard
 /// error). `spp`: samples per point
-/// (default: the scene's samples per pixel). The scene needs no sensor.
+/// (default: the scene's samples per pixel). `receiver`: "plane" (the
+/// illuminance of the plane of each normal), "cylindrical" (E_z, EN
+/// 12464-1: the mean over a small cylinder along `up`; the normals are not
+/// used) or "semicylindrical" (E_sc, EN 13201-2: a half-cylinder along
+/// `up` facing each normal's direction across it); for the cylinders
+/// `L_cdm2`, `m` and `Lmes_cdm2` are NaN. The scene needs no sensor.
 /// The GIL is released while measuring; Ctrl-C stops it and raises
 /// KeyboardInterrupt.
 #[pyfunction]
-#[pyo3(signature = (path, points, spp = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, reflectance = 1.0))]
+#[pyo3(signature = (path, points, spp = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, reflectance = 1.0, receiver = "plane", up = (0.0, 1.0, 0.0)))]
 #[allow(clippy::too_many_arguments)]
 fn measure<'py>(
     py: Python<'py>,
@@ -41,10 +46,23 @@ fn measure<'py>(
     cluster: usize,
     params: Option<HashMap<String, String>>,
     reflectance: f64,
+    receiver: &str,
+    up: (f32, f32, f32),
 ) -> PyResult<Bound<'py, PyDict>> {
     let err = |e: String| PyValueError::new_err(e);
     let reflectance = scotopia_vision::mode::reflectance(reflectance)
         .map_err(|e| err(format!("reflectance {e}")))?;
+    let axis = Vec3::new(up.0, up.1, up.2);
+    let shape = match receiver {
+        "plane" => ReceiverShape::Plane,
+        "cylindrical" => ReceiverShape::Cylinder { up: axis },
+        "semicylindrical" => ReceiverShape::SemiCylinder { up: axis },
+        other => {
+            return Err(err(format!(
+                "receiver '{other}': use plane, cylindrical or semicylindrical"
+            )))
+        }
+    };
     let strategy = crate::render::wavelength_strategy(wavelengths)?;
     let cluster = crate::render::cluster_size(cluster)?;
     let a = points.as_array();
@@ -82,7 +100,7 @@ fn measure<'py>(
     // writes nothing) and raises KeyboardInterrupt.
     let cancel = AtomicBool::new(false);
     let (measured, interrupted) = crate::interrupt::interruptible(py, &cancel, || {
-        measure_points(&scene, &receivers, &options, &cancel, &|_, _| {})
+        measure_with(&scene, &receivers, shape, &options, &cancel, &|_, _| {})
     });
     if let Some(e) = interrupted {
         return Err(e);
@@ -103,7 +121,14 @@ fn measure<'py>(
     d.set_item("SP", column(|m| m.sp()))?;
     let mesopic: Vec<Mesopic> = measured
         .iter()
-        .map(|m| Mesopic::of_surface(m.e, m.sp(), reflectance))
+        .map(|m| {
+            let mut mes = Mesopic::of_surface(m.e, m.sp(), reflectance);
+            if shape != ReceiverShape::Plane {
+                // A cylinder's mean illuminance lights no surface.
+                (mes.luminance, mes.m, mes.mesopic) = (f64::NAN, f64::NAN, f64::NAN);
+            }
+            mes
+        })
         .collect();
     let figure =
         |f: fn(&Mesopic) -> f64| mesopic.iter().map(f).collect::<Vec<f64>>().into_pyarray(py);

@@ -174,6 +174,20 @@ def test_measure_gives_the_inverse_square_law_and_its_standard_errors(tmp_path):
     # its illuminance.
     for name in ["scEDI_lx", "mcEDI_lx", "lcEDI_lx", "rhEDI_lx", "mEDI_lx"]:
         assert np.all(np.abs(m[name] - m["E_lx"]) <= 4 * m[name + "_se"] + 5e-3 * m["E_lx"]), name
+    # A small vertical cylinder there: E_z = I sin θ / (π d²), sin θ = x/d;
+    # a half-cylinder facing the lamp (−x), twice that.
+    cyl = scotopia.measure(str(scene), points, spp=256, receiver="cylindrical")
+    ez = 1000.0 * (x / np.sqrt(d2)) / (np.pi * d2)
+    assert np.all(np.abs(cyl["E_lx"] - ez) <= 4 * cyl["E_lx_se"] + 5e-3 * ez + 1e-12)
+    assert np.all(np.isnan(cyl["L_cdm2"]))
+    facing = points.copy()
+    facing[:, 3:] = [-1.0, 0.0, 0.0]
+    semi = scotopia.measure(str(scene), facing, spp=256, receiver="semicylindrical")
+    assert np.all(np.abs(semi["E_lx"] - 2 * ez) <= 4 * semi["E_lx_se"] + 1e-2 * ez + 1e-12)
+    with pytest.raises(ValueError, match="plane, cylindrical or semicylindrical"):
+        scotopia.measure(str(scene), points, receiver="sphere")
+    with pytest.raises(ValueError, match="lies along it"):
+        scotopia.measure(str(scene), points, receiver="semicylindrical")
     with pytest.raises(ValueError, match="reflectance"):
         scotopia.measure(str(scene), points, reflectance=1.5)
     with pytest.raises(ValueError, match="N × 6"):

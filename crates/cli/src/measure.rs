@@ -8,7 +8,9 @@ use std::sync::atomic::Ordering;
 use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use scotopia_render::integrator::{measure, ClusterSize, Receiver, RenderOptions};
+use scotopia_render::integrator::{
+    measure_with, ClusterSize, Receiver, ReceiverShape, RenderError, RenderOptions,
+};
 use scotopia_render::math::Vec3;
 use scotopia_render::wavelength::WavelengthStrategy;
 use scotopia_scene::{load_scene_tracked, LoadOptions};
@@ -45,6 +47,21 @@ pub struct Args {
     /// road is about 0.1.
     #[arg(long, default_value_t = 1.0, value_name = "ρ", value_parser = reflectance)]
     reflectance: f64,
+    /// What each point measures: the illuminance of the plane of its
+    /// normal, the cylindrical illuminance E_z (EN 12464-1: the mean over
+    /// a small cylinder along --up; the normal is not used) or the
+    /// semi-cylindrical E_sc (EN 13201-2: a half-cylinder along --up facing
+    /// the normal's direction across it). For the cylinders the columns
+    /// L_cdm2, m and Lmes_cdm2, figures of a surface, are nan.
+    #[arg(
+        long,
+        default_value = "plane",
+        value_name = "plane|cylindrical|semicylindrical"
+    )]
+    receiver: String,
+    /// The cylinders' axis, X,Y,Z (Mitsuba's scenes are y-up).
+    #[arg(long, default_value = "0,1,0", value_name = "X,Y,Z", value_parser = crate::numbers::direction)]
+    up: [f32; 3],
     /// Samples per point (default: the scene's samples per pixel).
     #[arg(long)]
     spp: Option<u32>,
@@ -73,8 +90,9 @@ pub const POINTS_FILE_LIMIT: u64 = 64 * scotopia_color::io::MIB;
 /// The header a points file may start with (any case, fields quoted or not).
 const POINT_COLUMNS: [&str; 6] = ["x", "y", "z", "nx", "ny", "nz"];
 
-/// The receivers of a points file; errors name the file and line.
-pub fn read_points(path: &Path) -> Result<Vec<Receiver>> {
+/// The receivers of a points file, each with its line; errors name the
+/// file and line.
+pub fn read_points(path: &Path) -> Result<Vec<(Receiver, usize)>> {
     let name = path.display().to_string();
     let bytes = scotopia_color::io::read_limited(path, POINTS_FILE_LIMIT)
         .with_context(|| format!("{name}: cannot read the points"))?;
@@ -95,7 +113,7 @@ pub fn read_points(path: &Path) -> Result<Vec<Receiver>> {
 /// error naming its line, never a point silently lost. Numbers must be
 /// finite in f32, where the renderer works; a normal need not be of unit
 /// length (the measurement normalises it) but must not be zero.
-pub fn parse_points(text: &str, name: &str) -> Result<Vec<Receiver>> {
+pub fn parse_points(text: &str, name: &str) -> Result<Vec<(Receiver, usize)>> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut out = Vec::new();
     for (i, line) in scotopia_color::io::lines(text).enumerate() {
@@ -139,10 +157,8 @@ pub fn parse_points(text: &str, name: &str) -> Result<Vec<Receiver>> {
                 v[5]
             );
         }
-        out.push(Receiver {
-            p: Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32),
-            n,
-        });
+        let p = Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32);
+        out.push((Receiver { p, n }, i + 1));
     }
     if out.is_empty() {
         bail!("{name}: no points");
@@ -164,6 +180,17 @@ fn is_header(fields: &[&str]) -> bool {
 pub const HEADER: &str = "x,y,z,nx,ny,nz,E_lx,E_lx_se,Es_lx,Es_lx_se,SP,L_cdm2,m,Lmes_cdm2,\
 scEDI_lx,mcEDI_lx,lcEDI_lx,rhEDI_lx,mEDI_lx\n";
 
+/// The receivers `--receiver` names, along `up`.
+pub fn receiver_shape(name: &str, [x, y, z]: [f32; 3]) -> Result<ReceiverShape> {
+    let up = Vec3::new(x, y, z);
+    Ok(match name {
+        "plane" => ReceiverShape::Plane,
+        "cylindrical" => ReceiverShape::Cylinder { up },
+        "semicylindrical" => ReceiverShape::SemiCylinder { up },
+        other => bail!("--receiver {other}: use plane, cylindrical or semicylindrical"),
+    })
+}
+
 fn reflectance(text: &str) -> Result<f64, String> {
     let rho = text
         .trim()
@@ -183,7 +210,8 @@ pub fn run(args: Args) -> Result<()> {
         ("the --points file", &*args.points),
     ];
     scotopia_image::check_outputs(&inputs, output).map_err(anyhow::Error::msg)?;
-    let receivers = read_points(&args.points)?;
+    let (receivers, lines): (Vec<Receiver>, Vec<usize>) =
+        read_points(&args.points)?.into_iter().unzip();
     let load = LoadOptions {
         sensor_optional: true,
         ..load_options(None)
@@ -215,14 +243,28 @@ pub fn run(args: Args) -> Result<()> {
         .build()
         .context("cannot start the worker threads")?;
     let progress = |done: usize, _| bar.set_position(done as u64);
-    let measured = pool.install(|| measure(&scene, &receivers, &options, &cancel, &progress))?;
+    let shape = receiver_shape(&args.receiver, args.up)?;
+    let measured = pool
+        .install(|| measure_with(&scene, &receivers, shape, &options, &cancel, &progress))
+        .map_err(|e| match e {
+            RenderError::Facing(i) => anyhow::anyhow!(
+                "{}:{}: a semi-cylinder faces across its axis (--up), and this normal lies along it",
+                args.points.display(),
+                lines.get(i).copied().unwrap_or(0)
+            ),
+            e => e.into(),
+        })?;
     bar.finish_and_clear();
     if cancel.load(Ordering::Relaxed) {
         bail!("interrupted: nothing written");
     }
     let mut csv = String::from(HEADER);
     for (r, m) in receivers.iter().zip(&measured) {
-        let mes = Mesopic::of_surface(m.e, m.sp(), args.reflectance);
+        let mut mes = Mesopic::of_surface(m.e, m.sp(), args.reflectance);
+        if shape != ReceiverShape::Plane {
+            // A cylinder's mean illuminance lights no surface.
+            (mes.luminance, mes.m, mes.mesopic) = (f64::NAN, f64::NAN, f64::NAN);
+        }
         let _ = writeln!(
             csv,
             "{},{},{},{},{},{},{:.6e},{:.3e},{:.6e},{:.3e},{:.4},{:.6e},{:.4},{:.6e},\

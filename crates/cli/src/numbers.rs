@@ -83,6 +83,23 @@ pub fn light_scale(k: f64) -> Result<f32, String> {
     }
 }
 
+/// A direction `X,Y,Z`: three finite numbers, not all zero.
+pub fn direction(text: &str) -> Result<[f32; 3], String> {
+    let v: Vec<f32> = text
+        .split(',')
+        .map(|t| t.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("'{text}': give a direction X,Y,Z"))?;
+    match v[..] {
+        [x, y, z] if v.iter().all(|c| c.is_finite()) && v.iter().any(|&c| c != 0.0) => {
+            Ok([x, y, z])
+        }
+        _ => Err(format!(
+            "'{text}': give a direction X,Y,Z, finite and not zero"
+        )),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -92,6 +109,10 @@ mod tests {
         assert_eq!(seconds("1.5"), Ok(Duration::from_millis(1500)));
         for bad in ["1e20", "inf", "nan", "-3", "0", "soon"] {
             assert!(seconds(bad).is_err(), "{bad}");
+        }
+        assert_eq!(direction(" 0, 1,0"), Ok([0.0, 1.0, 0.0]));
+        for bad in ["0,0,0", "1,2", "1,2,3,4", "up", "nan,1,0", "1e40,0,0"] {
+            assert!(direction(bad).is_err(), "{bad}");
         }
         assert_eq!(threads("8"), Ok(8));
         for bad in ["0", "100000", "-1", "18446744073709551616"] {

@@ -387,3 +387,64 @@ fn a_melanopic_image_names_its_channel_and_is_mapped_not_seen() {
     assert_eq!(code, 1);
     assert!(err.contains("--false-colour melanopic-edi"), "{err}");
 }
+
+#[test]
+fn cylinders_are_measured_along_up_and_a_bad_facing_names_its_line() {
+    // 400 cd at (2, 2, 0), 2√2 m from the point at the origin, 45° up:
+    // E_z = I sin θ/(π d²) = 400·0.7071/(8π) = 11.25 lx along y; along x
+    // (--up 1,0,0) sin θ is the same, so is E_z.
+    let dir = out_dir("measure", "cylinders");
+    let scene = dir.join("lamp.xml");
+    std::fs::write(
+        &scene,
+        r#"<scene version="3.0.0"><emitter type="point"><point name="position" x="2" y="2" z="0"/>
+          <spectrum name="intensity" type="d65"><float name="luminance" value="400"/></spectrum></emitter></scene>"#,
+    )
+    .unwrap();
+    let points = dir.join("points.csv");
+    std::fs::write(&points, "x,y,z,nx,ny,nz\n# the point\n0,0,0,0,0,1\n").unwrap();
+    let out = dir.join("out.csv");
+    let s = |p: &std::path::Path| p.to_str().unwrap().to_string();
+    for up in ["0,1,0", "1,0,0"] {
+        let (code, _, err) = scotopia(&[
+            "measure",
+            &s(&scene),
+            "--points",
+            &s(&points),
+            "-o",
+            &s(&out),
+            "--spp",
+            "256",
+            "--receiver",
+            "cylindrical",
+            "--up",
+            up,
+        ]);
+        assert_eq!(code, 0, "{err}");
+        let csv = std::fs::read_to_string(&out).unwrap();
+        let row: Vec<&str> = csv.lines().nth(1).unwrap().split(',').collect();
+        let (e, se): (f64, f64) = (row[6].parse().unwrap(), row[7].parse().unwrap());
+        let want = 400.0 * 0.5f64.sqrt() / (8.0 * std::f64::consts::PI);
+        assert!((e - want).abs() <= 4.0 * se + 5e-3 * want, "{up}: {csv}");
+        // No surface's luminance for a cylinder.
+        assert_eq!(&row[11..14], ["NaN"; 3], "{csv}");
+    }
+    // A half-cylinder along z facing z: the error names the file and line.
+    let (code, _, err) = scotopia(&[
+        "measure",
+        &s(&scene),
+        "--points",
+        &s(&points),
+        "-o",
+        &s(&out),
+        "--receiver",
+        "semicylindrical",
+        "--up",
+        "0,0,2",
+    ]);
+    assert_eq!(code, 1);
+    assert!(
+        err.contains("points.csv:3:") && err.contains("along it"),
+        "{err}"
+    );
+}

@@ -650,3 +650,82 @@ fn the_alpha_opic_daylight_illuminances_follow_the_lamps_spectrum() {
         }
     }
 }
+
+/// [`run`] with receivers of `shape`.
+fn run_shaped(
+    s: &scotopia_render::scene::Scene,
+    rs: &[Receiver],
+    shape: scotopia_render::integrator::ReceiverShape,
+    spp: u32,
+) -> Result<Vec<Measured>, scotopia_render::integrator::RenderError> {
+    let options = RenderOptions {
+        spp: Some(spp),
+        seed: 7,
+        ..RenderOptions::default()
+    };
+    let none = AtomicBool::new(false);
+    scotopia_render::integrator::measure_with(s, rs, shape, &options, &none, &|_, _| {})
+}
+
+#[test]
+fn cylindrical_and_semi_cylindrical_illuminances_are_pi_l_in_a_uniform_field() {
+    // EN 12464-1 / EN 13201-2: E_z = E_sc = πL under a uniform sky of
+    // luminance L, as for a plane.
+    use scotopia_render::integrator::ReceiverShape;
+    let s = scene(
+        "uniform",
+        r#"<integrator type="path"><integer name="max_depth" value="1"/></integrator>
+        <emitter type="constant"><spectrum name="radiance" type="d65"><float name="luminance" value="100"/></spectrum></emitter>"#,
+    );
+    let up = Vec3::new(0.0, 1.0, 0.0);
+    let r = [Receiver {
+        p: Vec3::new(0.0, 0.0, 0.0),
+        n: Vec3::new(1.0, 0.0, 0.0),
+    }];
+    for shape in [
+        ReceiverShape::Plane,
+        ReceiverShape::Cylinder { up },
+        ReceiverShape::SemiCylinder { up },
+    ] {
+        let m = run_shaped(&s, &r, shape, 1024).unwrap()[0];
+        assert_close(&format!("{shape:?}"), &m, std::f64::consts::PI * 100.0);
+    }
+}
+
+#[test]
+fn a_lamp_lights_a_cylinder_by_sin_theta_and_a_half_cylinder_by_its_facing() {
+    // 1000 cd at (4, 3, 0), 5 m from the receiver at the origin, 37° above
+    // the horizon: sin θ = 0.8 from the vertical axis. E_z = I sin θ/(π d²);
+    // a half-cylinder facing azimuth φ from the lamp gets (1 + cos φ) times
+    // that: twice facing it, once across, nothing facing away.
+    use scotopia_render::integrator::{ReceiverShape, RenderError};
+    let s = scene(
+        "lamp-cylinder",
+        r#"<integrator type="path"><integer name="max_depth" value="1"/></integrator>
+        <emitter type="point"><point name="position" x="4" y="3" z="0"/>
+          <spectrum name="intensity" type="d65"><float name="luminance" value="1000"/></spectrum></emitter>"#,
+    );
+    let up = Vec3::new(0.0, 1.0, 0.0);
+    let at = |x, z| Receiver {
+        p: Vec3::new(0.0, 0.0, 0.0),
+        n: Vec3::new(x, 0.3, z),
+    };
+    let ez = 1000.0 * 0.8 / (std::f64::consts::PI * 25.0);
+    let m = run_shaped(&s, &[at(1.0, 0.0)], ReceiverShape::Cylinder { up }, 2048).unwrap();
+    assert_close("cylinder", &m[0], ez);
+    let facings = [at(1.0, 0.0), at(0.0, 1.0), at(-1.0, 0.0)];
+    let m = run_shaped(&s, &facings, ReceiverShape::SemiCylinder { up }, 2048).unwrap();
+    assert_close("facing the lamp", &m[0], 2.0 * ez);
+    assert_close("across", &m[1], ez);
+    assert_eq!(m[2].e, 0.0, "facing away");
+    // A half-cylinder cannot face along its axis; an axis must be one.
+    let e = run_shaped(&s, &[at(0.0, 0.0)], ReceiverShape::SemiCylinder { up }, 4);
+    assert!(matches!(e, Err(RenderError::Facing(0))), "{e:?}");
+    let zero = ReceiverShape::Cylinder {
+        up: Vec3::new(0.0, 0.0, 0.0),
+    };
+    assert!(matches!(
+        run_shaped(&s, &facings, zero, 4),
+        Err(RenderError::Axis)
+    ));
+}

@@ -42,6 +42,50 @@ pub struct Receiver {
     pub n: Vec3,
 }
 
+/// What receivers measure: the illuminance of the plane of their normal,
+/// or the mean illuminance over the curved surface of an infinitesimal
+/// cylinder or half-cylinder along `up` (EN 12464-1's cylindrical
+/// illuminance E_z, EN 13201-2's semi-cylindrical E_sc, for seeing
+/// faces). With θ a direction's angle from `up`, E_z = (1/π)∫ L sin θ dω;
+/// for a half-cylinder facing the receiver's normal (its part across
+/// `up`), with φ a direction's azimuth from the facing, E_sc = (1/π)∫ L
+/// sin θ (1 + cos φ) dω. Both are πL in a uniform field. Each is the mean
+/// over the surface's normals of their planes' illuminance, so each
+/// sample measures the plane of a normal drawn uniformly around the
+/// cylinder (over the half-cylinder's half-turn): unbiased, by the
+/// planes' own estimator.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum ReceiverShape {
+    /// The plane of the receiver's normal.
+    #[default]
+    Plane,
+    /// A cylinder along `up`; the receiver's normal is not used.
+    Cylinder { up: Vec3 },
+    /// A half-cylinder along `up` facing the receiver's normal.
+    SemiCylinder { up: Vec3 },
+}
+
+impl ReceiverShape {
+    /// The normal of the plane one sample measures, from `u` in [0, 1),
+    /// for a receiver of unit normal `n`; `None` where a half-cylinder's
+    /// normal lies along its axis.
+    fn normal(self, n: Vec3, u: f32) -> Option<Vec3> {
+        use std::f32::consts::PI;
+        let (up, facing, turn) = match self {
+            Self::Plane => return Some(n),
+            Self::Cylinder { up } => (up, Frame::from_normal(up).s, 2.0 * PI),
+            Self::SemiCylinder { up } => {
+                let across = n - up * n.dot(up);
+                (across.length() > 1e-4).then_some(())?;
+                (up, across.normalize(), PI)
+            }
+        };
+        let side = up.cross(facing);
+        let a = (u - 0.5) * turn;
+        Some(facing * a.cos() + side * a.sin())
+    }
+}
+
 /// What one receiver measured.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Measured {
@@ -85,18 +129,57 @@ pub fn measure(
     cancel: &AtomicBool,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Vec<Measured>, RenderError> {
+    measure_with(
+        scene,
+        receivers,
+        ReceiverShape::Plane,
+        options,
+        cancel,
+        progress,
+    )
+}
+
+/// [`measure`] with receivers of `shape`: planes, cylinders or
+/// half-cylinders. A half-cylinder whose normal lies along its axis, or an
+/// axis that is not finite or is zero, is an error.
+pub fn measure_with(
+    scene: &Scene,
+    receivers: &[Receiver],
+    shape: ReceiverShape,
+    options: &RenderOptions,
+    cancel: &AtomicBool,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Vec<Measured>, RenderError> {
+    let shape = match shape {
+        ReceiverShape::Plane => shape,
+        ReceiverShape::Cylinder { up } | ReceiverShape::SemiCylinder { up } => {
+            let finite = up.x.is_finite() && up.y.is_finite() && up.z.is_finite();
+            if !finite || up.abs().max_component() == 0.0 {
+                return Err(RenderError::Axis);
+            }
+            match shape {
+                ReceiverShape::Cylinder { .. } => ReceiverShape::Cylinder {
+                    up: unit_normal(up),
+                },
+                _ => ReceiverShape::SemiCylinder {
+                    up: unit_normal(up),
+                },
+            }
+        }
+    };
+    let job = (receivers, shape);
     match options.cluster {
-        ClusterSize::K1 => measure_k::<1>(scene, receivers, options, cancel, progress),
-        ClusterSize::K2 => measure_k::<2>(scene, receivers, options, cancel, progress),
-        ClusterSize::K4 => measure_k::<4>(scene, receivers, options, cancel, progress),
-        ClusterSize::K8 => measure_k::<8>(scene, receivers, options, cancel, progress),
-        ClusterSize::K16 => measure_k::<16>(scene, receivers, options, cancel, progress),
+        ClusterSize::K1 => measure_k::<1>(scene, job, options, cancel, progress),
+        ClusterSize::K2 => measure_k::<2>(scene, job, options, cancel, progress),
+        ClusterSize::K4 => measure_k::<4>(scene, job, options, cancel, progress),
+        ClusterSize::K8 => measure_k::<8>(scene, job, options, cancel, progress),
+        ClusterSize::K16 => measure_k::<16>(scene, job, options, cancel, progress),
     }
 }
 
 fn measure_k<const K: usize>(
     scene: &Scene,
-    receivers: &[Receiver],
+    (receivers, shape): (&[Receiver], ReceiverShape),
     options: &RenderOptions,
     cancel: &AtomicBool,
     progress: &(dyn Fn(usize, usize) + Sync),
@@ -112,6 +195,12 @@ fn measure_k<const K: usize>(
     {
         return Err(RenderError::Receiver(i));
     }
+    if let Some(i) = receivers
+        .iter()
+        .position(|r| shape.normal(unit_normal(r.n), 0.5).is_none())
+    {
+        return Err(RenderError::Facing(i));
+    }
     let renderer = Renderer::receivers(scene, options.strategy);
     let Integrator::Illuminance(state) = &renderer.integrator else {
         unreachable!("Renderer::receivers runs the illuminance integrator")
@@ -124,8 +213,14 @@ fn measure_k<const K: usize>(
             if cancel.load(Ordering::Relaxed) {
                 return Measured::default();
             }
-            let m =
-                renderer.receive::<K>(state, r, Sampler::new(options.seed), k as u32, spp, cancel);
+            let m = renderer.receive::<K>(
+                state,
+                (r, shape),
+                Sampler::new(options.seed),
+                k as u32,
+                spp,
+                cancel,
+            );
             progress(done.fetch_add(1, Ordering::Relaxed) + 1, receivers.len());
             m
         })
@@ -249,11 +344,11 @@ impl Renderer<'_> {
     }
 
     /// `spp` samples of receiver number `index` (its place in the sampler's
-    /// pixel grid: row 0, column `index`).
+    /// pixel grid: row 0, column `index`), of `shape`.
     fn receive<const K: usize>(
         &self,
         receivers: &Receivers,
-        r: &Receiver,
+        (r, shape): (&Receiver, ReceiverShape),
         mut sampler: Sampler,
         index: u32,
         spp: u32,
@@ -270,8 +365,12 @@ impl Renderer<'_> {
             }
             sampler.start([index, 0], i);
             let sets = sampler.get_two_4d();
-            let wl = self.start_sample_with::<K>([index, 0], sets).wl;
-            let at = Receiver { p: r.p, n };
+            let start = self.start_sample_with::<K>([index, 0], sets);
+            // The lens sample turns a cylinder's plane (checked to exist).
+            let Some(n) = shape.normal(n, start.lens[0]) else {
+                continue;
+            };
+            let (wl, at) = (start.wl, Receiver { p: r.p, n });
             let path = self.receiver_path(receivers, &mut sampler, &at, wl, &mut 0);
             let [_, y, _, v] = estimate_xyzv(&path.l, &path.wl);
             let a = alpha_opic::estimate(&path.l, &path.wl);

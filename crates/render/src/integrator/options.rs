@@ -369,6 +369,10 @@ pub enum RenderError {
     Checkpoint(String),
     #[error("receiver {0}: its point and normal must be finite and the normal not zero")]
     Receiver(usize),
+    #[error("receiver {0}: a semi-cylinder faces across its axis, and this normal lies along it")]
+    Facing(usize),
+    #[error("the cylinders' axis must be finite and not zero")]
+    Axis,
 }
 
 /// The longest time limit accepted, seconds (≈ 31.7 years): longer ones
