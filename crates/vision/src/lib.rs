@@ -17,6 +17,7 @@ pub mod night;
 pub mod observer;
 pub mod output;
 pub mod pipeline;
+pub mod ratings;
 pub mod resample;
 pub mod screen;
 pub mod tonemap;

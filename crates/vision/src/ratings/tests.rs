@@ -1,0 +1,108 @@
+use super::*;
+
+/// Looking along +z with +y up.
+const VIEW: View = View {
+    sight: [0.0, 0.0, 1.0],
+    up: [0.0, 1.0, 0.0],
+};
+
+/// A small source giving `e` lx at the eye from `deg` degrees above the
+/// line of sight.
+fn lamp_above(e: f64, deg: f64) -> Source {
+    let t = deg.to_radians();
+    let omega = 1e-5;
+    Source {
+        luminance: e / (omega * t.cos()),
+        solid_angle: omega,
+        dir: [0.0, t.sin(), t.cos()],
+    }
+}
+
+#[test]
+fn cie_146_veiling_luminance_per_lux_at_ten_degrees_grows_with_age() {
+    // CIE 146:2002 (shared/vision-equations.md §9): p = 0.5, θ = 10°:
+    // 0.0677 sr⁻¹ at 25 years, 0.153 at 70.
+    for (age, want) in [(25.0, 0.0677), (70.0, 0.153)] {
+        let o = Observer::new(age, 0.5).unwrap();
+        let v = VIEW.veiling(&[lamp_above(1.0, 10.0)], &o);
+        assert!((v / want - 1.0).abs() < 5e-3, "{age}: {v}");
+    }
+}
+
+#[test]
+fn threshold_increment_of_one_lux_at_ten_degrees_over_one_candela() {
+    // EN 13201-3: L_v = k·E/θ², k ≈ 10 at 23 years: 1 lx at 10° over a road
+    // of 1 cd/m² gives TI ≈ 6.5 % (vision-equations.md §9).
+    let lv = road_veiling(&[(1.0, 10.0)], TI_AGE);
+    assert!((lv - 0.1).abs() < 2e-3, "{lv}");
+    let ti = threshold_increment(lv, 1.0).unwrap();
+    assert!((ti - 6.5).abs() < 0.15, "{ti}");
+    // Twice the road luminance: 2^0.8 less; luminaires nearer than 1.5°
+    // or beyond 60° do not count; an older driver's k is larger.
+    let half = threshold_increment(lv, 2.0).unwrap();
+    assert!((ti / half - 2f64.powf(0.8)).abs() < 1e-9);
+    assert_eq!(
+        road_veiling(&[(1.0, 10.0), (5.0, 1.0), (5.0, 70.0)], TI_AGE),
+        lv
+    );
+    assert!(ti_age_factor(60.0) > 1.5 * ti_age_factor(TI_AGE));
+    assert_eq!(threshold_increment(lv, 0.0), None);
+}
+
+#[test]
+fn the_position_index_is_guths_above_the_line_of_sight_and_iwatas_below() {
+    assert!((VIEW.position_index([0.0, 0.0, 1.0]) - 1.0).abs() < 1e-12);
+    // Straight above (τ = 0) at σ = 30°: exp(33.98e-3·30 + 21e-5·900).
+    let up30 = VIEW.position_index(lamp_above(1.0, 30.0).dir);
+    assert!(
+        (up30 - (33.98e-3 * 30.0 + 21e-5 * 900.0f64).exp()).abs() < 1e-9,
+        "{up30}"
+    );
+    // Beside (τ = 90°) it grows more slowly at first: 1.22e^(−20) ≈ 0.
+    let t = 30f64.to_radians();
+    let side = VIEW.position_index([t.sin(), 0.0, t.cos()]);
+    let want = ((35.2f64 - 0.31889 * 90.0) * 1e-3 * 30.0
+        + (21.0 + 0.26667 * 90.0 - 0.002963 * 8100.0) * 1e-5 * 900.0)
+        .exp();
+    assert!((side - want).abs() < 1e-9, "{side} against {want}");
+    // Left and right alike; farther is larger, and at most 16.
+    assert_eq!(side, VIEW.position_index([-t.sin(), 0.0, t.cos()]));
+    assert!(VIEW.position_index(lamp_above(1.0, 50.0).dir) > up30);
+    assert_eq!(VIEW.position_index([0.0, 0.98, 0.2]), 16.0);
+    // 20° below: R = tan 20° = 0.364 ≤ 0.6, P = 1 + 0.8R; 40° below, 1.2R.
+    for (deg, fact) in [(20.0f64, 0.8), (40.0, 1.2)] {
+        let d = deg.to_radians();
+        let p = VIEW.position_index([0.0, -d.sin(), d.cos()]);
+        assert!((p - (1.0 + fact * d.tan())).abs() < 1e-9, "{deg}: {p}");
+    }
+}
+
+#[test]
+fn ugr_and_dgp_of_one_source_are_their_formulas() {
+    // A 10 000 cd/m² source of 0.01 sr on the line of sight (P = 1).
+    let s = [Source {
+        luminance: 1e4,
+        solid_angle: 0.01,
+        dir: [0.0, 0.0, 1.0],
+    }];
+    // UGR = 8·log₁₀(0.25/L_b · L²ω/P²) over 100 cd/m²: 8·log₁₀ 2500.
+    let ugr = VIEW.ugr(&s, 100.0).unwrap();
+    assert!((ugr - 8.0 * 2500f64.log10()).abs() < 1e-9, "{ugr}");
+    assert_eq!(VIEW.ugr(&s, 0.0), None);
+    assert_eq!(VIEW.ugr(&[], 100.0), None);
+    // DGP at 2000 lx (no low-light correction).
+    let dgp = VIEW.dgp(&s, 2000.0);
+    let want = 5.87e-5 * 2000.0 + 9.18e-2 * (1.0 + 1e6 / 2000f64.powf(1.87)).log10() + 0.16;
+    assert!((dgp - want).abs() < 1e-12, "{dgp}");
+    // At 200 lx, corrected by e^0.8/(1 + e^0.8).
+    let low = VIEW.dgp(&s, 200.0);
+    let raw = 5.87e-5 * 200.0 + 9.18e-2 * (1.0 + 1e6 / 200f64.powf(1.87)).log10() + 0.16;
+    let c = 0.8f64.exp() / (1.0 + 0.8f64.exp());
+    assert!((low - raw * c).abs() < 1e-12, "{low}");
+    // A source four times as far from the line of sight glares less.
+    let far = [Source {
+        dir: lamp_above(1.0, 40.0).dir,
+        ..s[0]
+    }];
+    assert!(VIEW.ugr(&far, 100.0).unwrap() < ugr && VIEW.dgp(&far, 2000.0) < dgp);
+}
