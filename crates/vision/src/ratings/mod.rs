@@ -123,7 +123,7 @@ impl View {
     /// 4)) below 1000 lx; at most 1. (evalglare's constants are 0.092 and
     /// 0.159, a DGP 0.001 apart.)
     pub fn dgp(&self, sources: &[Source], e_v: f64) -> f64 {
-        if !(e_v > 0.0) {
+        if e_v.is_nan() || e_v <= 0.0 {
             return 0.0;
         }
         let sum: f64 = sources
