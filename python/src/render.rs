@@ -28,7 +28,9 @@ use crate::scene::load_options;
 /// Renders a Mitsuba 3 XML scene (the `scotopia render` verb). Returns
 /// `(image, metadata)`: image[y, x] = (X, Y, Z, V′) in cd/m² and scotopic
 /// cd/m². `output` also writes the OpenEXR, `spectral` the spectral
-/// OpenEXR (Fichet et al. 2021) with `bands` bands; `integrator` is
+/// OpenEXR (Fichet et al. 2021) with `bands` bands, `radiance` a Radiance
+/// picture (RGBE, luminance exact in Radiance's 179 lm/W units, for
+/// evalglare); `integrator` is
 /// "path" or "bdpt" (default: the scene's); `res` overrides the film size
 /// (an int width keeping the aspect, a (width, height) pair, or "WxH").
 /// `checkpoint` names a file where the film's exact sums are saved every
@@ -50,7 +52,7 @@ use crate::scene::load_options;
 /// it has, then KeyboardInterrupt is raised, as the CLI exits. `resume`
 /// without `checkpoint` is a ValueError.
 #[pyfunction]
-#[pyo3(signature = (path, spp = None, time = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, output = None, spectral = None, bands = 47, integrator = None, res = None, checkpoint = None, checkpoint_every = 60.0, resume = false, tracer = "scalar", quantity = "radiance", guiding = "off"))]
+#[pyo3(signature = (path, spp = None, time = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, output = None, spectral = None, bands = 47, integrator = None, res = None, checkpoint = None, checkpoint_every = 60.0, resume = false, tracer = "scalar", quantity = "radiance", guiding = "off", radiance = None))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
@@ -72,6 +74,7 @@ fn render<'py>(
     tracer: &str,
     quantity: &str,
     guiding: &str,
+    radiance: Option<PathBuf>,
 ) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyDict>)> {
     let err = |e: String| PyValueError::new_err(e);
     let named = Named::parse(
@@ -159,6 +162,13 @@ fn render<'py>(
     }
     if let Some(out) = spectral {
         write_spectral_exr(&out, &rendered, &meta).map_err(|e| err(e.to_string()))?;
+    }
+    if let Some(out) = radiance {
+        let (w, h) = (rendered.film.width as usize, rendered.film.height as usize);
+        let view = scotopia_render::output::radiance_view(&scene);
+        let px = rendered.film.xyzv();
+        scotopia_image::radiance::write_radiance_hdr(&out, w, h, &px, view.as_deref())
+            .map_err(|e| err(e.to_string()))?;
     }
     if let Some(e) = interrupted {
         return Err(e);

@@ -102,9 +102,9 @@ ENTRIES = {
         # own extremes are in test_boundaries.
         dict(spp=1, seed=0, wavelengths="swc", cluster=4, params=None, spectral=None,
              bands=47, integrator=None, res=4, checkpoint=None, checkpoint_every=60.0,
-             resume=False, output=None, tracer="scalar", quantity="radiance"),
+             resume=False, output=None, tracer="scalar", quantity="radiance", radiance=None),
         {"path"},
-        {"output", "spectral", "checkpoint"},
+        {"output", "spectral", "checkpoint", "radiance"},
     ),
     "scene_info": (scotopia.scene_info, [CORNELL], dict(params=None, res=None), {"path"}, set()),
     "render_shard": (

@@ -56,6 +56,12 @@ pub struct Args {
     /// Also write a quick auto-exposed sRGB preview.
     #[arg(long, value_name = "OUT.png")]
     pub(crate) preview: Option<PathBuf>,
+    /// Also write the image as a Radiance picture (RGBE in Radiance's
+    /// primaries and units, W/sr/m² of 179 lm/W, so its luminance is the
+    /// render's), for evalglare and Radiance's other tools; with the view
+    /// (-vtv -vh -vv) of an uncropped perspective camera.
+    #[arg(long, value_name = "OUT.hdr")]
+    pub(crate) radiance: Option<PathBuf>,
     /// Also run the vision pipeline (as `scotopia display`, with the
     /// camera's field of view) and write what the eye would see.
     #[arg(long, value_name = "OUT.png")]
@@ -392,6 +398,10 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(spectral) = &args.spectral {
         write_spectral_exr(spectral, &rendered, &meta)?;
     }
+    if let Some(hdr) = &args.radiance {
+        let view = scotopia_render::output::radiance_view(&scene);
+        scotopia_image::radiance::write_radiance_hdr(hdr, w, h, &means, view.as_deref())?;
+    }
     let secs = rendered.elapsed.as_secs_f64();
     eprintln!(
         "scotopia: {} spp in {secs:.1} s ({:.2} Msamples/s, {:.2} Mrays/s) → {}",
@@ -518,6 +528,7 @@ pub(crate) fn check_outputs(args: &Args, inputs: &[PathBuf]) -> Result<()> {
     for (flag, path) in [
         ("--spectral", &args.spectral),
         ("--preview", &args.preview),
+        ("--radiance", &args.radiance),
         ("--display", &args.display),
     ] {
         if let Some(p) = path {

@@ -490,3 +490,54 @@ fn a_checkpoint_of_the_old_format_is_refused_saying_what_to_do() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_radiance_picture_holds_the_renders_luminance_and_view() {
+    // --radiance writes Ward's RGBE in Radiance's primaries and units
+    // (179 lm/W): its luminance, 179·(0.265R + 0.670G + 0.065B), is the
+    // EXR's Y within RGBE's 8-bit mantissa.
+    let dir = common::out_dir("outputs", "radiance");
+    let (exr, hdr) = (dir.join("street.exr"), dir.join("street.hdr"));
+    let s = |p: &std::path::Path| p.to_str().unwrap().to_string();
+    let scene = common::scenes().join("night-street.xml");
+    let (code, _, err) = common::scotopia(&[
+        "render",
+        &s(&scene),
+        "--res",
+        "40x24",
+        "--spp",
+        "4",
+        "-o",
+        &s(&exr),
+        "--radiance",
+        &s(&hdr),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let bytes = std::fs::read(&hdr).unwrap();
+    let end = bytes.windows(2).position(|w| w == b"\n\n").unwrap() + 2;
+    let head = String::from_utf8_lossy(&bytes[..end]);
+    assert!(head.starts_with("#?RADIANCE\n") && head.contains("FORMAT=32-bit_rle_rgbe\n"));
+    assert!(head.contains("VIEW= -vtv -vh 60"), "{head}");
+    let rest = &bytes[end..];
+    let size = b"-Y 24 +X 40\n";
+    assert!(rest.starts_with(size), "{head}");
+    let px = &rest[size.len()..];
+    assert_eq!(px.len(), 40 * 24 * 4);
+    let film = scotopia_image::read_xyzv(&exr, Default::default()).unwrap();
+    for (i, p) in px.chunks(4).enumerate() {
+        // Radiance's reader: (m + 0.5)·2^(e − 136).
+        let f = |m: u8| {
+            if p[3] == 0 {
+                0.0
+            } else {
+                (f64::from(m) + 0.5) * 2f64.powi(i32::from(p[3]) - 136)
+            }
+        };
+        let l = 179.0 * (0.265 * f(p[0]) + 0.670 * f(p[1]) + 0.065 * f(p[2]));
+        let y = f64::from(film.pixels[i][1]);
+        assert!(
+            (l - y).abs() <= 0.02 * y + 1e-6,
+            "pixel {i}: {l} against {y}"
+        );
+    }
+}

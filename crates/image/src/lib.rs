@@ -9,6 +9,7 @@ mod plain_file;
 pub mod plot;
 pub mod png_out;
 pub mod preview;
+pub mod radiance;
 pub mod read;
 pub mod sheet;
 mod tmp_file;

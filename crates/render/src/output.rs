@@ -47,6 +47,19 @@ pub fn render_metadata(
     ]
 }
 
+/// The Radiance view options of `scene`'s camera (`-vtv -vh H -vv V`),
+/// for a Radiance picture of the render (`scotopia_image::radiance`): a
+/// perspective camera that is not cropped. (Radiance's default view
+/// direction and up stand for the camera's: a picture's angles are
+/// measured from its own centre and up.)
+pub fn radiance_view(scene: &Scene) -> Option<String> {
+    let c = &scene.camera;
+    let whole = c.crop_offset() == [0, 0] && c.full_size() == [c.width, c.height];
+    let (h, v) = c.fov_degrees();
+    (c.projection == crate::camera::Projection::Perspective && whole && h > 0.0)
+        .then(|| format!("-vtv -vh {h} -vv {v}"))
+}
+
 /// Writes channels X, Y, Z, V (V′) of `rendered` to `path`, atomically.
 pub fn write_xyzv_exr(
     path: &Path,
