@@ -238,7 +238,10 @@ fn a_radiance_image_gives_a_mesopic_false_colour_map() {
         &s(&png),
     ]);
     assert_eq!(code, 1);
-    assert!(err.contains("luminance, mesopic or illuminance"), "{err}");
+    assert!(
+        err.contains("luminance, mesopic, illuminance or melanopic-edi"),
+        "{err}"
+    );
 }
 
 /// `scotopia measure` of a 400 cd point lamp 2 m above the origin, with

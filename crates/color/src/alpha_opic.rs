@@ -14,7 +14,7 @@ use std::sync::OnceLock;
 
 use crate::cie;
 use crate::io::parse_table;
-use crate::photometry::{integrate_observers, integration_nodes, K_M};
+use crate::photometry::{estimate_weighted, integrate_observers, integrate_weighted, K_M};
 use crate::sampled::{SampledSpectrum, SampledWavelengths};
 use crate::spectrum::Spectrum;
 use crate::LAMBDA_MIN;
@@ -68,22 +68,7 @@ pub fn action_spectra(lambda: f32) -> [f32; 5] {
 /// ∫ S(λ)·s_α(λ) dλ over 360–830 nm, by the trapezoid rule on the nodes
 /// `photometry::integrate_observers` uses.
 pub fn integrate(s: &Spectrum) -> [f64; 5] {
-    let nodes = integration_nodes(s);
-    let integrand = |l: f32| {
-        let v = f64::from(s.eval(l));
-        action_spectra(l).map(|a| f64::from(a) * v)
-    };
-    let mut sum = [0.0f64; 5];
-    let mut prev = (nodes[0], integrand(nodes[0]));
-    for &l in &nodes[1..] {
-        let f = integrand(l);
-        let h = f64::from(l - prev.0);
-        for k in 0..5 {
-            sum[k] += 0.5 * h * (prev.1[k] + f[k]);
-        }
-        prev = (l, f);
-    }
-    sum
+    integrate_weighted(s, action_spectra)
 }
 
 /// D65's α-opic efficacies K_α,v^D65 (W/lm): the α-opic irradiance of 1 lx
@@ -113,19 +98,7 @@ pub fn estimate<const K: usize>(
     irradiance: &SampledSpectrum<K>,
     wavelengths: &SampledWavelengths<K>,
 ) -> [f32; 5] {
-    let mut out = [0.0f32; 5];
-    for i in 0..K {
-        let pdf = wavelengths.pdf(i);
-        if pdf == 0.0 {
-            continue;
-        }
-        let s = action_spectra(wavelengths.lambda(i));
-        let w = irradiance[i] / (pdf * K as f32);
-        for k in 0..5 {
-            out[k] += s[k] * w;
-        }
-    }
-    out
+    estimate_weighted(irradiance, wavelengths, action_spectra)
 }
 
 #[cfg(test)]

@@ -82,18 +82,26 @@ pub fn integration_nodes(s: &Spectrum) -> Vec<f32> {
 /// trapezoid rule on the 1 nm grid merged with the spectrum's own tabulated
 /// wavelengths, so narrow emission lines are integrated, not skipped.
 pub fn integrate_observers(s: &Spectrum) -> [f64; 4] {
+    integrate_weighted(s, cie::observers)
+}
+
+/// ∫ S(λ)·w(λ) dλ over 360–830 nm for each of the N weighting functions
+/// `weights` gives at λ, as [`integrate_observers`] integrates.
+pub fn integrate_weighted<const N: usize>(
+    s: &Spectrum,
+    weights: impl Fn(f32) -> [f32; N],
+) -> [f64; N] {
     let nodes = integration_nodes(s);
     let integrand = |l: f32| {
-        let o = cie::observers(l);
         let v = s.eval(l) as f64;
-        o.map(|c| c as f64 * v)
+        weights(l).map(|c| c as f64 * v)
     };
-    let mut sum = [0.0f64; 4];
+    let mut sum = [0.0f64; N];
     let mut prev = (nodes[0], integrand(nodes[0]));
     for &l in &nodes[1..] {
         let f = integrand(l);
         let h = (l - prev.0) as f64;
-        for k in 0..4 {
+        for k in 0..N {
             sum[k] += 0.5 * h * (prev.1[k] + f[k]);
         }
         prev = (l, f);
@@ -121,25 +129,37 @@ pub fn estimate_xyzv<const K: usize>(
     radiance: &SampledSpectrum<K>,
     wavelengths: &SampledWavelengths<K>,
 ) -> [f32; 4] {
-    let mut out = [0.0f32; 4];
-    for i in 0..K {
-        let pdf = wavelengths.pdf(i);
-        if pdf == 0.0 {
-            continue;
-        }
-        let o = cie::observers(wavelengths.lambda(i));
-        let w = radiance[i] / (pdf * K as f32);
-        out[0] += o[0] * w;
-        out[1] += o[1] * w;
-        out[2] += o[2] * w;
-        out[3] += o[3] * w;
-    }
+    let out = estimate_weighted(radiance, wavelengths, cie::observers);
     [
         out[0] * K_M as f32,
         out[1] * K_M as f32,
         out[2] * K_M as f32,
         out[3] * K_M_SCOTOPIC as f32,
     ]
+}
+
+/// Monte Carlo estimate of ∫ L(λ)·w(λ) dλ for each of the N weighting
+/// functions `weights` gives at λ, from one wavelength cluster: (1/K)
+/// Σₖ w(λₖ)·L(λₖ)/p(λₖ), without an efficacy factor.
+#[inline]
+pub fn estimate_weighted<const K: usize, const N: usize>(
+    radiance: &SampledSpectrum<K>,
+    wavelengths: &SampledWavelengths<K>,
+    weights: impl Fn(f32) -> [f32; N],
+) -> [f32; N] {
+    let mut out = [0.0f32; N];
+    for i in 0..K {
+        let pdf = wavelengths.pdf(i);
+        if pdf == 0.0 {
+            continue;
+        }
+        let o = weights(wavelengths.lambda(i));
+        let w = radiance[i] / (pdf * K as f32);
+        for k in 0..N {
+            out[k] += o[k] * w;
+        }
+    }
+    out
 }
 
 #[cfg(test)]
