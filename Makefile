@@ -159,20 +159,29 @@ STREET    := scenes/ies-street.xml
 lighting:
 	$(CARGO) build --release -p scotopia
 	@mkdir -p $(LIGHT_OUT)
-	$(BIN) render $(STREET) --spp 64 -o $(LIGHT_OUT)/ies-street.exr --preview $(LIGHT_OUT)/ies-street.png
+	$(BIN) render $(STREET) --spp 64 -o $(LIGHT_OUT)/ies-street.exr --preview $(LIGHT_OUT)/ies-street.png \
+	  --radiance $(LIGHT_OUT)/ies-street.hdr
 	@# Illuminance is mostly direct light here: 3 bounces are plenty. The
 	@# eye's view, then a plan of the road between the first two poles.
 	$(BIN) render $(STREET) --quantity illuminance --spp 16 -D max_depth=3 -o $(LIGHT_OUT)/ies-street-lux.exr
 	$(BIN) render $(STREET) --quantity illuminance --spp 32 -D max_depth=3 \
 	  -D origin=0.75,80,-15 -D target=0.75,0,-15 -D up=-1,0,0 -D fov=36 -o $(LIGHT_OUT)/ies-street-plan-lux.exr
 	$(BIN) measure $(STREET) --points scenes/ies-street-grid.csv --spp 1024 -o $(LIGHT_OUT)/ies-street-grid-lux.csv
+	@# The same grid at a face's height (1.5 m), facing +z: cylindrical and
+	@# semi-cylindrical illuminance (EN 12464-1, EN 13201-2).
+	@grep -v '^#' scenes/ies-street-grid.csv | awk -F, 'NR == 1 { print; next } { print $$1 ",1.5," $$3 ",0,0,1" }' \
+	  > $(LIGHT_OUT)/ies-street-faces.csv
+	$(BIN) measure $(STREET) --points $(LIGHT_OUT)/ies-street-faces.csv --receiver cylindrical --spp 1024 -o $(LIGHT_OUT)/ies-street-ez.csv
+	$(BIN) measure $(STREET) --points $(LIGHT_OUT)/ies-street-faces.csv --receiver semicylindrical --spp 1024 -o $(LIGHT_OUT)/ies-street-esc.csv
+	$(BIN) render $(STREET) --quantity melanopic-edi --spp 16 -D max_depth=3 -o $(LIGHT_OUT)/ies-street-medi.exr
+	$(BIN) display $(LIGHT_OUT)/ies-street-medi.exr --false-colour melanopic-edi --range 0:25 -o $(LIGHT_OUT)/ies-street-medi.png
 	$(BIN) display $(LIGHT_OUT)/ies-street.exr -o $(LIGHT_OUT)/ies-street-seen.png
 	@for v in lux plan-lux; do \
 	  $(BIN) display $(LIGHT_OUT)/ies-street-$$v.exr --false-colour illuminance --range 0:40 -o $(LIGHT_OUT)/ies-street-$$v.png; done
 	$(BIN) display $(LIGHT_OUT)/ies-street.exr --false-colour luminance --range 0:2 -o $(LIGHT_OUT)/ies-street-cd.png
 	@# The grid's figures, reading the columns by name (more may follow SP).
 	@awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) col[$$i] = i; next } \
-	  { e = $$col["E_lx"]; n++; sum += e; es += $$col["Es_lx"]; se += $$col["E_lx_se"]; \
+	  { e = $$col["E_lx"]; n++; sum += e; es += $$col["Es_lx"]; se += $$col["E_lx_se"]; mel += $$col["mEDI_lx"]; \
 	    if (n == 1 || e < min) min = e; if (n == 1 || e > max) max = e } \
 	  END { avg = sum / n; \
 	    printf "\n%s, %d points (EN 13201-3 grid between two poles):\n", FILENAME, n; \
@@ -180,8 +189,15 @@ lighting:
 	    printf "  minimum E    Emin = %6.2f lx\n", min; \
 	    printf "  maximum E    Emax = %6.2f lx\n", max; \
 	    printf "  uniformity   U0   = %6.2f     (Emin / Eavg)\n", min / avg; \
-	    printf "  S/P               = %6.2f     (scotopic / photopic, grid means)\n", es / sum }' \
+	    printf "  S/P               = %6.2f     (scotopic / photopic, grid means)\n", es / sum; \
+	    printf "  melanopic    mEDI = %6.2f lx   (CIE S 026; %.2f of E)\n", mel / n, mel / sum }' \
 	  $(LIGHT_OUT)/ies-street-grid-lux.csv
+	@for r in ez esc; do awk -F, -v r=$$r 'NR == 1 { for (i = 1; i <= NF; i++) col[$$i] = i; next } \
+	  { e = $$col["E_lx"]; n++; sum += e; if (n == 1 || e < min) min = e } \
+	  END { printf "  %-12s %-4s = %6.2f lx   (average at 1.5 m%s; minimum %.2f lx)\n", \
+	    (r == "ez" ? "cylindrical" : "semi-cyl."), (r == "ez" ? "Ez" : "Esc"), sum / n, \
+	    (r == "ez" ? "" : ", facing +z"), min }' \
+	  $(LIGHT_OUT)/ies-street-$$r.csv; done
 	@echo "renders, maps and the grid in $(LIGHT_OUT)/"
 
 ## criterion benchmarks, the bundled scenes' render rates and memory, and
