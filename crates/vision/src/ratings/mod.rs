@@ -19,8 +19,13 @@
 use crate::glare::psf::GlareSpread;
 use crate::Observer;
 
+mod evaluate;
+pub mod fisheye;
 #[cfg(test)]
 mod tests;
+
+pub use evaluate::{evaluate, Figures, Found, FISHEYE_VIEW};
+pub use fisheye::{Fisheye, Projection};
 
 /// A direction from the eye, (x, y, z), any length but zero.
 pub type Dir = [f64; 3];

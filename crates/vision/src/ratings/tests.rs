@@ -106,3 +106,113 @@ fn ugr_and_dgp_of_one_source_are_their_formulas() {
     }];
     assert!(VIEW.ugr(&far, 100.0).unwrap() < ugr && VIEW.dgp(&far, 2000.0) < dgp);
 }
+
+#[test]
+fn a_fisheyes_solid_angles_sum_to_its_field_of_view() {
+    // 180°: the hemisphere, 2π; 120° equisolid: 2π(1 − cos 60°) = π.
+    for (projection, fov, want) in [
+        (Projection::Angular, 180.0, 2.0 * std::f64::consts::PI),
+        (Projection::Equisolid, 180.0, 2.0 * std::f64::consts::PI),
+        (Projection::Equisolid, 120.0, std::f64::consts::PI),
+        (Projection::Angular, 120.0, std::f64::consts::PI),
+    ] {
+        let eye = Fisheye {
+            projection,
+            fov,
+            width: 128,
+            height: 128,
+        };
+        let sum: f64 = (0..128)
+            .flat_map(|y| (0..128).map(move |x| (x, y)))
+            .map(|(x, y)| eye.solid_angle(x, y))
+            .sum();
+        assert!(
+            (sum / want - 1.0).abs() < 1e-3,
+            "{projection:?} {fov}: {sum}"
+        );
+    }
+    // The angular projection: the rim at 90°, halfway at 45°.
+    let eye = Fisheye {
+        projection: Projection::Angular,
+        fov: 180.0,
+        width: 100,
+        height: 100,
+    };
+    let d = eye.direction(75.0, 50.0).unwrap();
+    assert!(
+        (d[2] - 45f64.to_radians().cos()).abs() < 1e-12 && d[0] > 0.0,
+        "{d:?}"
+    );
+    assert!(eye.direction(0.5, 0.5).is_none());
+}
+
+/// A 180° angular picture of `n` × `n` pixels of luminance `sky`, with a
+/// disc of luminance `lamp` and angular radius `radius` (degrees) centred
+/// `up` degrees above the line of sight.
+fn sky_with_lamp(n: usize, sky: f32, lamp: f32, up: f64, radius: f64) -> (Vec<f32>, Fisheye) {
+    let eye = Fisheye {
+        projection: Projection::Angular,
+        fov: 180.0,
+        width: n,
+        height: n,
+    };
+    let c = [0.0, up.to_radians().sin(), up.to_radians().cos()];
+    let cos_r = radius.to_radians().cos();
+    let lum = (0..n * n)
+        .map(|i| {
+            let d = eye.direction((i % n) as f64 + 0.5, (i / n) as f64 + 0.5);
+            match d {
+                Some(d) if dot(d, c) >= cos_r => lamp,
+                Some(_) => sky,
+                None => 0.0,
+            }
+        })
+        .collect();
+    (lum, eye)
+}
+
+#[test]
+fn a_uniform_sky_gives_pi_l_and_no_source() {
+    let (lum, eye) = sky_with_lamp(200, 1000.0, 1000.0, 0.0, 0.0);
+    let f = evaluate(&lum, &eye, 5.0, &Observer::default());
+    assert!(
+        (f.ev_lx / (std::f64::consts::PI * 1000.0) - 1.0).abs() < 1e-3,
+        "{}",
+        f.ev_lx
+    );
+    assert!(f.sources.is_empty() && f.ugr.is_none());
+    assert!((f.dgp - (5.87e-5 * f.ev_lx + 0.16)).abs() < 1e-9);
+}
+
+#[test]
+fn a_lamp_in_a_fisheye_is_found_and_rated_by_the_formulas() {
+    // 20 000 cd/m² over 3° of radius, 30° above the line of sight, in a
+    // sky of 100 cd/m².
+    let (lum, eye) = sky_with_lamp(400, 100.0, 2e4, 30.0, 3.0);
+    let f = evaluate(&lum, &eye, 5.0, &Observer::default());
+    assert_eq!(f.sources.len(), 1);
+    let s = f.sources[0].source;
+    let omega = 2.0 * std::f64::consts::PI * (1.0 - 3f64.to_radians().cos());
+    // The disc's pixels: its solid angle within the rim's pixels.
+    assert!(
+        (s.solid_angle / omega - 1.0).abs() < 0.05,
+        "{} against {omega}",
+        s.solid_angle
+    );
+    assert!((s.luminance - 2e4).abs() < 1e-6 && (f.background_cdm2 - 100.0).abs() < 1e-6);
+    assert!((FISHEYE_VIEW.sigma(s.dir) - 30.0).abs() < 0.2);
+    // E_v: the sky's π·100 less what the disc hides, plus the disc's.
+    let cos30 = 30f64.to_radians().cos();
+    let ev = std::f64::consts::PI * 100.0 + (2e4 - 100.0) * s.solid_angle * cos30;
+    assert!(
+        (f.ev_lx / ev - 1.0).abs() < 2e-3,
+        "{} against {ev}",
+        f.ev_lx
+    );
+    // UGR and DGP of that one source, as their formulas give them.
+    let p = FISHEYE_VIEW.position_index(s.dir);
+    let ugr = 8.0 * (0.25 / 100.0 * (2e4 / p).powi(2) * s.solid_angle).log10();
+    assert!((f.ugr.unwrap() - ugr).abs() < 1e-9);
+    assert_eq!(f.dgp, FISHEYE_VIEW.dgp(&[s], f.ev_lx));
+    assert!(f.veil_cdm2 > 0.0);
+}

@@ -1,0 +1,137 @@
+//! Glare ratings read from a fisheye luminance picture, as evalglare
+//! reads them: the vertical illuminance at the lens, glare sources found
+//! as pixels brighter than a multiple of the picture's average luminance
+//! (evalglare's default: 5×), merged where they touch, and the ratings of
+//! those sources against the rest.
+
+use super::fisheye::Fisheye;
+use super::{Source, View};
+use crate::Observer;
+
+/// The line of sight of a fisheye picture: its centre, its top up.
+pub const FISHEYE_VIEW: View = View {
+    sight: [0.0, 0.0, 1.0],
+    up: [0.0, 1.0, 0.0],
+};
+
+/// A glare source found in a picture.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Found {
+    /// Its mean luminance, solid angle and (solid-angle-weighted) centre.
+    pub source: Source,
+    /// Its Guth position index.
+    pub position_index: f64,
+    /// Its pixels, row-major indices.
+    pub pixels: Vec<usize>,
+}
+
+/// What a picture's glare analysis finds.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Figures {
+    /// The vertical illuminance at the lens, E_v = Σ L·ω·cos θ (lx).
+    pub ev_lx: f64,
+    /// The picture's mean luminance over its solid angle (cd/m²).
+    pub average_cdm2: f64,
+    /// The threshold sources are found above (cd/m²).
+    pub threshold_cdm2: f64,
+    /// The mean luminance of what is not a source (UGR's L_b, cd/m²).
+    pub background_cdm2: f64,
+    pub sources: Vec<Found>,
+    /// CIE 117's UGR (`None` without a source or a background).
+    pub ugr: Option<f64>,
+    /// Wienold & Christoffersen's DGP.
+    pub dgp: f64,
+    /// CIE 146's veiling luminance of the sources for the observer (cd/m²).
+    pub veil_cdm2: f64,
+}
+
+/// The glare figures of the luminance picture `lum` (cd/m², row-major) of
+/// `eye`'s geometry: sources are the pixels above `factor` times the mean
+/// luminance, merged with their four neighbours.
+pub fn evaluate(lum: &[f32], eye: &Fisheye, factor: f64, observer: &Observer) -> Figures {
+    let (w, h) = (eye.width, eye.height);
+    let mut omega = vec![0.0f64; w * h];
+    let mut dirs = vec![[0.0f64; 3]; w * h];
+    let (mut ev, mut flux, mut total) = (0.0, 0.0, 0.0);
+    for y in 0..h {
+        for x in 0..w {
+            let i = y * w + x;
+            let Some(d) = eye.direction(x as f64 + 0.5, y as f64 + 0.5) else {
+                continue;
+            };
+            let o = eye.solid_angle(x, y);
+            let l = f64::from(lum[i]).max(0.0);
+            let l = if l.is_finite() { l } else { 0.0 };
+            (omega[i], dirs[i]) = (o, d);
+            ev += l * o * d[2].max(0.0);
+            flux += l * o;
+            total += o;
+        }
+    }
+    let average = if total > 0.0 { flux / total } else { 0.0 };
+    let threshold = factor * average;
+    let bright = |i: usize| omega[i] > 0.0 && f64::from(lum[i]) > threshold && average > 0.0;
+    let mut seen = vec![false; w * h];
+    let mut sources = Vec::new();
+    for start in 0..w * h {
+        if seen[start] || !bright(start) {
+            continue;
+        }
+        // The source's pixels: those reached through bright neighbours.
+        let mut pixels = vec![start];
+        seen[start] = true;
+        let mut k = 0;
+        while k < pixels.len() {
+            let i = pixels[k];
+            let (x, y) = (i % w, i / w);
+            let near = [
+                (x > 0).then(|| i - 1),
+                (x + 1 < w).then(|| i + 1),
+                (y > 0).then(|| i - w),
+                (y + 1 < h).then(|| i + w),
+            ];
+            for j in near.into_iter().flatten() {
+                if !seen[j] && bright(j) {
+                    seen[j] = true;
+                    pixels.push(j);
+                }
+            }
+            k += 1;
+        }
+        let o: f64 = pixels.iter().map(|&i| omega[i]).sum();
+        let lo: f64 = pixels.iter().map(|&i| f64::from(lum[i]) * omega[i]).sum();
+        let centre = [0, 1, 2].map(|c| pixels.iter().map(|&i| dirs[i][c] * omega[i]).sum::<f64>());
+        let source = Source {
+            luminance: lo / o,
+            solid_angle: o,
+            dir: centre,
+        };
+        sources.push(Found {
+            position_index: FISHEYE_VIEW.position_index(centre),
+            source,
+            pixels,
+        });
+    }
+    let (so, slo) = sources.iter().fold((0.0, 0.0), |(o, lo), s| {
+        (
+            o + s.source.solid_angle,
+            lo + s.source.luminance * s.source.solid_angle,
+        )
+    });
+    let background = if total - so > 0.0 {
+        (flux - slo) / (total - so)
+    } else {
+        0.0
+    };
+    let plain: Vec<Source> = sources.iter().map(|s| s.source).collect();
+    Figures {
+        ev_lx: ev,
+        average_cdm2: average,
+        threshold_cdm2: threshold,
+        background_cdm2: background,
+        ugr: FISHEYE_VIEW.ugr(&plain, background),
+        dgp: FISHEYE_VIEW.dgp(&plain, ev),
+        veil_cdm2: FISHEYE_VIEW.veiling(&plain, observer),
+        sources,
+    }
+}
