@@ -35,6 +35,7 @@ from ._scotopia import (  # noqa: F401
     cmfs,
     colorimetry,
     delta_e_2000,
+    glare_ratings as glare,
     lab_to_xyz,
     measure,
     oklab_to_oklch,

@@ -5,6 +5,7 @@ mod arrays;
 mod bsdf;
 mod colour;
 mod false_colour;
+mod glare;
 mod interrupt;
 mod measure;
 mod render;
@@ -43,6 +44,7 @@ fn _scotopia(m: &Bound<'_, PyModule>) -> PyResult<()> {
     measure::register(m)?;
     vision::register(m)?;
     false_colour::register(m)?;
+    glare::register(m)?;
     view::register(m)?;
     Ok(())
 }

@@ -53,7 +53,10 @@ fn scene_info<'py>(
 }
 
 /// A JSON value as the Python object `json.loads` would make of it.
-fn python_value<'py>(py: Python<'py>, v: &serde_json::Value) -> PyResult<Bound<'py, PyAny>> {
+pub(crate) fn python_value<'py>(
+    py: Python<'py>,
+    v: &serde_json::Value,
+) -> PyResult<Bound<'py, PyAny>> {
     use serde_json::Value;
     Ok(match v {
         Value::Null => py.None().into_bound(py),

@@ -36,6 +36,13 @@ DIFFUSE = '<bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf>'
 SCRATCH = tempfile.mkdtemp(prefix="scotopia-fuzz-")
 np.random.seed(0)
 IMAGE = (np.random.rand(4, 5, 4) * 0.05).astype(np.float32)
+
+
+def _fisheye():
+    """IMAGE as a 180° angular fisheye EXR, for `glare`."""
+    path = str(Path(SCRATCH) / "fisheye.exr")
+    scotopia.write_exr(path, IMAGE, meta={"projection": "angular", "fovHorizontalDegrees": 180.0})
+    return path
 XYZ3 = IMAGE[..., :3].copy()
 DIRS = np.array([[0.0, 0.0, 1.0], [0.6, 0.0, 0.8]])
 LAMBDAS = np.array([[450.0, 500.0, 550.0, 600.0], [420.0, 480.0, 560.0, 640.0]])
@@ -121,6 +128,13 @@ ENTRIES = {
         {},
         set(),
         set(),
+    ),
+    "glare": (
+        scotopia.glare,
+        [lambda: _fisheye()],
+        dict(projection=None, fov=None, threshold=5.0, age=25.0, output=None),
+        {"image"},
+        {"output"},
     ),
     "write_exr": (
         scotopia.write_exr,

@@ -215,3 +215,31 @@ def test_false_colour_maps_luminance_mesopic_and_illuminance(tmp_path):
         scotopia.false_colour(img, "photons")
     with pytest.raises(ValueError, match="lo < hi"):
         scotopia.false_colour(img, range=(5, 1))
+
+
+def test_glare_rates_a_fisheye_picture(tmp_path):
+    # A 180° angular fisheye of a 100 cd/m² sky with a 20 000 cd/m² disc,
+    # 3° in radius, 30° above the centre, written by OpenEXR's own writer.
+    n = 200
+    j, i = np.mgrid[0:n, 0:n] + 0.5
+    a, b = (i - n / 2) / (n / 2), (n / 2 - j) / (n / 2)
+    rho = np.hypot(a, b)
+    t = rho * np.pi / 2
+    s = np.where(rho > 0, np.sin(t) / np.maximum(rho, 1e-12), 0.0)
+    d = np.stack([a * s, b * s, np.cos(t)], -1)
+    c = np.array([0.0, np.sin(np.radians(30)), np.cos(np.radians(30))])
+    y = np.where(d @ c >= np.cos(np.radians(3)), 2e4, 100.0)
+    y = np.where(rho > 1, 0.0, y).astype(np.float32)
+    path = tmp_path / "eye.exr"
+    header = {"projection": "angular", "fovHorizontalDegrees": 180.0}
+    channels = {c: y for c in "XYZV"}
+    with OpenEXR.File(header, channels) as f:
+        f.write(str(path))
+    g = scotopia.glare(path, output=tmp_path / "sources.png")
+    assert len(g["sources"]) == 1 and g["UGR"] > 0 and 0 < g["DGP"] <= 1
+    omega = g["sources"][0]["solid_angle_sr"]
+    ev = np.pi * 100 + (2e4 - 100) * omega * np.cos(np.radians(30))
+    assert abs(g["Ev_lx"] / ev - 1) < 3e-3
+    assert (tmp_path / "sources.png").read_bytes()[:4] == b"\x89PNG"
+    with pytest.raises(ValueError, match="angular or equisolid"):
+        scotopia.glare(path, projection="stereographic")

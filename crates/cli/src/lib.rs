@@ -4,6 +4,7 @@
 
 pub mod display;
 mod false_colour;
+pub mod glare;
 pub mod info;
 pub mod measure;
 mod numbers;

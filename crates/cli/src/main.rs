@@ -1,7 +1,7 @@
 //! The `scotopia` command line. Each verb parses its arguments, calls the
 //! library, and prints or writes the result.
 
-use scotopia_cli::{display, info, measure, render, spectrum, view};
+use scotopia_cli::{display, glare, info, measure, render, spectrum, view};
 
 use std::process::ExitCode;
 
@@ -15,7 +15,7 @@ use clap::{Parser, Subcommand};
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 /// scotopia: a spectral renderer that shows what a human eye would see.
-/// Verbs: spectrum, info, render, display, measure and view.
+/// Verbs: spectrum, info, render, display, measure, glare and view.
 #[derive(Parser)]
 #[command(name = "scotopia", version, long_about = None)]
 struct Cli {
@@ -40,6 +40,11 @@ enum Command {
     /// Measure photopic and scotopic illuminance (lx) at points of a scene,
     /// with standard errors and the S/P ratio: a lighting calculation grid.
     Measure(measure::Args),
+    /// Glare ratings from a fisheye luminance picture, as evalglare finds
+    /// them: the vertical illuminance at the lens, the glare sources, UGR
+    /// (CIE 117), DGP (Wienold & Christoffersen 2006) and CIE 146's
+    /// veiling luminance.
+    Glare(glare::Args),
     /// Render a scene progressively (or open an X, Y, Z, V′ EXR) and show it
     /// as the eye sees it on a local web page, with the light level,
     /// adaptation, glare, night shift, tone operator, display and false
@@ -55,6 +60,7 @@ fn main() -> ExitCode {
         Command::Render(args) => scotopia_cli::run_render(*args),
         Command::Display(args) => display::run(args),
         Command::Measure(args) => measure::run(args),
+        Command::Glare(args) => glare::run(args),
         Command::View(args) => view::run(*args),
     };
     match result {

@@ -269,6 +269,7 @@ fn snapshot(prepared: &Prepared, name: &str, film: &Film, facts: &RunFacts) -> F
             pixels: film.xyzv(),
             fov_horizontal: Some(scene.camera.fov_degrees().0 as f64),
             quantity: Some(facts.quantity.name().into()),
+            projection: None,
             notes: Vec::new(),
         },
         spp: facts.spp,

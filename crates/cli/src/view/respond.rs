@@ -110,6 +110,7 @@ fn picture(
         pixels: film.pixels.par_iter().map(|p| p.map(|v| v * k)).collect(),
         fov_horizontal: film.fov_horizontal,
         quantity: film.quantity.clone(),
+        projection: film.projection.clone(),
         notes: Vec::new(),
     };
     let (w, h) = (image.width, image.height);

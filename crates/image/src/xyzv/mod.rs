@@ -31,6 +31,9 @@ pub struct XyzvImage {
     /// writes it; with `melanopic-edi` the fourth value of a pixel is its
     /// channel mEDI, the melanopic EDI in lx, not V′).
     pub quantity: Option<String>,
+    /// The picture's projection, from the file's `projection` metadata
+    /// (`angular` or `equisolid` for a fisheye), if it says.
+    pub projection: Option<String>,
     /// What was assumed to read the file (estimated V′, RGB conversion),
     /// for the user to be told.
     pub notes: Vec<String>,
@@ -189,7 +192,12 @@ pub fn read_xyzv(path: &Path, rgb: RgbInput) -> Result<XyzvImage, ImageError> {
             _ => None,
         })
         .filter(|f| f.is_finite() && *f > 0.0);
+    let projection = match header.own_attributes.other.get(&Text::from("projection")) {
+        Some(AttributeValue::Text(t)) => Some(t.to_string()),
+        _ => None,
+    };
     Ok(XyzvImage {
+        projection,
         width: header.layer_size.width(),
         height: header.layer_size.height(),
         pixels,

@@ -1,0 +1,123 @@
+//! `scotopia glare` on fisheye pictures made here: a uniform sky, and a
+//! sky with a bright disc, against the figures' own formulas.
+
+mod common;
+
+use common::{out_dir, scotopia};
+use scotopia_image::{write_exr, Meta};
+
+/// A 180° angular fisheye EXR of `n` × `n` pixels: a sky of `sky` cd/m²
+/// and a disc of `lamp` cd/m², 3° in radius, 30° above the centre.
+fn fisheye(path: &std::path::Path, n: usize, sky: f32, lamp: f32, meta: &[(&str, Meta)]) {
+    let (mut y, up) = (Vec::with_capacity(n * n), 30f64.to_radians());
+    let c = [0.0, up.sin(), up.cos()];
+    for j in 0..n {
+        for i in 0..n {
+            let a = ((i as f64 + 0.5) - 0.5 * n as f64) / (0.5 * n as f64);
+            let b = (0.5 * n as f64 - (j as f64 + 0.5)) / (0.5 * n as f64);
+            let rho = (a * a + b * b).sqrt();
+            let t = rho * std::f64::consts::FRAC_PI_2;
+            let v = if rho > 1.0 {
+                0.0
+            } else {
+                let s = if rho > 0.0 { t.sin() / rho } else { 0.0 };
+                let d = [a * s, b * s, t.cos()];
+                let cos = d[0] * c[0] + d[1] * c[1] + d[2] * c[2];
+                if cos >= 3f64.to_radians().cos() {
+                    lamp
+                } else {
+                    sky
+                }
+            };
+            y.push(v);
+        }
+    }
+    let chans = ["X", "Y", "Z", "V"]
+        .map(|c| (c.to_string(), y.clone()))
+        .to_vec();
+    write_exr(path, n, n, chans, meta).unwrap();
+}
+
+#[test]
+fn glare_reads_a_fisheyes_sources_and_ratings() {
+    let dir = out_dir("glare", "lamp");
+    let exr = dir.join("eye.exr");
+    let meta = [
+        ("projection", Meta::Text("angular".into())),
+        ("fovHorizontalDegrees", Meta::F32(180.0)),
+    ];
+    fisheye(&exr, 300, 100.0, 2e4, &meta);
+    let png = dir.join("sources.png");
+    let (code, out, err) = scotopia(&[
+        "glare",
+        exr.to_str().unwrap(),
+        "--json",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let sources = v["sources"].as_array().unwrap();
+    assert_eq!(sources.len(), 1, "{out}");
+    let s = &sources[0];
+    let omega = s["solid_angle_sr"].as_f64().unwrap();
+    let disc = 2.0 * std::f64::consts::PI * (1.0 - 3f64.to_radians().cos());
+    assert!((omega / disc - 1.0).abs() < 0.06, "{omega} against {disc}");
+    assert!(
+        (s["sigma_deg"].as_f64().unwrap() - 30.0).abs() < 0.3,
+        "{out}"
+    );
+    // E_v: the sky's π·100 and what the disc adds over it.
+    let ev = std::f64::consts::PI * 100.0 + (2e4 - 100.0) * omega * 30f64.to_radians().cos();
+    let got = v["Ev_lx"].as_f64().unwrap();
+    assert!((got / ev - 1.0).abs() < 3e-3, "{got} against {ev}");
+    // UGR from its formula with the source found.
+    let p = s["position_index"].as_f64().unwrap();
+    let ugr = 8.0 * (0.25 / 100.0 * (2e4 / p).powi(2) * omega).log10();
+    assert!((v["UGR"].as_f64().unwrap() - ugr).abs() < 1e-6, "{out}");
+    for key in ["DGP", "Lveil_cdm2"] {
+        assert!(v[key].as_f64().unwrap() > 0.0, "{key}: {out}");
+    }
+    assert!(std::fs::metadata(&png).unwrap().len() > 100);
+    // Text, for people.
+    let (code, out, _) = scotopia(&["glare", exr.to_str().unwrap()]);
+    assert_eq!(code, 0);
+    assert!(
+        out.contains("E_v =") && out.contains("UGR (CIE 117)") && out.contains("source 1"),
+        "{out}"
+    );
+}
+
+#[test]
+fn a_picture_that_does_not_say_its_projection_needs_it_given() {
+    let dir = out_dir("glare", "plain");
+    let exr = dir.join("eye.exr");
+    fisheye(&exr, 64, 50.0, 50.0, &[]);
+    let (code, _, err) = scotopia(&["glare", exr.to_str().unwrap()]);
+    assert_eq!(code, 1);
+    assert!(err.contains("--projection"), "{err}");
+    let (code, _, err) = scotopia(&["glare", exr.to_str().unwrap(), "--projection", "angular"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("--fov"), "{err}");
+    // Given both: a uniform sky of 50 cd/m² is π·50 lx and glares nowhere.
+    let (code, out, err) = scotopia(&[
+        "glare",
+        exr.to_str().unwrap(),
+        "--projection",
+        "angular",
+        "--fov",
+        "180",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let ev = v["Ev_lx"].as_f64().unwrap();
+    assert!(
+        (ev / (std::f64::consts::PI * 50.0) - 1.0).abs() < 2e-3,
+        "{ev}"
+    );
+    assert!(v["UGR"].is_null() && v["sources"].as_array().unwrap().is_empty());
+    let (code, _, err) = scotopia(&["glare", exr.to_str().unwrap(), "--projection", "stereo"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("angular or equisolid"), "{err}");
+}
