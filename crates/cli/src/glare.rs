@@ -6,13 +6,14 @@ use std::path::PathBuf;
 use anyhow::{bail, Context, Result};
 use serde_json::json;
 
-use scotopia_image::{read_xyzv, write_png_rgb8, RgbInput};
+use scotopia_image::{radiance, read_xyzv, write_png_rgb8, RgbInput};
 use scotopia_vision::ratings::{evaluate, Figures, Fisheye, Projection, FISHEYE_VIEW};
 use scotopia_vision::Observer;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// A fisheye picture of luminance: an X, Y, Z (V′) OpenEXR, Y in cd/m².
+    /// A fisheye picture of luminance: an X, Y, Z (V′) OpenEXR, Y in
+    /// cd/m², or a Radiance picture (luminance 179·Y of its RGB).
     image: PathBuf,
     /// Its projection (default: the image's `projection` metadata):
     /// angular (equidistant, Radiance's -vta) or equisolid.
@@ -23,7 +24,8 @@ pub struct Args {
     #[arg(long, value_name = "DEG")]
     fov: Option<f64>,
     /// Glare sources are the pixels above this many times the picture's
-    /// mean luminance (evalglare's default, 5), merged where they touch.
+    /// mean luminance (evalglare's default, 5), merged where they touch;
+    /// above 100, a luminance in cd/m² (as evalglare's -b).
     #[arg(long, default_value_t = 5.0, value_name = "K")]
     threshold: f64,
     /// The observer's age, years, for CIE 146's veiling luminance.
@@ -48,20 +50,13 @@ pub fn figures(
     age: f64,
 ) -> Result<(Figures, Fisheye, Vec<f32>)> {
     let name = image.display();
-    let img = read_xyzv(image, RgbInput::default())
-        .with_context(|| format!("{name}: cannot read the picture"))?;
-    if img.quantity.as_deref().is_some_and(|q| q != "radiance") {
-        bail!(
-            "{name} holds {}, not luminance",
-            img.quantity.as_deref().unwrap_or("")
-        );
-    }
-    let projection = match projection.or(img.projection.as_deref()) {
+    let picture = read_picture(image)?;
+    let projection = match projection.or(picture.projection.as_deref()) {
         Some(p) => Projection::from_name(p)
             .with_context(|| format!("projection '{p}': use angular or equisolid"))?,
         None => bail!("{name} does not say its projection: give --projection angular|equisolid"),
     };
-    let fov = match fov.or(img.fov_horizontal) {
+    let fov = match fov.or(picture.fov) {
         Some(f) if f.is_finite() && f > 0.0 && f <= 360.0 => f,
         Some(f) => bail!("--fov {f}: give the full angle across the width, 0 to 360 degrees"),
         None => bail!("{name} does not say its field of view: give --fov DEG"),
@@ -72,12 +67,51 @@ pub fn figures(
     let eye = Fisheye {
         projection,
         fov,
-        width: img.width,
-        height: img.height,
+        width: picture.width,
+        height: picture.height,
     };
-    let lum: Vec<f32> = img.pixels.iter().map(|p| p[1]).collect();
+    let lum = picture.luminance;
     let observer = Observer::new(age, Observer::DEFAULT_PIGMENTATION)?;
     Ok((evaluate(&lum, &eye, threshold, &observer), eye, lum))
+}
+
+/// A picture's luminance and what its file says of its geometry.
+struct Picture {
+    width: usize,
+    height: usize,
+    luminance: Vec<f32>,
+    projection: Option<String>,
+    fov: Option<f64>,
+}
+
+/// Reads an X, Y, Z OpenEXR, or a Radiance picture (whose `-vta` view
+/// gives an angular fisheye's projection and angle).
+fn read_picture(image: &std::path::Path) -> Result<Picture> {
+    let name = image.display();
+    if radiance::is_radiance(image) {
+        let p = radiance::read_radiance(image)
+            .with_context(|| format!("{name}: cannot read the picture"))?;
+        let view = p.view.as_deref().and_then(radiance::angular_view);
+        return Ok(Picture {
+            width: p.width,
+            height: p.height,
+            luminance: p.luminance,
+            projection: view.map(|v| v.0.to_string()),
+            fov: view.map(|v| v.1),
+        });
+    }
+    let img = read_xyzv(image, RgbInput::default())
+        .with_context(|| format!("{name}: cannot read the picture"))?;
+    if let Some(q) = img.quantity.as_deref().filter(|&q| q != "radiance") {
+        bail!("{name} holds {q}, not luminance");
+    }
+    Ok(Picture {
+        width: img.width,
+        height: img.height,
+        luminance: img.pixels.iter().map(|p| p[1]).collect(),
+        projection: img.projection,
+        fov: img.fov_horizontal,
+    })
 }
 
 /// The figures as one JSON object.

@@ -9,6 +9,15 @@ use scotopia_image::{write_exr, Meta};
 /// A 180° angular fisheye EXR of `n` × `n` pixels: a sky of `sky` cd/m²
 /// and a disc of `lamp` cd/m², 3° in radius, 30° above the centre.
 fn fisheye(path: &std::path::Path, n: usize, sky: f32, lamp: f32, meta: &[(&str, Meta)]) {
+    let y = fisheye_luminance(n, sky, lamp);
+    let chans = ["X", "Y", "Z", "V"]
+        .map(|c| (c.to_string(), y.clone()))
+        .to_vec();
+    write_exr(path, n, n, chans, meta).unwrap();
+}
+
+/// The luminance of [`fisheye`]'s picture, row-major.
+fn fisheye_luminance(n: usize, sky: f32, lamp: f32) -> Vec<f32> {
     let (mut y, up) = (Vec::with_capacity(n * n), 30f64.to_radians());
     let c = [0.0, up.sin(), up.cos()];
     for j in 0..n {
@@ -32,10 +41,7 @@ fn fisheye(path: &std::path::Path, n: usize, sky: f32, lamp: f32, meta: &[(&str,
             y.push(v);
         }
     }
-    let chans = ["X", "Y", "Z", "V"]
-        .map(|c| (c.to_string(), y.clone()))
-        .to_vec();
-    write_exr(path, n, n, chans, meta).unwrap();
+    y
 }
 
 #[test]
@@ -120,4 +126,35 @@ fn a_picture_that_does_not_say_its_projection_needs_it_given() {
     let (code, _, err) = scotopia(&["glare", exr.to_str().unwrap(), "--projection", "stereo"]);
     assert_eq!(code, 1);
     assert!(err.contains("angular or equisolid"), "{err}");
+}
+
+#[test]
+fn a_radiance_fisheye_gives_the_figures_of_the_same_exr() {
+    // The same picture as an angular Radiance picture (`-vta -vh 180`,
+    // as rpict writes a fisheye): its view gives the geometry, its RGBE
+    // the luminance within a per cent or two.
+    let dir = out_dir("glare", "radiance");
+    let (exr, hdr) = (dir.join("eye.exr"), dir.join("eye.hdr"));
+    let meta = [
+        ("projection", Meta::Text("angular".into())),
+        ("fovHorizontalDegrees", Meta::F32(180.0)),
+    ];
+    fisheye(&exr, 200, 100.0, 2e4, &meta);
+    let y = fisheye_luminance(200, 100.0, 2e4);
+    // X, Y, Z of an equal-energy grey of luminance Y.
+    let px: Vec<[f32; 4]> = y.iter().map(|&v| [v, v, v, 0.0]).collect();
+    scotopia_image::radiance::write_radiance_hdr(&hdr, 200, 200, &px, Some("-vta -vh 180 -vv 180"))
+        .unwrap();
+    let json = |p: &std::path::Path| {
+        let (code, out, err) = scotopia(&["glare", p.to_str().unwrap(), "--json"]);
+        assert_eq!(code, 0, "{err}");
+        serde_json::from_str::<serde_json::Value>(&out).unwrap()
+    };
+    let (a, b) = (json(&exr), json(&hdr));
+    assert_eq!(b["projection"], "angular");
+    assert_eq!(b["sources"].as_array().unwrap().len(), 1);
+    for key in ["Ev_lx", "UGR", "DGP"] {
+        let (x, y) = (a[key].as_f64().unwrap(), b[key].as_f64().unwrap());
+        assert!((x / y - 1.0).abs() < 0.02, "{key}: {x} against {y}");
+    }
 }

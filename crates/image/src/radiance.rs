@@ -104,6 +104,77 @@ pub fn write_radiance_hdr(
     })
 }
 
+/// A Radiance picture read for its luminance.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RadiancePicture {
+    pub width: usize,
+    pub height: usize,
+    /// Luminance, cd/m²: 179·(Y of its RGB in Radiance's primaries).
+    pub luminance: Vec<f32>,
+    /// Its header's view options (the last `VIEW=` line), if any.
+    pub view: Option<String>,
+}
+
+/// Whether `path` starts as a Radiance picture does (`#?RADIANCE`, or
+/// `#?RGBE` of other writers).
+pub fn is_radiance(path: &Path) -> bool {
+    let mut head = [0u8; 10];
+    std::fs::File::open(path)
+        .and_then(|mut f| std::io::Read::read_exact(&mut f, &mut head))
+        .is_ok_and(|()| head.starts_with(b"#?RADIANCE") || head.starts_with(b"#?RGBE"))
+}
+
+/// Reads a Radiance picture (RGBE, RLE or flat) for its luminance and view,
+/// through the `image` crate's decoder.
+pub fn read_radiance(path: &Path) -> Result<RadiancePicture, ImageError> {
+    let img = crate::read_rgb(path)?;
+    let bytes = crate::plain_file::open_plain(path)
+        .and_then(|f| {
+            let mut head = Vec::new();
+            std::io::Read::read_to_end(&mut std::io::Read::take(f, 64 * 1024), &mut head)?;
+            Ok(head)
+        })
+        .map_err(|cause| ImageError::Io {
+            path: path.display().to_string(),
+            cause,
+        })?;
+    let end = bytes
+        .windows(2)
+        .position(|w| w == b"\n\n")
+        .unwrap_or(bytes.len());
+    let header = String::from_utf8_lossy(&bytes[..end]);
+    let view = header
+        .lines()
+        .filter_map(|l| l.strip_prefix("VIEW="))
+        .last()
+        .map(|v| v.trim().to_string());
+    let y = xyz_from_rgb().0[1];
+    let luminance = img
+        .pixels
+        .iter()
+        .map(|p| (WHITE_EFFICACY * (0..3).map(|i| y[i] * f64::from(p[i])).sum::<f64>()) as f32)
+        .collect();
+    Ok(RadiancePicture {
+        width: img.width,
+        height: img.height,
+        luminance,
+        view,
+    })
+}
+
+/// The projection (`angular`) and full horizontal angle (degrees) a
+/// Radiance view gives an angular fisheye (`-vta … -vh H`), if it is one.
+pub fn angular_view(view: &str) -> Option<(&'static str, f64)> {
+    let words: Vec<&str> = view.split_whitespace().collect();
+    let kind = words.iter().rev().find(|w| w.starts_with("-vt"))?;
+    let h = words
+        .windows(2)
+        .rev()
+        .find(|w| w[0] == "-vh")
+        .and_then(|w| w[1].parse::<f64>().ok())?;
+    (*kind == "-vta").then_some(("angular", h))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

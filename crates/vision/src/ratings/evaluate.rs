@@ -47,7 +47,8 @@ pub struct Figures {
 
 /// The glare figures of the luminance picture `lum` (cd/m², row-major) of
 /// `eye`'s geometry: sources are the pixels above `factor` times the mean
-/// luminance, merged with their four neighbours.
+/// luminance, merged with their four neighbours; a `factor` above 100 is a
+/// luminance itself (cd/m²), as evalglare's `-b` takes it.
 pub fn evaluate(lum: &[f32], eye: &Fisheye, factor: f64, observer: &Observer) -> Figures {
     let (w, h) = (eye.width, eye.height);
     let mut omega = vec![0.0f64; w * h];
@@ -69,7 +70,11 @@ pub fn evaluate(lum: &[f32], eye: &Fisheye, factor: f64, observer: &Observer) ->
         }
     }
     let average = if total > 0.0 { flux / total } else { 0.0 };
-    let threshold = factor * average;
+    let threshold = if factor > 100.0 {
+        factor
+    } else {
+        factor * average
+    };
     let bright = |i: usize| omega[i] > 0.0 && f64::from(lum[i]) > threshold && average > 0.0;
     let mut seen = vec![false; w * h];
     let mut sources = Vec::new();

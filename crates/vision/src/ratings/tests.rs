@@ -215,4 +215,12 @@ fn a_lamp_in_a_fisheye_is_found_and_rated_by_the_formulas() {
     assert!((f.ugr.unwrap() - ugr).abs() < 1e-9);
     assert_eq!(f.dgp, FISHEYE_VIEW.dgp(&[s], f.ev_lx));
     assert!(f.veil_cdm2 > 0.0);
+    // A threshold above 100 is a luminance: 50 000 cd/m² finds nothing,
+    // 150 finds the disc (the sky is 100).
+    assert!(evaluate(&lum, &eye, 5e4, &Observer::default())
+        .sources
+        .is_empty());
+    let fixed = evaluate(&lum, &eye, 150.0, &Observer::default());
+    assert_eq!(fixed.sources.len(), 1);
+    assert_eq!(fixed.threshold_cdm2, 150.0);
 }
