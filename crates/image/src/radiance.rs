@@ -145,8 +145,8 @@ pub fn read_radiance(path: &Path) -> Result<RadiancePicture, ImageError> {
     let header = String::from_utf8_lossy(&bytes[..end]);
     let view = header
         .lines()
-        .filter_map(|l| l.strip_prefix("VIEW="))
-        .last()
+        .rev()
+        .find_map(|l| l.strip_prefix("VIEW="))
         .map(|v| v.trim().to_string());
     let y = xyz_from_rgb().0[1];
     let luminance = img
