@@ -52,17 +52,12 @@ fn measure<'py>(
     let err = |e: String| PyValueError::new_err(e);
     let reflectance = scotopia_vision::mode::reflectance(reflectance)
         .map_err(|e| err(format!("reflectance {e}")))?;
-    let axis = Vec3::new(up.0, up.1, up.2);
-    let shape = match receiver {
-        "plane" => ReceiverShape::Plane,
-        "cylindrical" => ReceiverShape::Cylinder { up: axis },
-        "semicylindrical" => ReceiverShape::SemiCylinder { up: axis },
-        other => {
-            return Err(err(format!(
-                "receiver '{other}': use plane, cylindrical or semicylindrical"
-            )))
-        }
-    };
+    let shape =
+        ReceiverShape::from_name(receiver, Vec3::new(up.0, up.1, up.2)).ok_or_else(|| {
+            err(format!(
+                "receiver '{receiver}': use plane, cylindrical or semicylindrical"
+            ))
+        })?;
     let strategy = crate::render::wavelength_strategy(wavelengths)?;
     let cluster = crate::render::cluster_size(cluster)?;
     let a = points.as_array();
@@ -121,14 +116,7 @@ fn measure<'py>(
     d.set_item("SP", column(|m| m.sp()))?;
     let mesopic: Vec<Mesopic> = measured
         .iter()
-        .map(|m| {
-            let mut mes = Mesopic::of_surface(m.e, m.sp(), reflectance);
-            if shape != ReceiverShape::Plane {
-                // A cylinder's mean illuminance lights no surface.
-                (mes.luminance, mes.m, mes.mesopic) = (f64::NAN, f64::NAN, f64::NAN);
-            }
-            mes
-        })
+        .map(|m| scotopia_cli::measure::surface_mesopic(m, reflectance, shape))
         .collect();
     let figure =
         |f: fn(&Mesopic) -> f64| mesopic.iter().map(f).collect::<Vec<f64>>().into_pyarray(py);

@@ -7,7 +7,7 @@ use anyhow::{bail, Context, Result};
 use serde_json::json;
 
 use scotopia_image::{radiance, read_xyzv, write_png_rgb8, RgbInput};
-use scotopia_vision::ratings::{evaluate, Figures, Fisheye, Projection, FISHEYE_VIEW};
+use scotopia_vision::ratings::{evaluate, neighbours, Figures, Fisheye, Projection, FISHEYE_VIEW};
 use scotopia_vision::Observer;
 
 #[derive(clap::Args)]
@@ -219,16 +219,10 @@ fn outlined(lum: &[f32], f: &Figures, w: usize, h: usize) -> Vec<u8> {
     }
     let mut rgb = Vec::with_capacity(3 * w * h);
     for i in 0..w * h {
-        let (x, y) = (i % w, i / w);
         let edge = source[i]
-            && [
-                (x > 0).then(|| i - 1),
-                (x + 1 < w).then(|| i + 1),
-                (y > 0).then(|| i - w),
-                (y + 1 < h).then(|| i + w),
-            ]
-            .into_iter()
-            .any(|j| j.is_none_or(|j| !source[j]));
+            && neighbours(i, w, h)
+                .into_iter()
+                .any(|j| j.is_none_or(|j| !source[j]));
         if edge {
             rgb.extend_from_slice(&[255, 0, 0]);
             continue;

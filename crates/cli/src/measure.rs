@@ -9,7 +9,7 @@ use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use scotopia_render::integrator::{
-    measure_with, ClusterSize, Receiver, ReceiverShape, RenderError, RenderOptions,
+    measure_with, ClusterSize, Measured, Receiver, ReceiverShape, RenderError, RenderOptions,
 };
 use scotopia_render::math::Vec3;
 use scotopia_render::wavelength::WavelengthStrategy;
@@ -182,13 +182,18 @@ scEDI_lx,mcEDI_lx,lcEDI_lx,rhEDI_lx,mEDI_lx\n";
 
 /// The receivers `--receiver` names, along `up`.
 pub fn receiver_shape(name: &str, [x, y, z]: [f32; 3]) -> Result<ReceiverShape> {
-    let up = Vec3::new(x, y, z);
-    Ok(match name {
-        "plane" => ReceiverShape::Plane,
-        "cylindrical" => ReceiverShape::Cylinder { up },
-        "semicylindrical" => ReceiverShape::SemiCylinder { up },
-        other => bail!("--receiver {other}: use plane, cylindrical or semicylindrical"),
-    })
+    ReceiverShape::from_name(name, Vec3::new(x, y, z))
+        .with_context(|| format!("--receiver {name}: use plane, cylindrical or semicylindrical"))
+}
+
+/// CIE 191's figures of a surface of `reflectance` receiving what `m`
+/// measured; NaN for a cylinder, whose mean illuminance lights no surface.
+pub fn surface_mesopic(m: &Measured, reflectance: f64, shape: ReceiverShape) -> Mesopic {
+    let mut mes = Mesopic::of_surface(m.e, m.sp(), reflectance);
+    if shape != ReceiverShape::Plane {
+        (mes.luminance, mes.m, mes.mesopic) = (f64::NAN, f64::NAN, f64::NAN);
+    }
+    mes
 }
 
 fn reflectance(text: &str) -> Result<f64, String> {
@@ -260,11 +265,7 @@ pub fn run(args: Args) -> Result<()> {
     }
     let mut csv = String::from(HEADER);
     for (r, m) in receivers.iter().zip(&measured) {
-        let mut mes = Mesopic::of_surface(m.e, m.sp(), args.reflectance);
-        if shape != ReceiverShape::Plane {
-            // A cylinder's mean illuminance lights no surface.
-            (mes.luminance, mes.m, mes.mesopic) = (f64::NAN, f64::NAN, f64::NAN);
-        }
+        let mes = surface_mesopic(m, args.reflectance, shape);
         let _ = writeln!(
             csv,
             "{},{},{},{},{},{},{:.6e},{:.3e},{:.6e},{:.3e},{:.4},{:.6e},{:.4},{:.6e},\

@@ -37,7 +37,7 @@ pub fn xyz_from_rgb() -> Mat3 {
 /// luminance. A colour outside Radiance's gamut (a sodium lamp's) has a
 /// negative component, which RGBE cannot hold: it is set to 0 and the
 /// others scaled so that the luminance stays Y.
-pub fn rgb_of(xyz: [f64; 3], rgb_from_xyz: &Mat3, y_row: [f64; 3]) -> [f64; 3] {
+fn rgb_of(xyz: [f64; 3], rgb_from_xyz: &Mat3, y_row: [f64; 3]) -> [f64; 3] {
     let rgb = rgb_from_xyz.apply(xyz.map(|v| v / WHITE_EFFICACY));
     if rgb.iter().all(|&c| c >= 0.0) {
         return rgb;
@@ -55,7 +55,7 @@ pub fn rgb_of(xyz: [f64; 3], rgb_from_xyz: &Mat3, y_row: [f64; 3]) -> [f64; 3] {
 /// Ward's shared-exponent encoding of one RGB (non-negative).
 fn rgbe([r, g, b]: [f64; 3]) -> [u8; 4] {
     let v = r.max(g).max(b);
-    if v.is_nan() || v <= 1e-32 || !v.is_finite() {
+    if !v.is_finite() || v <= 1e-32 {
         return [0; 4];
     }
     // v = m·2^e with m in [0.5, 1).

@@ -581,8 +581,8 @@ pub const BUDGET: f32 = 12.0;
 /// after 2 spp: the Cornell box 0.008–0.023 (160×90 to 640×360: two
 /// cells guide, the surfaces gave up), the long street 0.08, the night
 /// street and the glass scene 0.24, the foggy street and the material
-/// showcase 0.5, the lamp-lit floor of `guiding/tests.rs` …, and 1
-/// where the bidirectional tracer guides its lamps' emission.
+/// showcase 0.5, the hidden lamp's floor of `crates/scene/tests/guiding.rs`
+/// 0.64, and 1 where the bidirectional tracer guides its lamps' emission.
 pub const STOP: f32 = 0.05;
 
 impl Guide {
@@ -640,9 +640,15 @@ impl Guide {
         self.field = self.field.next(stats, spp);
         self.learned += 1;
         self.stopped = self.learned >= usize::from(DOUBTS) && self.field.worth() < STOP;
+        // The weights of the iterations about to run: the next one, or,
+        // once stopped, all that are left.
         let last = BOUNDARIES.len() - 2;
-        while self.weights.len() <= last && (self.stopped || self.weights.len() <= self.learned) {
-            let j = self.weights.len();
+        let upto = if self.stopped {
+            last
+        } else {
+            self.learned.min(last)
+        };
+        for j in self.weights.len()..=upto {
             let w = if j == last {
                 let spent: f32 = (0..last)
                     .map(|i| self.weights[i] * (BOUNDARIES[i + 1] - BOUNDARIES[i]) as f32)

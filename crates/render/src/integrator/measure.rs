@@ -66,6 +66,35 @@ pub enum ReceiverShape {
 }
 
 impl ReceiverShape {
+    /// The shape `plane`, `cylindrical` or `semicylindrical` names, the
+    /// cylinders along `up`.
+    pub fn from_name(name: &str, up: Vec3) -> Option<Self> {
+        match name {
+            "plane" => Some(Self::Plane),
+            "cylindrical" => Some(Self::Cylinder { up }),
+            "semicylindrical" => Some(Self::SemiCylinder { up }),
+            _ => None,
+        }
+    }
+
+    /// The same shape with its axis at unit length; an error for an axis
+    /// that is not finite or is zero.
+    fn with_unit_axis(self) -> Result<Self, RenderError> {
+        let unit = |up: Vec3| {
+            let finite = up.x.is_finite() && up.y.is_finite() && up.z.is_finite();
+            if finite && up.abs().max_component() > 0.0 {
+                Ok(unit_normal(up))
+            } else {
+                Err(RenderError::Axis)
+            }
+        };
+        Ok(match self {
+            Self::Plane => self,
+            Self::Cylinder { up } => Self::Cylinder { up: unit(up)? },
+            Self::SemiCylinder { up } => Self::SemiCylinder { up: unit(up)? },
+        })
+    }
+
     /// The normal of the plane one sample measures, from `u` in [0, 1),
     /// for a receiver of unit normal `n`; `None` where a half-cylinder's
     /// normal lies along its axis.
@@ -150,24 +179,7 @@ pub fn measure_with(
     cancel: &AtomicBool,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Vec<Measured>, RenderError> {
-    let shape = match shape {
-        ReceiverShape::Plane => shape,
-        ReceiverShape::Cylinder { up } | ReceiverShape::SemiCylinder { up } => {
-            let finite = up.x.is_finite() && up.y.is_finite() && up.z.is_finite();
-            if !finite || up.abs().max_component() == 0.0 {
-                return Err(RenderError::Axis);
-            }
-            match shape {
-                ReceiverShape::Cylinder { .. } => ReceiverShape::Cylinder {
-                    up: unit_normal(up),
-                },
-                _ => ReceiverShape::SemiCylinder {
-                    up: unit_normal(up),
-                },
-            }
-        }
-    };
-    let job = (receivers, shape);
+    let job = (receivers, shape.with_unit_axis()?);
     match options.cluster {
         ClusterSize::K1 => measure_k::<1>(scene, job, options, cancel, progress),
         ClusterSize::K2 => measure_k::<2>(scene, job, options, cancel, progress),

@@ -45,6 +45,18 @@ pub struct Figures {
     pub veil_cdm2: f64,
 }
 
+/// The four neighbours (left, right, up, down) of pixel `i` of a `w` × `h`
+/// picture, row-major; `None` beyond its edges.
+pub fn neighbours(i: usize, w: usize, h: usize) -> [Option<usize>; 4] {
+    let (x, y) = (i % w, i / w);
+    [
+        (x > 0).then(|| i - 1),
+        (x + 1 < w).then(|| i + 1),
+        (y > 0).then(|| i - w),
+        (y + 1 < h).then(|| i + w),
+    ]
+}
+
 /// The glare figures of the luminance picture `lum` (cd/m², row-major) of
 /// `eye`'s geometry: sources are the pixels above `factor` times the mean
 /// luminance, merged with their four neighbours; a `factor` above 100 is a
@@ -87,15 +99,7 @@ pub fn evaluate(lum: &[f32], eye: &Fisheye, factor: f64, observer: &Observer) ->
         seen[start] = true;
         let mut k = 0;
         while k < pixels.len() {
-            let i = pixels[k];
-            let (x, y) = (i % w, i / w);
-            let near = [
-                (x > 0).then(|| i - 1),
-                (x + 1 < w).then(|| i + 1),
-                (y > 0).then(|| i - w),
-                (y + 1 < h).then(|| i + w),
-            ];
-            for j in near.into_iter().flatten() {
+            for j in neighbours(pixels[k], w, h).into_iter().flatten() {
                 if !seen[j] && bright(j) {
                     seen[j] = true;
                     pixels.push(j);

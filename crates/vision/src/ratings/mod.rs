@@ -24,7 +24,7 @@ pub mod fisheye;
 #[cfg(test)]
 mod tests;
 
-pub use evaluate::{evaluate, Figures, Found, FISHEYE_VIEW};
+pub use evaluate::{evaluate, neighbours, Figures, Found, FISHEYE_VIEW};
 pub use fisheye::{Fisheye, Projection};
 
 /// A direction from the eye, (x, y, z), any length but zero.
