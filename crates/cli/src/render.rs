@@ -416,7 +416,11 @@ pub fn run(args: Args) -> Result<()> {
     );
     if let Some(g) = rendered.guide {
         let worth = 100.0 * g.worth;
-        if g.stopped {
+        if g.stopped && g.learned_spp == 0 {
+            eprintln!(
+                "scotopia: guiding declined before the first sample: a probe found it would lower the bounces' variance by about {worth:.1} % at most, less than its cost; the image is the unguided one (docs/guiding.md)"
+            );
+        } else if g.stopped {
             eprintln!(
                 "scotopia: guiding stopped after {} spp: what it learned would lower the bounces' variance by about {worth:.1} % at most, less than its cost (docs/guiding.md)",
                 g.learned_spp

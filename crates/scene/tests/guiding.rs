@@ -186,9 +186,9 @@ fn hidden_lamp() -> Scene {
     inline("hidden-lamp", HIDDEN_LAMP)
 }
 
-/// The Cornell box at 48 × 48, whose guide stops after 2 spp, its field
-/// worth 0.02 (`guiding::STOP`): the tests of determinism run across the
-/// stop too.
+/// The Cornell box at 48 × 48, whose guide its probe declines, the field
+/// worth about 0.02 (`guiding::STOP`): the tests of determinism run
+/// across the decision too.
 fn stopping() -> Scene {
     scene("cornell-box.xml", &[("res", "48")])
 }
@@ -248,6 +248,26 @@ fn guided_and_unguided_renders_agree() {
         let on = film(&s, &options(1024, 2, Guiding::On)).xyzv();
         agree(&format!("{name}, guided"), &on, &off);
     }
+}
+
+#[test]
+fn where_the_probe_finds_guiding_not_worth_it_the_image_is_the_unguided_one() {
+    // The Cornell box's light is too flat for guiding to pay: the probe
+    // (`learn.rs`) declines before the image's first sample, so every
+    // sample is the unguided render's and weighs 1.
+    let s = stopping();
+    let on = render(
+        &s,
+        &options(20, 4, Guiding::On),
+        &AtomicBool::new(false),
+        &|_, _| {},
+    )
+    .unwrap();
+    let off = film(&s, &options(20, 4, Guiding::Off));
+    let guide = on.guide.expect("guiding was on");
+    assert!(guide.stopped && guide.learned_spp == 0, "{guide:?}");
+    assert!(guide.worth < 0.05, "{guide:?}");
+    assert!(on.film == off, "the declined guide changed the image");
 }
 
 /// relMSE of Y against `reference` of `spp`-spp renders, the mean over

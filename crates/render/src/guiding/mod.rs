@@ -21,9 +21,13 @@
 //! iteration's image, because the first guides are poor; here iteration
 //! k's samples weigh 2^(k − 4) in the film instead, within a fixed
 //! budget for all of them ([`BUDGET`]), so that the first, barely guided
-//! samples add little noise. Where the field is not worth its cost after
-//! two iterations ([`Field::worth`], [`STOP`]: the Cornell box), learning
-//! and guiding stop, and the rest of the learning samples weigh 1.
+//! samples add little noise. Before the first of them a probe, 2 spp
+//! of another seed over every [`probe_step`]-th row, learns a field apart
+//! from the image; where it is not worth its cost ([`Field::worth`],
+//! [`STOP`]: the Cornell box) the guide declines, and the image is the
+//! unguided one. Where the image's own field is not worth its cost after
+//! two iterations, learning and guiding stop, and the rest of the
+//! learning samples weigh 1.
 //!
 //! **Deterministic.** A field depends only on the records of the samples
 //! before its boundary, and those only on (seed, sample index, pixel).
@@ -585,6 +589,35 @@ pub const BUDGET: f32 = 12.0;
 /// 0.64, and 1 where the bidirectional tracer guides its lamps' emission.
 pub const STOP: f32 = 0.05;
 
+/// The probe (`integrator/learn.rs`) learns from every
+/// [`probe_step`]-th row of the film, at least this many pixels where the
+/// film has them: from fewer, more of its cells find light too rarely to
+/// predict from and count as worth all (the Cornell box at 160 × 90 from
+/// every 4th row: 0.05–0.06, from every row 0.01–0.02).
+pub const PROBE_PIXELS: u32 = 14_400;
+
+/// Every how many rows of a `width` × `height` film the probe renders:
+/// as many as keep [`PROBE_PIXELS`], at most 4, so that its 2 spp cost at
+/// most half a sample per pixel of the image's time where the image is
+/// large. Its field's worth, measured from every 4th row on the Cornell
+/// box at 320 × 180 to 1920 × 1080: 0.002–0.040 (from every 8th row up
+/// to 0.052, from every 16th up to 0.06); at 320 × 180, seeds 1–6, the
+/// long street 0.07–0.12, the night street 0.09–0.20, the material
+/// showcase 0.09–0.74, the glass scene 0.044–0.28 (one seed of six
+/// declined), the foggy street 0.3–0.4, the bidirectional tracer's lamps 1.
+pub fn probe_step(width: u32, height: u32) -> u32 {
+    let pixels = u64::from(width) * u64::from(height);
+    (pixels / u64::from(PROBE_PIXELS)).clamp(1, 4) as u32
+}
+
+/// The seed of the probe's samples: not the image's, so that a decision
+/// taken from them is independent of the image's samples.
+pub fn probe_seed(seed: u32) -> u32 {
+    // A fixed odd constant (the 32-bit golden ratio) added: any other
+    // seed would do.
+    seed.wrapping_add(0x9e37_79b9)
+}
+
 impl Guide {
     /// Nothing learned yet, over the box `lo`..`hi` (the scene's).
     pub fn new(lo: Vec3, hi: Vec3) -> Self {
@@ -596,6 +629,21 @@ impl Guide {
             // times a guided sample's variance (the prism's confetti).
             weights: vec![Self::halved(0)],
             stopped: false,
+        }
+    }
+
+    /// A guide that stopped before the image's first sample: the probe
+    /// (`integrator/learn.rs`) learned `probe` and found it worth less
+    /// than [`STOP`]. Every learning sample weighs 1, so the image is the
+    /// unguided render's, bit for bit. The probe's samples are not the
+    /// image's (another seed), so weights decided from it keep the
+    /// pixel's mean unbiased without [`BUDGET`].
+    pub fn declined(probe: Field) -> Self {
+        Self {
+            field: probe,
+            learned: 0,
+            weights: vec![1.0; BOUNDARIES.len() - 1],
+            stopped: true,
         }
     }
 

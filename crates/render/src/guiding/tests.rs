@@ -302,6 +302,20 @@ fn a_guide_worth_too_little_stops_and_its_learning_samples_keep_their_budget() {
     assert!((spent(&sharp) - BUDGET).abs() < 1e-5);
 }
 
+#[test]
+fn a_guide_declined_by_its_probe_weighs_every_sample_as_one_and_learns_nothing() {
+    let flat = guide_lit(2, 100_000, 0.0, 1.0);
+    let declined = Guide::declined(flat.field().clone());
+    assert!(declined.stopped());
+    assert_eq!(declined.learned(), 0);
+    assert_eq!(declined.field().worth(), flat.field().worth());
+    let w: Vec<f32> = (0..8).map(|k| declined.weight(k)).collect();
+    assert_eq!(w, [1.0; 8]);
+    let mut more = declined.clone();
+    more.advance(&Stats::new(declined.field()));
+    assert_eq!(more, declined);
+}
+
 /// The tests' field: a slab 20 m × 2 m × 2 m, seen from above (`up`),
 /// lit along `axis`.
 struct Slab {

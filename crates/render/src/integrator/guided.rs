@@ -25,6 +25,8 @@ use crate::sampling::splitmix::SplitMix;
 pub(super) struct GuideState {
     pub guide: Guide,
     pub learning: bool,
+    /// Whether the probe decided if guiding is worth it (`learn.rs`).
+    pub probed: bool,
 }
 
 /// Vertices of a path that wait for their record: at most this many (the

@@ -9,6 +9,8 @@
 //! the guide learned: 2^(k − 4) while guiding goes on, 1 once it stopped
 //! for want of anything to guide, within a fixed budget for all 16
 //! (`guiding::BUDGET`) that keeps the pixel's weighted mean unbiased.
+//! Before all of them a probe decides whether to guide at all, from
+//! samples that are not the image's (`Renderer::probe`).
 //!
 //! The field after an iteration must be the same in every render of the
 //! same seed (fresh, resumed, a shard of rows or of samples), and it
@@ -21,7 +23,9 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::film::{Film, SampleCounts};
-use crate::guiding::{next_boundary, Stats, BOUNDARIES, LEARNED};
+use crate::guiding::{
+    next_boundary, probe_seed, probe_step, Guide, Stats, BOUNDARIES, DOUBTS, LEARNED,
+};
 
 use super::{RenderError, Renderer};
 
@@ -50,6 +54,7 @@ impl Renderer<'_> {
         done: u32,
         cancel: &AtomicBool,
     ) -> Result<(), RenderError> {
+        self.probe::<K>(seed)?;
         while let Some((b0, b1)) = self.learned().and_then(iteration) {
             if b1 > done || cancel.load(Ordering::Relaxed) {
                 break;
@@ -93,6 +98,41 @@ impl Renderer<'_> {
             self.learn_apart::<K>(seed, b0, b1)?;
         }
         Ok(counts)
+    }
+
+    /// Decides, before the image's first sample, whether guiding is worth
+    /// its cost: learns [`DOUBTS`] iterations of 1 spp over every
+    /// [`probe_step`]-th row from samples of another seed, into a film
+    /// that is thrown away, and where the field is worth less than
+    /// `guiding::STOP` declines to guide (`Guide::declined`); otherwise
+    /// the image's learning starts afresh. It depends on the seed alone,
+    /// so a resumed render or a shard decides as the whole render did.
+    fn probe<const K: usize>(&mut self, seed: u32) -> Result<(), RenderError> {
+        let Some(g) = self.guiding.as_ref().filter(|g| !g.probed) else {
+            return Ok(());
+        };
+        let fresh = g.guide.clone();
+        let (width, height) = (self.scene.camera.width, self.scene.camera.height);
+        let mut scratch =
+            Film::try_new(width, height, None).map_err(|e| RenderError::TooLarge(Box::new(e)))?;
+        let rows = std::mem::replace(&mut self.rows, 0..u32::MAX);
+        self.row_step = probe_step(width, height);
+        for k in 0..u32::from(DOUBTS) {
+            let mut stats = self.recording();
+            self.pass::<K>(probe_seed(seed), &mut scratch, (k, 1, 1.0), stats.as_mut());
+            self.advance(stats);
+        }
+        self.rows = rows;
+        self.row_step = 1;
+        if let Some(g) = self.guiding.as_mut() {
+            g.probed = true;
+            g.guide = if g.guide.stopped() {
+                Guide::declined(g.guide.field().clone())
+            } else {
+                fresh
+            };
+        }
+        Ok(())
     }
 
     /// The samples per pixel the guide has learned from, while learning

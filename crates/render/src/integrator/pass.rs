@@ -153,7 +153,7 @@ impl Renderer<'_> {
     /// The samples of row `w.y`, added into its window.
     fn render_row<const K: usize>(&self, job: &RowJob, w: Window<'_>) -> RowOut<K> {
         let y = w.y;
-        if !self.rows.contains(&(y as u32)) {
+        if !self.rows.contains(&(y as u32)) || !(y as u32).is_multiple_of(self.row_step) {
             return (y, SampleCounts::default(), Vec::new(), RowStats::default());
         }
         let RowJob {

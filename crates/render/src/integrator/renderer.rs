@@ -135,6 +135,9 @@ pub struct Renderer<'a> {
     pub(super) kind: IntegratorKind,
     /// The film rows a pass renders (a shard's; all by default).
     pub(super) rows: std::ops::Range<u32>,
+    /// Of those, a pass renders every `row_step`-th (1 but for the
+    /// guide's probe, `learn.rs`).
+    pub(super) row_step: u32,
     /// The light field learned so far, with `--guiding on`.
     pub(super) guiding: Option<GuideState>,
 }
@@ -168,6 +171,7 @@ impl<'a> Renderer<'a> {
             renderer.guiding = Some(GuideState {
                 guide: Guide::new(lo, hi),
                 learning: false,
+                probed: false,
             });
         }
         Ok(renderer)
@@ -222,6 +226,7 @@ impl<'a> Renderer<'a> {
             integrator,
             kind,
             rows: 0..u32::MAX,
+            row_step: 1,
             guiding: None,
             filter: FilterSampler::new(scene.filter),
             infinite: (0..scene.lights.len())
