@@ -73,7 +73,7 @@ pub fn run(args: Args) -> Result<()> {
                 if camera.thin_lens {
                     "thin lens"
                 } else {
-                    "perspective"
+                    &camera.projection
                 },
                 camera.fov_degrees[0],
                 camera.fov_degrees[1]

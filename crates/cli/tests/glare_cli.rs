@@ -158,3 +158,66 @@ fn a_radiance_fisheye_gives_the_figures_of_the_same_exr() {
         assert!((x / y - 1.0).abs() < 0.02, "{key}: {x} against {y}");
     }
 }
+
+#[test]
+fn a_rendered_fisheye_of_a_uniform_sky_gives_pi_times_its_luminance() {
+    // scotopia's own fisheye sensor (`<sensor type="fisheye">`): the EXR
+    // says its projection and field, so `glare` needs no options, and
+    // the Radiance picture says `-vta`.
+    let dir = out_dir("glare", "rendered");
+    let scene = dir.join("sky.xml");
+    std::fs::write(
+        &scene,
+        r#"<scene version="3.0.0">
+    <sensor type="fisheye">
+        <transform name="to_world"><lookat origin="0, 1, 0" target="0, 1, 1" up="0, 1, 0"/></transform>
+        <film type="hdrfilm"><integer name="width" value="96"/><integer name="height" value="96"/><rfilter type="box"/></film>
+    </sensor>
+    <emitter type="constant"><rgb name="radiance" value="0.01, 0.01, 0.01"/></emitter>
+</scene>"#,
+    )
+    .unwrap();
+    let (exr, hdr) = (dir.join("sky.exr"), dir.join("sky.hdr"));
+    let (code, _, err) = scotopia(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--spp",
+        "4",
+        "-o",
+        exr.to_str().unwrap(),
+        "--radiance",
+        hdr.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let header = std::fs::read(&hdr).unwrap();
+    let header = String::from_utf8_lossy(&header[..200.min(header.len())]).to_string();
+    assert!(header.contains("VIEW= -vta -vh 180 -vv 180"), "{header}");
+    let picture = scotopia_image::read_xyzv(&exr, Default::default()).unwrap();
+    // The sky's luminance: the mean over the circle's inner part (each
+    // pixel's few wavelengths make the spectrum's luminance noisy).
+    let inner: Vec<f64> = (0..96 * 96)
+        .filter(|i| {
+            let (x, y) = ((i % 96) as f64 - 47.5, (i / 96) as f64 - 47.5);
+            (x * x + y * y).sqrt() < 0.9 * 48.0
+        })
+        .map(|i| f64::from(picture.pixels[i][1]))
+        .collect();
+    let l = inner.iter().sum::<f64>() / inner.len() as f64;
+    for file in [&exr, &hdr] {
+        let (code, out, err) = scotopia(&["glare", file.to_str().unwrap(), "--json"]);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        let ev = v["Ev_lx"].as_f64().unwrap();
+        // The EXR within 0.2 % (the noise of the means, and the rim's
+        // pixels, which the circle covers in part); the Radiance picture
+        // within RGBE's 1 %.
+        let tol = if file == &exr { 2e-3 } else { 1e-2 };
+        assert!(
+            (ev / (std::f64::consts::PI * l) - 1.0).abs() < tol,
+            "{}: E_v {ev}, π·L {}",
+            file.display(),
+            std::f64::consts::PI * l
+        );
+        assert!(v["sources"].as_array().unwrap().is_empty());
+    }
+}

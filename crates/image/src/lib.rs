@@ -3,6 +3,7 @@
 //! PNG/JPEG/EXR reading for textures, spectrum plots.
 
 pub mod exr_out;
+pub mod fisheye;
 pub mod limits;
 pub mod output_file;
 mod plain_file;

@@ -5,6 +5,7 @@ use std::path::Path;
 
 use scotopia_image::{write_exr, ImageError, Meta};
 
+use crate::camera::{FisheyeMap, Projection};
 use crate::integrator::{Quantity, RenderOptions, Rendered, RunFacts};
 use crate::scene::Scene;
 
@@ -18,7 +19,7 @@ pub fn render_metadata(
     scene_file: &str,
 ) -> Vec<(&'static str, Meta)> {
     let (fov_x, fov_y) = scene.camera.fov_degrees();
-    vec![
+    let mut meta = vec![
         ("fovHorizontalDegrees", Meta::F32(fov_x)),
         ("fovVerticalDegrees", Meta::F32(fov_y)),
         ("samplesPerPixel", Meta::I32(rendered.spp as i32)),
@@ -44,20 +45,30 @@ pub fn render_metadata(
         ),
         ("interrupted", Meta::I32(rendered.cancelled as i32)),
         ("renderer", Meta::Text(format!("scotopia {}", env!("CARGO_PKG_VERSION")))),
-    ]
+    ];
+    // What `scotopia glare` reads a fisheye picture's geometry from.
+    if let Projection::Fisheye(map) = scene.camera.projection {
+        meta.push(("projection", Meta::Text(map.name().into())));
+    }
+    meta
 }
 
-/// The Radiance view options of `scene`'s camera (`-vtv -vh H -vv V`),
-/// for a Radiance picture of the render (`scotopia_image::radiance`): a
-/// perspective camera that is not cropped. (Radiance's default view
-/// direction and up stand for the camera's: a picture's angles are
-/// measured from its own centre and up.)
+/// The Radiance view options of `scene`'s camera, for a Radiance picture
+/// of the render (`scotopia_image::radiance`): `-vtv -vh H -vv V` for a
+/// perspective camera that is not cropped, `-vta` for an angular fisheye
+/// (Radiance has no equisolid view). (Radiance's default view direction
+/// and up stand for the camera's: a picture's angles are measured from
+/// its own centre and up.)
 pub fn radiance_view(scene: &Scene) -> Option<String> {
     let c = &scene.camera;
     let whole = c.crop_offset() == [0, 0] && c.full_size() == [c.width, c.height];
     let (h, v) = c.fov_degrees();
-    (c.projection == crate::camera::Projection::Perspective && whole && h > 0.0)
-        .then(|| format!("-vtv -vh {h} -vv {v}"))
+    let kind = match c.projection {
+        Projection::Perspective => "v",
+        Projection::Fisheye(FisheyeMap::Angular) => "a",
+        _ => return None,
+    };
+    (whole && h > 0.0).then(|| format!("-vt{kind} -vh {h} -vv {v}"))
 }
 
 /// Writes channels X, Y, Z, V (V′) of `rendered` to `path`, atomically.

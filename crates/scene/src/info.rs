@@ -6,6 +6,7 @@ use serde::ser::{SerializeMap, Serializer};
 use serde::Serialize;
 
 use scotopia_color::{SampledWavelengths, LAMBDA_MAX, LAMBDA_MIN};
+use scotopia_render::camera::Projection;
 use scotopia_render::light::{Light, SceneExtent};
 use scotopia_render::medium::{Field, Medium, Phase};
 use scotopia_render::scene::{Filter, Scene};
@@ -77,6 +78,9 @@ pub struct CameraInfo {
     /// Horizontal and vertical.
     pub fov_degrees: [f32; 2],
     pub thin_lens: bool,
+    /// `perspective`, `orthographic`, or `angular fisheye` / `equisolid
+    /// fisheye`.
+    pub projection: String,
     /// The shape an irradiancemeter measures over, if that is the sensor.
     #[serde(rename = "irradiancemeter_shape")]
     pub meter_shape: Option<u32>,
@@ -163,6 +167,11 @@ impl SceneInfo {
             camera: CameraInfo {
                 fov_degrees: fov.into(),
                 thin_lens: scene.camera.aperture_radius > 0.0,
+                projection: match scene.camera.projection {
+                    Projection::Perspective => "perspective".into(),
+                    Projection::Orthographic => "orthographic".into(),
+                    Projection::Fisheye(map) => format!("{} fisheye", map.name()),
+                },
                 meter_shape: scene.meter.as_ref().map(|m| m.shape),
             },
             film: FilmInfo {

@@ -34,7 +34,12 @@ fn scene_info_serialises_to_infos_keys() {
     );
     assert_eq!(
         keys(&v["camera"]),
-        ["fov_degrees", "thin_lens", "irradiancemeter_shape"]
+        [
+            "fov_degrees",
+            "thin_lens",
+            "projection",
+            "irradiancemeter_shape"
+        ]
     );
     assert_eq!(keys(&v["film"]), ["width", "height", "filter"]);
     assert_eq!(keys(&v["lights"][0]), ["type", "watts", "lumens"]);

@@ -11,7 +11,7 @@
 //! light path, summed over all light paths and divided by the samples per
 //! pixel, the same pixel value as the camera's own samples give.
 
-use super::Camera;
+use super::{fisheye, Camera, FisheyeMap, Projection};
 use crate::math::Vec3;
 use crate::sampling::warp::square_to_disk_concentric;
 
@@ -43,9 +43,28 @@ impl Camera {
         }
     }
 
+    /// A fisheye's film position of camera-space unit direction `d`, and
+    /// the density per solid angle of its rays there.
+    fn fisheye_raster(&self, map: FisheyeMap, d: Vec3) -> Option<([f32; 2], f32)> {
+        let ([a, b], theta) = fisheye::film_point(map, d, self.half_fov)?;
+        let (w, h) = (self.width as f32, self.height as f32);
+        let half = 0.5 * w;
+        let (x, y) = (half + a * half, 0.5 * h - b * half);
+        if !((0.0..w).contains(&x) && (0.0..h).contains(&y)) {
+            return None;
+        }
+        // The film's area, its half width 1, over which positions are
+        // uniform (`fisheye.rs`).
+        let area = 4.0 * h / w;
+        Some(([x, y], fisheye::pdf(map, theta, self.half_fov, area)))
+    }
+
     /// Film position of a camera-space direction through the lens centre,
     /// if it lands on the film.
     fn raster_of(&self, d: Vec3) -> Option<[f32; 2]> {
+        if let Projection::Fisheye(map) = self.projection {
+            return self.fisheye_raster(map, d.normalize()).map(|(r, _)| r);
+        }
         if d.z <= 0.0 {
             return None;
         }
@@ -91,6 +110,9 @@ impl Camera {
     pub fn pdf_direction(&self, lens: Vec3, d: Vec3) -> f32 {
         let o = self.camera_from_world.point(lens);
         let dc = self.camera_from_world.vector(d).normalize();
+        if let Projection::Fisheye(map) = self.projection {
+            return self.fisheye_raster(map, dc).map_or(0.0, |(_, pdf)| pdf);
+        }
         if self.raster_through(o, dc).is_none() {
             return 0.0;
         }
@@ -101,6 +123,23 @@ impl Camera {
     /// Connects world point `p` to a lens point drawn with `u`: `None`
     /// when `p` is outside the view or the clip range.
     pub fn connect(&self, p: Vec3, u: [f32; 2]) -> Option<LensConnection> {
+        if let Projection::Fisheye(map) = self.projection {
+            // A pinhole: the importance is the rays' density per solid
+            // angle over the squared distance, as the perspective
+            // camera's 1/(A·cos³θ·d²) is.
+            let pc = self.camera_from_world.point(p);
+            let dist2 = pc.length_squared();
+            let dist = dist2.sqrt();
+            if !(dist >= self.near_clip && dist <= self.far_clip) {
+                return None;
+            }
+            let (raster, pdf) = self.fisheye_raster(map, pc / dist)?;
+            return Some(LensConnection {
+                raster,
+                lens: self.world_from_camera.point(Vec3::ZERO),
+                importance: pdf / dist2,
+            });
+        }
         let [lx, ly] = if self.aperture_radius > 0.0 {
             square_to_disk_concentric(u)
         } else {
@@ -164,6 +203,39 @@ mod tests {
             // Behind the camera: nothing.
             let behind = c.world_from_camera.point(Vec3::new(0.0, 0.0, -1.0));
             assert!(c.connect(behind, lens).is_none());
+        }
+    }
+
+    #[test]
+    fn a_fisheyes_direction_density_integrates_to_the_share_of_the_film_its_circle_covers() {
+        // Film positions are uniform over the square film; those outside
+        // the circle draw no ray, so ∫ pdf dω = π/4 at any field of view.
+        use crate::camera::FisheyeMap;
+        for (map, fov) in [(FisheyeMap::Angular, 180.0), (FisheyeMap::Equisolid, 240.0)] {
+            let c = Camera::fisheye(Transform::IDENTITY, [40, 40], map, fov, 1e-3, 1e3).unwrap();
+            let n = 400_000;
+            let mut sum = 0.0f64;
+            for i in 0..n {
+                let u = [
+                    (i as f32 + 0.5) / n as f32,
+                    ((i as f64 * 0.618_034) % 1.0) as f32,
+                ];
+                let d = crate::sampling::warp::square_to_uniform_sphere(u);
+                sum += (c.pdf_direction(Vec3::ZERO, d) / crate::sampling::warp::UNIFORM_SPHERE_PDF)
+                    as f64;
+            }
+            let mean = sum / n as f64;
+            assert!(
+                (mean - std::f64::consts::FRAC_PI_4).abs() < 0.01,
+                "{map:?}: {mean}"
+            );
+            // A ray's film position is found again from its direction.
+            let film = [13.2, 31.7];
+            let ray = c.generate_ray(film, [0.5, 0.5]);
+            let conn = c.connect(ray.at(2.0), [0.5, 0.5]).unwrap();
+            assert!(
+                (conn.raster[0] - film[0]).abs() < 1e-3 && (conn.raster[1] - film[1]).abs() < 1e-3
+            );
         }
     }
 

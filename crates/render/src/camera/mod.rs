@@ -1,6 +1,7 @@
 //! Cameras: perspective (pinhole), thin lens and orthographic, with
 //! Mitsuba 3's mapping from film position to ray, so that a scene rendered
-//! by both lines up pixel for pixel.
+//! by both lines up pixel for pixel; and scotopia's fisheye (`fisheye.rs`),
+//! which Mitsuba has not, for glare ratings.
 //!
 //! Camera space (Mitsuba's): +z is the view direction, +y up, +x left. The
 //! film position (x, y) runs from (0, 0) at the top-left corner of the image
@@ -9,9 +10,11 @@
 //! renders a part of a larger film: the image is `width`×`height` pixels
 //! from `crop_offset` of a `full_size` film whose field of view is given.
 
+mod fisheye;
 mod importance;
 mod meter;
 
+pub use fisheye::FisheyeMap;
 pub use importance::LensConnection;
 pub use meter::IrradianceMeter;
 
@@ -52,6 +55,9 @@ pub enum Projection {
     /// y ∈ [−1/aspect, 1/aspect] of camera space (Mitsuba's
     /// `orthographic`; `to_world`'s scale sets the extent).
     Orthographic,
+    /// Rays from a point in every direction of a fisheye's field
+    /// (`fisheye.rs`), up to 360° across the image's width.
+    Fisheye(FisheyeMap),
 }
 
 /// A perspective camera (a thin lens when `aperture_radius` > 0), or an
@@ -70,6 +76,8 @@ pub struct Camera {
     crop_offset: [u32; 2],
     /// tan of half the whole film's horizontal field of view.
     tan_half_x: f32,
+    /// A fisheye's half field of view θm, radians (0 for the others).
+    half_fov: f32,
     pub near_clip: f32,
     pub far_clip: f32,
     pub aperture_radius: f32,
@@ -136,6 +144,7 @@ impl Camera {
             full_size: [width, height],
             crop_offset: [0, 0],
             tan_half_x,
+            half_fov: 0.0,
             near_clip,
             far_clip,
             aperture_radius,
@@ -152,7 +161,21 @@ impl Camera {
         far_clip: f32,
     ) -> Result<Self, CameraError> {
         // tan 45° = 1 makes the perspective film mapping give x ∈ [−1, 1].
-        let mut c = Self::new(
+        let mut c = Self::square_pinhole(world_from_camera, [width, height], near_clip, far_clip)?;
+        c.projection = Projection::Orthographic;
+        Ok(c)
+    }
+
+    /// A pinhole of 90° across the width: what the orthographic and
+    /// fisheye cameras start from, with the perspective camera's checks
+    /// of film size and clip range.
+    fn square_pinhole(
+        world_from_camera: Transform,
+        [width, height]: [u32; 2],
+        near_clip: f32,
+        far_clip: f32,
+    ) -> Result<Self, CameraError> {
+        Self::new(
             world_from_camera,
             width,
             height,
@@ -162,14 +185,43 @@ impl Camera {
             far_clip,
             0.0,
             1.0,
-        )?;
-        c.projection = Projection::Orthographic;
+        )
+    }
+
+    /// A fisheye of projection `map` whose full field of view
+    /// `fov_degrees` (up to 360°) spans the film's width, centred, with
+    /// square pixels: a pinhole at the origin of `world_from_camera`
+    /// looking along its +z. Its rays run from `near_clip` to `far_clip`
+    /// along themselves (not between planes: they may look backwards).
+    pub fn fisheye(
+        world_from_camera: Transform,
+        size: [u32; 2],
+        map: FisheyeMap,
+        fov_degrees: f32,
+        near_clip: f32,
+        far_clip: f32,
+    ) -> Result<Self, CameraError> {
+        if !(fov_degrees > 0.0 && fov_degrees <= 360.0) {
+            return Err(CameraError(format!(
+                "fisheye field of view {fov_degrees}° is not in (0°, 360°]"
+            )));
+        }
+        let mut c = Self::square_pinhole(world_from_camera, size, near_clip, far_clip)?;
+        c.projection = Projection::Fisheye(map);
+        c.half_fov = (0.5 * fov_degrees).to_radians();
         Ok(c)
     }
 
     /// Renders only the window of `size` pixels at `offset` of the film
     /// (Mitsuba's `crop_offset_x/y`, `crop_width/height`).
     pub fn with_crop(mut self, offset: [u32; 2], size: [u32; 2]) -> Result<Self, CameraError> {
+        if matches!(self.projection, Projection::Fisheye(_)) {
+            // A glare rating needs the whole circle, and a picture's
+            // projection metadata describes a whole film.
+            return Err(CameraError(
+                "a fisheye renders its whole film: no crop window".into(),
+            ));
+        }
         let [w, h] = self.full_size;
         let fits = |o: u32, s: u32, full: u32| s > 0 && o.checked_add(s).is_some_and(|e| e <= full);
         if !(fits(offset[0], size[0], w) && fits(offset[1], size[1], h)) {
@@ -201,8 +253,16 @@ impl Camera {
     /// window's when cropped), degrees; (0, 0) for an orthographic camera,
     /// which has none.
     pub fn fov_degrees(&self) -> (f32, f32) {
-        if self.projection == Projection::Orthographic {
-            return (0.0, 0.0);
+        match self.projection {
+            Projection::Orthographic => return (0.0, 0.0),
+            Projection::Fisheye(map) => {
+                // Across the width, and up the centre line to the edge
+                // (or to the circle, on a film taller than wide).
+                let up = (self.height as f32 / self.width as f32).min(1.0);
+                let v = 2.0 * map.theta(f64::from(up), f64::from(self.half_fov)) as f32;
+                return (2.0 * self.half_fov.to_degrees(), v.to_degrees());
+            }
+            Projection::Perspective => {}
         }
         let span = |from: f32, to: f32, full: f32, tan_half: f32| {
             // Angles of the window's edges, measured across the film.
@@ -236,6 +296,35 @@ impl Camera {
         )
     }
 
+    /// The film point (a, b) of a fisheye (a right, b up, 1 at the half
+    /// width) at film position `film` (pixels).
+    #[inline]
+    fn fisheye_point(&self, film: [f32; 2]) -> [f32; 2] {
+        let half = 0.5 * self.width as f32;
+        [
+            (film[0] - half) / half,
+            (0.5 * self.height as f32 - film[1]) / half,
+        ]
+    }
+
+    /// The camera-space unit direction of a fisheye at film position
+    /// `film`, `None` outside its circle.
+    #[inline]
+    fn fisheye_direction(&self, map: FisheyeMap, film: [f32; 2]) -> Option<Vec3> {
+        let [a, b] = self.fisheye_point(film);
+        fisheye::direction(map, a, b, self.half_fov)
+    }
+
+    /// Whether film position `film` sees the scene: false outside a
+    /// fisheye's circle, whose rays carry nothing.
+    #[inline]
+    pub fn sees(&self, film: [f32; 2]) -> bool {
+        match self.projection {
+            Projection::Fisheye(map) => self.fisheye_direction(map, film).is_some(),
+            _ => true,
+        }
+    }
+
     /// The world-space ray through film position `film` (pixels), with
     /// `lens` ∈ [0, 1)² choosing the point on the aperture. The ray starts at
     /// the near clip plane and ends at the far one, as in Mitsuba.
@@ -247,6 +336,22 @@ impl Camera {
     /// `generate_ray`, and the world-space lens point the ray comes from.
     #[inline]
     pub fn generate_ray_from_lens(&self, film: [f32; 2], lens: [f32; 2]) -> (Ray, Vec3) {
+        if let Projection::Fisheye(map) = self.projection {
+            let origin = self.world_from_camera.point(Vec3::ZERO);
+            // Outside the circle an empty ray along the axis ([`Self::sees`]).
+            let (d, length) = match self.fisheye_direction(map, film) {
+                Some(d) => (d, self.far_clip - self.near_clip),
+                None => (Vec3::new(0.0, 0.0, 1.0), 0.0),
+            };
+            let world_dir = self.world_from_camera.vector(d);
+            let scale = world_dir.length();
+            let ray = Ray {
+                o: self.world_from_camera.point(d * self.near_clip),
+                d: world_dir / scale,
+                t_max: length * scale,
+            };
+            return (ray, origin);
+        }
         let d = self.direction(film);
         if self.projection == Projection::Orthographic {
             // From the film point on the near plane, along +z; Mitsuba's

@@ -361,7 +361,7 @@ pub enum RenderError {
     Wavefront(&'static str),
     #[error("path guiding serves the scalar path, volume path and bidirectional tracers' radiance, not {0}: render with --guiding off")]
     Guiding(&'static str),
-    #[error("the bidirectional tracer needs a perspective or thin-lens camera (an orthographic camera cannot be reached from a light); render with path")]
+    #[error("the bidirectional tracer needs a perspective, thin-lens or fisheye camera (an orthographic camera cannot be reached from a light); render with path")]
     BdptProjection,
     #[error("{0}")]
     TooLarge(Box<scotopia_image::TooLarge>),

@@ -252,6 +252,10 @@ impl Renderer<'_> {
         let ray = self.scene.camera.generate_ray(film, lens);
         let mut path = PathState::new(ray, wl, 1);
         path.medium = self.scene.camera_medium;
+        if !self.scene.camera.sees(film) {
+            // Outside a fisheye's circle: an empty ray that carries nothing.
+            path.beta = SampledSpectrum::splat(0.0);
+        }
         path
     }
 

@@ -113,7 +113,7 @@ impl Integrator {
                 options.quantity,
             ),
         };
-        if kind == IntegratorKind::Bdpt && scene.camera.projection != Projection::Perspective {
+        if kind == IntegratorKind::Bdpt && scene.camera.projection == Projection::Orthographic {
             return Err(RenderError::BdptProjection);
         }
         // The strategy exists (`BdptStrategy`); only bdpt has strategies.

@@ -129,6 +129,7 @@ pub const PLUGINS: &[Plugin] = &[
     p("sensor", "perspective", Full, "fov, fov_axis, focal_length, near_clip, far_clip, to_world", ""),
     p("sensor", "thinlens", Full, "the above, aperture_radius, focus_distance", ""),
     p("sensor", "orthographic", Partial, "near_clip, far_clip, to_world (its scale sets the extent)", "path tracer only: bdpt refuses it"),
+    p("sensor", "fisheye", Full, "projection (angular or equisolid), fov (full angle across the width, up to 360; default 180), near_clip, far_clip, to_world", "scotopia's own (Mitsuba has none): for glare ratings; no crop window; the EXR's metadata names its projection"),
     p("sensor", "radiancemeter", Unsupported, "", ""),
     p("sensor", "irradiancemeter", Full, "a shape's child; its film and sampler", "E over the shape in lx (Y), by the path tracer's receiver; a film larger than 1×1 is read as 1×1 with a warning"),
     p("sensor", "distant", Unsupported, "", ""),

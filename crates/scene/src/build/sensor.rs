@@ -1,7 +1,7 @@
 //! `<sensor>` with its `<film>`, `<sampler>` and `<rfilter>`, and the
 //! `irradiancemeter` a shape can hold.
 
-use scotopia_render::camera::{Camera, FovAxis};
+use scotopia_render::camera::{Camera, FisheyeMap, FovAxis};
 use scotopia_render::film::Film;
 use scotopia_render::math::Transform;
 use scotopia_render::scene::Filter;
@@ -25,14 +25,27 @@ pub fn build_sensor(b: &mut Builder, node: &Node) -> Result<Sensor, SceneError> 
              as in Mitsuba: it measures over that shape",
         ));
     }
-    if !["perspective", "thinlens", "orthographic"].contains(&kind) {
+    if !["perspective", "thinlens", "orthographic", "fisheye"].contains(&kind) {
         return Err(node.error(format!(
-            "sensor type '{kind}' is not supported (perspective, thinlens, orthographic)"
+            "sensor type '{kind}' is not supported (perspective, thinlens, orthographic, fisheye)"
         )));
     }
     let p = Props::new(node);
     let orthographic = kind == "orthographic";
-    let (fov, axis) = if orthographic {
+    // scotopia's own sensor (Mitsuba has none): its projection and full
+    // field of view across the film's width.
+    let fisheye = if kind == "fisheye" {
+        let name = p.string("projection")?.unwrap_or("angular");
+        let map = FisheyeMap::from_name(name).ok_or_else(|| {
+            node.error(format!(
+                "unknown fisheye projection '{name}' (angular or equisolid)"
+            ))
+        })?;
+        Some((map, p.float("fov", 180.0)?))
+    } else {
+        None
+    };
+    let (fov, axis) = if orthographic || fisheye.is_some() {
         (90.0, FovAxis::X)
     } else {
         field_of_view(&p, node)?
@@ -69,7 +82,9 @@ pub fn build_sensor(b: &mut Builder, node: &Node) -> Result<Sensor, SceneError> 
     }
     // Checked here, so the error names the scene's line.
     Film::check_size(width, height, None).map_err(|e| node.error(e.to_string()))?;
-    let camera = if orthographic {
+    let camera = if let Some((map, fov)) = fisheye {
+        Camera::fisheye(to_world, [width, height], map, fov, near, far)
+    } else if orthographic {
         Camera::orthographic(to_world, width, height, near, far)
     } else {
         Camera::new(

@@ -6,31 +6,7 @@
 
 use super::Dir;
 
-/// How angles from the line of sight map to radii in the picture.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Projection {
-    /// r ∝ θ (equidistant; Radiance's angular fisheye, `-vta`).
-    Angular,
-    /// r ∝ sin(θ/2) (equal-area: every pixel the same solid angle).
-    Equisolid,
-}
-
-impl Projection {
-    pub fn from_name(name: &str) -> Option<Self> {
-        match name.trim() {
-            "angular" => Some(Self::Angular),
-            "equisolid" => Some(Self::Equisolid),
-            _ => None,
-        }
-    }
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Angular => "angular",
-            Self::Equisolid => "equisolid",
-        }
-    }
-}
+pub use scotopia_image::fisheye::Projection;
 
 /// A fisheye picture's geometry.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -61,11 +37,7 @@ impl Fisheye {
         if rho > 1.0 {
             return None;
         }
-        let tm = self.theta_max();
-        Some(match self.projection {
-            Projection::Angular => rho * tm,
-            Projection::Equisolid => 2.0 * (rho * (0.5 * tm).sin()).clamp(-1.0, 1.0).asin(),
-        })
+        Some(self.projection.theta(rho, self.theta_max()))
     }
 
     /// The unit direction at a position in pixels, or None outside the
@@ -85,12 +57,7 @@ impl Fisheye {
     /// angular projection, 4·sin²(θm/2) for the equisolid.
     fn density(&self, rho: f64) -> Option<f64> {
         let t = self.theta(rho)?;
-        let tm = self.theta_max();
-        Some(match self.projection {
-            Projection::Angular if t > 0.0 => tm * tm * t.sin() / t,
-            Projection::Angular => tm * tm,
-            Projection::Equisolid => 4.0 * (0.5 * tm).sin().powi(2),
-        })
+        Some(self.projection.density(t, self.theta_max()))
     }
 
     /// The solid angle (sr) of pixel (x, y), by the midpoint rule on 8 × 8

@@ -108,6 +108,13 @@ impl Renderer<'_> {
             &mut scratch.light,
         );
         let (wl, lanes) = camera_cluster(&first, &scratch.light, u_runs, u_rotate);
+        // Outside a fisheye's circle the camera subpath is its lens point
+        // alone: only light tracing (t = 1) reaches the film from there.
+        let max_camera = if self.scene.camera.sees(film) {
+            max_camera
+        } else {
+            1
+        };
         let camera_collapsed = self.camera_subpath(
             &mut draw,
             &wl,

@@ -105,6 +105,6 @@ impl Renderer<'_> {
     /// along an orthographic camera's parallel rays, which no light path
     /// reaches (there the first hits keep the estimator's full shares).
     fn sees_points(&self) -> bool {
-        self.scene.camera.projection == Projection::Perspective
+        self.scene.camera.projection != Projection::Orthographic
     }
 }
