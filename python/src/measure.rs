@@ -8,7 +8,7 @@ use numpy::{AllowTypeChange, IntoPyArray, PyArrayLike2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use scotopia_render::integrator::{measure_with, Receiver, ReceiverShape, RenderOptions};
+use scotopia_render::integrator::{measure_setup, Receiver, ReceiverShape, RenderOptions, Setup};
 use scotopia_render::math::Vec3;
 use scotopia_scene::{load_scene_with, LoadOptions};
 use scotopia_vision::mode::Mesopic;
@@ -30,11 +30,17 @@ use scotopia_vision::mode::Mesopic;
 /// 12464-1: the mean over a small cylinder along `up`; the normals are not
 /// used) or "semicylindrical" (E_sc, EN 13201-2: a half-cylinder along
 /// `up` facing each normal's direction across it); for the cylinders
-/// `L_cdm2`, `m` and `Lmes_cdm2` are NaN. The scene needs no sensor.
+/// `L_cdm2`, `m` and `Lmes_cdm2` are NaN. `observer`: an eye (x, y, z)
+/// whose view of each point is measured too (the points should lie on a
+/// surface: the road's, a `roadsurface` BSDF giving the CIE r-tables):
+/// `Lobs_cdm2`, `Lobs_cdm2_se`, `Lobs_SP` (its scotopic over photopic
+/// luminance) and `Lobs_mes_cdm2` (CIE 191's mesopic luminance).
+/// `direct`: light straight from the emitters alone, as EN 13201-3's
+/// method counts it. The scene needs no sensor.
 /// The GIL is released while measuring; Ctrl-C stops it and raises
 /// KeyboardInterrupt.
 #[pyfunction]
-#[pyo3(signature = (path, points, spp = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, reflectance = 1.0, receiver = "plane", up = (0.0, 1.0, 0.0)))]
+#[pyo3(signature = (path, points, spp = None, seed = 0, wavelengths = "swc", cluster = 4, params = None, reflectance = 1.0, receiver = "plane", up = (0.0, 1.0, 0.0), observer = None, direct = false))]
 #[allow(clippy::too_many_arguments)]
 fn measure<'py>(
     py: Python<'py>,
@@ -48,6 +54,8 @@ fn measure<'py>(
     reflectance: f64,
     receiver: &str,
     up: (f32, f32, f32),
+    observer: Option<(f32, f32, f32)>,
+    direct: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let err = |e: String| PyValueError::new_err(e);
     let reflectance = scotopia_vision::mode::reflectance(reflectance)
@@ -95,7 +103,12 @@ fn measure<'py>(
     // writes nothing) and raises KeyboardInterrupt.
     let cancel = AtomicBool::new(false);
     let (measured, interrupted) = crate::interrupt::interruptible(py, &cancel, || {
-        measure_with(&scene, &receivers, shape, &options, &cancel, &|_, _| {})
+        let setup = Setup {
+            shape,
+            observer: observer.map(|(x, y, z)| Vec3::new(x, y, z)),
+            direct,
+        };
+        measure_setup(&scene, &receivers, setup, &options, &cancel, &|_, _| {})
     });
     if let Some(e) = interrupted {
         return Err(e);
@@ -136,6 +149,24 @@ fn measure<'py>(
         };
         d.set_item(name, of(false))?;
         d.set_item(format!("{name}_se"), of(true))?;
+    }
+    if observer.is_some() {
+        let seen: Vec<[f64; 4]> = measured
+            .iter()
+            .map(scotopia_cli::measure::observed)
+            .collect();
+        for (k, name) in ["Lobs_cdm2", "Lobs_cdm2_se", "Lobs_SP", "Lobs_mes_cdm2"]
+            .into_iter()
+            .enumerate()
+        {
+            d.set_item(
+                name,
+                seen.iter()
+                    .map(|s| s[k])
+                    .collect::<Vec<f64>>()
+                    .into_pyarray(py),
+            )?;
+        }
     }
     Ok(d)
 }

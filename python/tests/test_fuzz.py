@@ -156,7 +156,8 @@ ENTRIES = {
     "measure": (
         scotopia.measure,
         [CORNELL, np.array([[0.0, 0.01, 0.0, 0.0, 1.0, 0.0]])],
-        dict(spp=4, seed=0, wavelengths="swc", cluster=4, params=None, reflectance=1.0),
+        dict(spp=4, seed=0, wavelengths="swc", cluster=4, params=None, reflectance=1.0,
+             observer=(0.0, 0.5, 1.0), direct=False),
         {"path"},
         set(),
     ),

@@ -197,6 +197,33 @@ def test_measure_gives_the_inverse_square_law_and_its_standard_errors(tmp_path):
         scotopia.measure(str(scene), points[:, :5])
 
 
+def test_measure_sees_an_r_table_road_from_an_observer(tmp_path):
+    # A 1000 cd lamp 10 m over a CIE R3 road: seen from far along −x, 1°
+    # up, the road straight under the lamp has L = I·r(0, 0)/h², r(0, 0)
+    # of R3 0.0294 (CIE 144), by direct light; the full transport adds
+    # nothing here (no other surface), within the noise.
+    scene = tmp_path / "road.xml"
+    scene.write_text(
+        '<scene version="3.0.0">'
+        '<emitter type="point"><point name="position" x="0" y="10" z="0"/>'
+        '<spectrum name="intensity" type="d65"><float name="luminance" value="1000"/></spectrum>'
+        "</emitter>"
+        '<shape type="rectangle"><transform name="to_world"><scale value="100"/>'
+        '<rotate x="1" angle="-90"/></transform>'
+        '<bsdf type="roadsurface"><string name="class" value="R3"/></bsdf></shape></scene>'
+    )
+    points = np.array([[0.0, 0.0, 0.0, 0.0, 1.0, 0.0]])
+    eye = (-1e4, 1e4 * np.tan(np.radians(1.0)), 0.0)
+    m = scotopia.measure(str(scene), points, spp=256, observer=eye, direct=True)
+    want = 1000.0 * 0.0294 / 100.0
+    assert abs(m["Lobs_cdm2"][0] - want) <= 4 * m["Lobs_cdm2_se"][0] + 1e-3 * want
+    # D65: scotopic over photopic 2.47, and mesopic luminance above it.
+    assert abs(m["Lobs_SP"][0] - 2.47) < 0.05 and m["Lobs_mes_cdm2"][0] > m["Lobs_cdm2"][0]
+    assert "Lobs_cdm2" not in scotopia.measure(str(scene), points, spp=4)
+    with pytest.raises(ValueError, match="finite point"):
+        scotopia.measure(str(scene), points, spp=4, observer=(np.inf, 0.0, 0.0))
+
+
 def test_false_colour_maps_luminance_mesopic_and_illuminance(tmp_path):
     # A melanopic image: illuminance with the melanopic EDI fourth.
     mel, meta = scotopia.render(str(SCENES / "cornell-box.xml"), spp=2, res=8,

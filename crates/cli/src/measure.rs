@@ -9,7 +9,8 @@ use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use scotopia_render::integrator::{
-    measure_with, ClusterSize, Measured, Receiver, ReceiverShape, RenderError, RenderOptions,
+    measure_setup, ClusterSize, Measured, Receiver, ReceiverShape, RenderError, RenderOptions,
+    Setup,
 };
 use scotopia_render::math::Vec3;
 use scotopia_render::wavelength::WavelengthStrategy;
@@ -62,6 +63,18 @@ pub struct Args {
     /// The cylinders' axis, X,Y,Z (Mitsuba's scenes are y-up).
     #[arg(long, default_value = "0,1,0", value_name = "X,Y,Z", value_parser = crate::numbers::direction)]
     up: [f32; 3],
+    /// An eye at X,Y,Z: also the luminance it sees at each point (which
+    /// should lie on a surface: the road's, for EN 13201-3's luminance
+    /// method; a <bsdf type="roadsurface"> gives the CIE r-tables), in the
+    /// columns Lobs_cdm2, Lobs_cdm2_se, Lobs_SP (its scotopic over its
+    /// photopic luminance) and Lobs_mes_cdm2 (CIE 191's mesopic luminance).
+    #[arg(long, value_name = "X,Y,Z", value_parser = crate::numbers::point)]
+    observer: Option<[f32; 3]>,
+    /// Count light straight from the emitters alone, as the standards'
+    /// methods do (illuminance, and the luminance the observer sees);
+    /// without it the full transport: façades, interreflection, sky.
+    #[arg(long)]
+    direct: bool,
     /// Samples per point (default: the scene's samples per pixel).
     #[arg(long)]
     spp: Option<u32>,
@@ -180,6 +193,21 @@ fn is_header(fields: &[&str]) -> bool {
 pub const HEADER: &str = "x,y,z,nx,ny,nz,E_lx,E_lx_se,Es_lx,Es_lx_se,SP,L_cdm2,m,Lmes_cdm2,\
 scEDI_lx,mcEDI_lx,lcEDI_lx,rhEDI_lx,mEDI_lx\n";
 
+/// The columns `--observer` adds.
+pub const OBSERVER_COLUMNS: &str = ",Lobs_cdm2,Lobs_cdm2_se,Lobs_SP,Lobs_mes_cdm2\n";
+
+/// What the observer saw at a point: its luminance, standard error, S/P
+/// and CIE 191 mesopic luminance.
+pub fn observed(m: &Measured) -> [f64; 4] {
+    let sp = if m.lobs > 0.0 {
+        m.lobs_scotopic / m.lobs
+    } else {
+        f64::NAN
+    };
+    let mes = scotopia_vision::mode::mesopic_luminance(m.lobs, sp);
+    [m.lobs, m.lobs_se, sp, mes]
+}
+
 /// The receivers `--receiver` names, along `up`.
 pub fn receiver_shape(name: &str, [x, y, z]: [f32; 3]) -> Result<ReceiverShape> {
     ReceiverShape::from_name(name, Vec3::new(x, y, z))
@@ -249,8 +277,13 @@ pub fn run(args: Args) -> Result<()> {
         .context("cannot start the worker threads")?;
     let progress = |done: usize, _| bar.set_position(done as u64);
     let shape = receiver_shape(&args.receiver, args.up)?;
+    let setup = Setup {
+        shape,
+        observer: args.observer.map(|[x, y, z]| Vec3::new(x, y, z)),
+        direct: args.direct,
+    };
     let measured = pool
-        .install(|| measure_with(&scene, &receivers, shape, &options, &cancel, &progress))
+        .install(|| measure_setup(&scene, &receivers, setup, &options, &cancel, &progress))
         .map_err(|e| match e {
             RenderError::Facing(i) => anyhow::anyhow!(
                 "{}:{}: a semi-cylinder faces across its axis (--up), and this normal lies along it",
@@ -264,6 +297,10 @@ pub fn run(args: Args) -> Result<()> {
         bail!("interrupted: nothing written");
     }
     let mut csv = String::from(HEADER);
+    if args.observer.is_some() {
+        csv.pop();
+        csv.push_str(OBSERVER_COLUMNS);
+    }
     for (r, m) in receivers.iter().zip(&measured) {
         let mes = surface_mesopic(m, args.reflectance, shape);
         let _ = writeln!(
@@ -290,6 +327,11 @@ pub fn run(args: Args) -> Result<()> {
             m.edi[3],
             m.edi[4]
         );
+        if args.observer.is_some() {
+            let [l, se, sp, mes] = observed(m);
+            csv.pop();
+            let _ = writeln!(csv, ",{l:.6e},{se:.3e},{sp:.4},{mes:.6e}");
+        }
     }
     scotopia_image::write_atomic(&args.output, csv.as_bytes())
         .with_context(|| format!("{}: cannot write", args.output.display()))?;

@@ -83,17 +83,23 @@ pub fn light_scale(k: f64) -> Result<f32, String> {
     }
 }
 
-/// A direction `X,Y,Z`: three finite numbers, not all zero.
-pub fn direction(text: &str) -> Result<[f32; 3], String> {
+/// A point `X,Y,Z`: three finite numbers.
+pub fn point(text: &str) -> Result<[f32; 3], String> {
     let v: Vec<f32> = text
         .split(',')
         .map(|t| t.trim().parse::<f32>())
         .collect::<Result<_, _>>()
-        .map_err(|_| format!("'{text}': give a direction X,Y,Z"))?;
+        .map_err(|_| format!("'{text}': give a point X,Y,Z"))?;
     match v[..] {
-        [x, y, z] if v.iter().all(|c| c.is_finite()) && v.iter().any(|&c| c != 0.0) => {
-            Ok([x, y, z])
-        }
+        [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok([x, y, z]),
+        _ => Err(format!("'{text}': give a point X,Y,Z of finite numbers")),
+    }
+}
+
+/// A direction `X,Y,Z`: three finite numbers, not all zero.
+pub fn direction(text: &str) -> Result<[f32; 3], String> {
+    match point(text) {
+        Ok(v) if v.iter().any(|&c| c != 0.0) => Ok(v),
         _ => Err(format!(
             "'{text}': give a direction X,Y,Z, finite and not zero"
         )),

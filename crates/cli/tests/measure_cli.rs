@@ -451,3 +451,71 @@ fn cylinders_are_measured_along_up_and_a_bad_facing_names_its_line() {
         "{err}"
     );
 }
+
+#[test]
+fn an_observer_adds_the_luminance_it_sees_and_direct_light_is_less() {
+    // The night street's road seen from a driver's eye 60 m before the
+    // points, 1.5 m up: the columns the standard's luminance method needs.
+    let dir = out_dir("measure", "observer");
+    let points = dir.join("points.csv");
+    std::fs::write(&points, "-4,0.0,-8,0,1,0\n4,0.0,-16,0,1,0\n").unwrap();
+    let scene = scenes().join("night-street.xml");
+    let run = |direct: bool| {
+        let out = dir.join(format!("out-{direct}.csv"));
+        let mut args = vec![
+            "measure",
+            scene.to_str().unwrap(),
+            "--points",
+            points.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--spp",
+            "128",
+            "--observer=0,1.5,50",
+        ];
+        if direct {
+            args.push("--direct");
+        }
+        let (code, _, err) = scotopia(&args);
+        assert_eq!(code, 0, "{err}");
+        std::fs::read_to_string(&out).unwrap()
+    };
+    let full = run(false);
+    let direct = run(true);
+    let lines: Vec<&str> = full.lines().collect();
+    assert!(
+        lines[0].ends_with(",mEDI_lx,Lobs_cdm2,Lobs_cdm2_se,Lobs_SP,Lobs_mes_cdm2"),
+        "{}",
+        lines[0]
+    );
+    let last = |csv: &str, row: usize, col: usize| -> f64 {
+        let line = csv.lines().nth(row).unwrap();
+        let cells: Vec<f64> = line.split(',').map(|v| v.parse().unwrap()).collect();
+        assert_eq!(cells.len(), 23, "{line}");
+        cells[col]
+    };
+    for row in 1..=2 {
+        let (l, se) = (last(&full, row, 19), last(&full, row, 20));
+        let (ld, sed) = (last(&direct, row, 19), last(&direct, row, 20));
+        assert!(l > 0.0 && se > 0.0 && ld > 0.0, "{full}");
+        // Direct light alone is no more than all of it (within noise).
+        assert!(
+            ld <= l + 4.0 * (se * se + sed * sed).sqrt(),
+            "{ld} ± {sed} against {l} ± {se}"
+        );
+        // The illuminance likewise.
+        assert!(last(&direct, row, 6) <= last(&full, row, 6) + 4.0 * last(&full, row, 7));
+    }
+    let (code, _, err) = scotopia(&[
+        "measure",
+        scene.to_str().unwrap(),
+        "--points",
+        points.to_str().unwrap(),
+        "-o",
+        dir.join("x.csv").to_str().unwrap(),
+        "--observer",
+        "1,2",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("X,Y,Z"), "{err}");
+}

@@ -9,6 +9,15 @@ use crate::math::Vec3;
 use crate::sampling::warp::{cosine_hemisphere_pdf, square_to_cosine_hemisphere};
 use crate::texture::{TexPoint, Texture};
 
+/// The density of cosine sampling on the side the normal points to, where
+/// both directions are (diffuse surfaces, and the road's tables).
+pub(super) fn upper_cosine_pdf(wi: Vec3, wo: Vec3) -> f32 {
+    if wi.z <= 0.0 || wo.z <= 0.0 {
+        return 0.0;
+    }
+    cosine_hemisphere_pdf(wo.z)
+}
+
 /// f = ρ/π on the side the normal points to.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Diffuse {
@@ -30,10 +39,7 @@ impl Diffuse {
     }
 
     pub fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
-        if wi.z <= 0.0 || wo.z <= 0.0 {
-            return 0.0;
-        }
-        cosine_hemisphere_pdf(wo.z)
+        upper_cosine_pdf(wi, wo)
     }
 
     pub fn sample<const K: usize>(

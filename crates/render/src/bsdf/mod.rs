@@ -28,6 +28,7 @@ use perturbed::Perturbs;
 mod plastic;
 mod polarized_plastic;
 mod principled;
+mod road;
 mod rough_dielectric;
 mod rough_plastic;
 mod shading;
@@ -51,6 +52,7 @@ pub use principled::{
     mitsuba_wavelength_pdf, specular_to_eta, Principled, PrincipledThin, SamplingRates,
     ThinSamplingRates,
 };
+pub use road::RoadSurface;
 pub use rough_dielectric::RoughDielectric;
 pub use rough_plastic::RoughPlastic;
 pub use shading::ShadingPoint;
@@ -137,6 +139,8 @@ pub enum Bsdf {
     Principled(Box<Principled>),
     /// Mitsuba's `principledthin`: the principled model on a thin sheet.
     PrincipledThin(Box<PrincipledThin>),
+    /// A CIE road surface by its r-table (scotopia's `roadsurface`).
+    Road(Box<RoadSurface>),
 }
 
 /// Mirror `w` about the normal (0, 0, 1).
@@ -183,6 +187,7 @@ impl Bsdf {
             Bsdf::PolarizedPlastic(b) => b.eval(wl, uv, wi, wo),
             Bsdf::Principled(b) => b.eval(wl, uv, wi, wo, mode),
             Bsdf::PrincipledThin(b) => b.eval(wl, uv, wi, wo),
+            Bsdf::Road(b) => b.eval(wl, wi, wo, mode),
         }
     }
 
@@ -208,6 +213,7 @@ impl Bsdf {
         let at: ShadingPoint = at.into();
         match self {
             Bsdf::Diffuse(b) => b.pdf(wi, wo),
+            Bsdf::Road(b) => b.pdf(wi, wo),
             Bsdf::Conductor(b) => b.pdf(at.tex(), wi, wo),
             Bsdf::Dielectric(_) | Bsdf::ThinDielectric(_) => 0.0,
             Bsdf::RoughDielectric(b) => b.pdf(wl, at.tex(), wi, wo),
@@ -271,6 +277,7 @@ impl Bsdf {
             Bsdf::PolarizedPlastic(b) => b.sample(wl, uv, wi, u_lobe, u),
             Bsdf::Principled(b) => b.sample(wl, uv, wi, u_lobe, u, mode),
             Bsdf::PrincipledThin(b) => b.sample(wl, uv, wi, u_lobe, u),
+            Bsdf::Road(b) => b.sample(wl, wi, u, mode),
         }
     }
 
@@ -312,7 +319,7 @@ impl Bsdf {
     /// Whether every lobe is a delta (no `eval`, no light sampling).
     pub fn is_delta(&self) -> bool {
         match self {
-            Bsdf::Diffuse(_) | Bsdf::Fluorescent(_) => false,
+            Bsdf::Diffuse(_) | Bsdf::Fluorescent(_) | Bsdf::Road(_) => false,
             Bsdf::Conductor(c) => c.is_smooth(),
             Bsdf::Dielectric(_) | Bsdf::ThinDielectric(_) => true,
             Bsdf::RoughDielectric(_) | Bsdf::Plastic(_) | Bsdf::RoughPlastic(_) => false,

@@ -17,6 +17,13 @@
 //! to the scene; its ray origin is offset along its normal as a surface
 //! point's would be, so a receiver on a floor measures the floor's
 //! illuminance.
+//!
+//! With an observer ([`Setup::observer`]), also the luminance of what
+//! the eye sees at each receiver's point (the road's, for EN 13201-3's
+//! luminance method): a camera path along the ray from the eye to the
+//! point, Y in cd/m². With [`Setup::direct`], light straight from the
+//! emitters alone, as the standards' methods count it: receivers' paths of
+//! one segment, the eye's of two (to the point, and to a light).
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
@@ -132,6 +139,23 @@ pub struct Measured {
     pub edi_se: [f64; 5],
     /// Samples that went into it.
     pub samples: u32,
+    /// The luminance seen from the observer at the point, cd/m², and its
+    /// standard error; NaN without an observer.
+    pub lobs: f64,
+    pub lobs_se: f64,
+    /// The scotopic luminance seen there (K′_m = 1700 lm/W); NaN without
+    /// an observer.
+    pub lobs_scotopic: f64,
+}
+
+/// What `measure` measures: receivers of `shape`, and with an `observer`
+/// the luminance it sees at each receiver's point; `direct`: light
+/// straight from the emitters alone.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Setup {
+    pub shape: ReceiverShape,
+    pub observer: Option<Vec3>,
+    pub direct: bool,
 }
 
 impl Measured {
@@ -179,7 +203,37 @@ pub fn measure_with(
     cancel: &AtomicBool,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Vec<Measured>, RenderError> {
-    let job = (receivers, shape.with_unit_axis()?);
+    let setup = Setup {
+        shape,
+        ..Setup::default()
+    };
+    measure_setup(scene, receivers, setup, options, cancel, progress)
+}
+
+/// [`measure_with`] of a whole [`Setup`]: with an observer, the luminance
+/// it sees at each point too; an observer that is not a finite point is
+/// an error.
+pub fn measure_setup(
+    scene: &Scene,
+    receivers: &[Receiver],
+    setup: Setup,
+    options: &RenderOptions,
+    cancel: &AtomicBool,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Vec<Measured>, RenderError> {
+    if setup
+        .observer
+        .is_some_and(|o| !(o.x.is_finite() && o.y.is_finite() && o.z.is_finite()))
+    {
+        return Err(RenderError::Observer);
+    }
+    let job = (
+        receivers,
+        Setup {
+            shape: setup.shape.with_unit_axis()?,
+            ..setup
+        },
+    );
     match options.cluster {
         ClusterSize::K1 => measure_k::<1>(scene, job, options, cancel, progress),
         ClusterSize::K2 => measure_k::<2>(scene, job, options, cancel, progress),
@@ -191,7 +245,7 @@ pub fn measure_with(
 
 fn measure_k<const K: usize>(
     scene: &Scene,
-    (receivers, shape): (&[Receiver], ReceiverShape),
+    (receivers, setup): (&[Receiver], Setup),
     options: &RenderOptions,
     cancel: &AtomicBool,
     progress: &(dyn Fn(usize, usize) + Sync),
@@ -209,11 +263,19 @@ fn measure_k<const K: usize>(
     }
     if let Some(i) = receivers
         .iter()
-        .position(|r| shape.normal(unit_normal(r.n), 0.5).is_none())
+        .position(|r| setup.shape.normal(unit_normal(r.n), 0.5).is_none())
     {
         return Err(RenderError::Facing(i));
     }
-    let renderer = Renderer::receivers(scene, options.strategy);
+    let shape = setup.shape;
+    // Direct light: a receiver's path of one segment (to an emitter), the
+    // eye's of two (to the point, then to an emitter).
+    let mut renderer = Renderer::receivers(scene, options.strategy);
+    let mut eye = Renderer::receivers(scene, options.strategy);
+    if setup.direct {
+        renderer.max_depth = 1;
+        eye.max_depth = 2;
+    }
     let Integrator::Illuminance(state) = &renderer.integrator else {
         unreachable!("Renderer::receivers runs the illuminance integrator")
     };
@@ -225,7 +287,7 @@ fn measure_k<const K: usize>(
             if cancel.load(Ordering::Relaxed) {
                 return Measured::default();
             }
-            let m = renderer.receive::<K>(
+            let mut m = renderer.receive::<K>(
                 state,
                 (r, shape),
                 Sampler::new(options.seed),
@@ -233,6 +295,17 @@ fn measure_k<const K: usize>(
                 spp,
                 cancel,
             );
+            [m.lobs, m.lobs_se, m.lobs_scotopic] = match setup.observer {
+                Some(o) => eye.observe::<K>(
+                    state,
+                    (o, r.p),
+                    Sampler::new(options.seed),
+                    k as u32,
+                    spp,
+                    cancel,
+                ),
+                None => [f64::NAN; 3],
+            };
             progress(done.fetch_add(1, Ordering::Relaxed) + 1, receivers.len());
             m
         })
@@ -355,6 +428,59 @@ impl Renderer<'_> {
         path
     }
 
+    /// The luminance (cd/m²) an eye at `eye` sees at `p`, its standard
+    /// error and the scotopic luminance, from `spp` camera paths along the ray between them (samples
+    /// of row 1 of receiver `index`'s column, apart from its
+    /// illuminance's).
+    fn observe<const K: usize>(
+        &self,
+        receivers: &Receivers,
+        (eye, p): (Vec3, Vec3),
+        mut sampler: Sampler,
+        index: u32,
+        spp: u32,
+        cancel: &AtomicBool,
+    ) -> [f64; 3] {
+        let to = p - eye;
+        let dist = to.length();
+        if !(dist > 0.0 && dist.is_finite()) {
+            return [f64::NAN; 3];
+        }
+        // Just past the point, so that the surface it lies on is hit.
+        let ray = Ray {
+            o: eye,
+            d: to / dist,
+            t_max: dist * (1.0 + 1e-3) + 1e-3,
+        };
+        let (mut sum, mut sum2, mut scotopic, mut n) = (0.0f64, 0.0f64, 0.0f64, 0u32);
+        for i in 0..spp {
+            if i % 64 == 63 && cancel.load(Ordering::Relaxed) {
+                break;
+            }
+            sampler.start([index, 1], i);
+            let sets = sampler.get_two_4d();
+            let wl = self.start_sample_with::<K>([index, 1], sets).wl;
+            let mut path = PathState::new(ray, wl, 1);
+            path.medium = self.scene.camera_medium;
+            path.rng = sampler.stream();
+            match &receivers.media {
+                None => self.trace(&mut sampler, &mut path, &mut 0),
+                Some(media) => self.trace_media(media, &mut sampler, &mut path, &mut 0),
+            }
+            let [_, y, _, v] = estimate_xyzv(&path.l, &path.wl).map(f64::from);
+            if y.is_finite() && v.is_finite() {
+                sum += y;
+                sum2 += y * y;
+                scotopic += v;
+                n += 1;
+            }
+        }
+        let m = f64::from(n.max(1));
+        let mean = sum / m;
+        let var = (sum2 / m - mean * mean).max(0.0) * m / (m - 1.0).max(1.0);
+        [mean, (var / m).sqrt(), scotopic / m]
+    }
+
     /// `spp` samples of receiver number `index` (its place in the sampler's
     /// pixel grid: row 0, column `index`), of `shape`.
     fn receive<const K: usize>(
@@ -418,6 +544,9 @@ impl Renderer<'_> {
             edi: edi.map(|s| s.0),
             edi_se: edi.map(|s| s.1),
             samples,
+            lobs: f64::NAN,
+            lobs_se: f64::NAN,
+            lobs_scotopic: f64::NAN,
         }
     }
 }

@@ -42,7 +42,7 @@ pub use driver::{
     render, render_with, Checkpointing, GuideFacts, Hooks, Observer, Rendered, RunFacts,
 };
 pub use light_choice::LightChoice;
-pub use measure::{measure, measure_with, Measured, Receiver, ReceiverShape};
+pub use measure::{measure, measure_setup, measure_with, Measured, Receiver, ReceiverShape, Setup};
 pub use options::{
     checkpoint_interval, time_limit, BdptStrategy, ClusterSize, Guiding, OptionError, Quantity,
     RenderError, RenderOptions, Shard, Tracer, CLUSTER_SIZES, MAX_TIME_LIMIT_SECONDS,

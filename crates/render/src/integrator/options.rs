@@ -373,6 +373,8 @@ pub enum RenderError {
     Facing(usize),
     #[error("the cylinders' axis must be finite and not zero")]
     Axis,
+    #[error("the observer must be a finite point")]
+    Observer,
 }
 
 /// The longest time limit accepted, seconds (≈ 31.7 years): longer ones

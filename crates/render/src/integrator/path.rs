@@ -359,7 +359,7 @@ impl Renderer<'_> {
     /// How many more segments a path of `depth` segments may have.
     #[inline]
     pub(super) fn room(&self, depth: i32) -> i32 {
-        let max_depth = self.scene.integrator.max_depth;
+        let max_depth = self.max_depth;
         if max_depth < 0 {
             i32::MAX
         } else {
@@ -370,7 +370,7 @@ impl Renderer<'_> {
     /// Whether a path of `depth` segments is within `max_depth`.
     #[inline]
     pub(super) fn within(&self, depth: i32) -> bool {
-        let max_depth = self.scene.integrator.max_depth;
+        let max_depth = self.max_depth;
         max_depth < 0 || depth <= max_depth
     }
 

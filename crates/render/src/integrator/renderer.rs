@@ -140,6 +140,9 @@ pub struct Renderer<'a> {
     pub(super) row_step: u32,
     /// The light field learned so far, with `--guiding on`.
     pub(super) guiding: Option<GuideState>,
+    /// The path tracer's longest path in segments (−1: unlimited): the
+    /// scene's, or `measure --direct`'s.
+    pub(super) max_depth: i32,
 }
 
 impl<'a> Renderer<'a> {
@@ -228,6 +231,7 @@ impl<'a> Renderer<'a> {
             rows: 0..u32::MAX,
             row_step: 1,
             guiding: None,
+            max_depth: scene.integrator.max_depth,
             filter: FilterSampler::new(scene.filter),
             infinite: (0..scene.lights.len())
                 .filter(|&i| scene.lights[i].is_infinite())

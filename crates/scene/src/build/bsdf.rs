@@ -4,8 +4,8 @@ use std::sync::Arc;
 
 use scotopia_color::{io, Spectrum};
 use scotopia_render::bsdf::{
-    Bsdf, Conductor, Dielectric, Diffuse, Donaldson, Fluorescent, Ior, Plastic, RoughDielectric,
-    RoughPlastic, ThinDielectric,
+    Bsdf, Conductor, Dielectric, Diffuse, Donaldson, Fluorescent, Ior, Plastic, RoadSurface,
+    RoughDielectric, RoughPlastic, ThinDielectric,
 };
 use scotopia_render::texture::Texture;
 
@@ -109,6 +109,7 @@ pub fn build_bsdf(b: &mut Builder, node: &Node) -> Result<Bsdf, SceneError> {
             }
         }
         "fluorescent" => fluorescent(b, &p, node)?,
+        "roadsurface" => road_surface(&p, node)?,
         "twosided" => {
             let inner: Vec<&Node> = node
                 .children
@@ -125,6 +126,35 @@ pub fn build_bsdf(b: &mut Builder, node: &Node) -> Result<Bsdf, SceneError> {
     };
     b.report_unused(&p);
     Ok(bsdf)
+}
+
+/// scotopia's `<bsdf type="roadsurface">`: a CIE r-table `class` (R1–R4,
+/// C1, C2; R3 when not given), an optional `q0` and `reflectance`
+/// spectrum for its colour.
+fn road_surface(p: &Props, node: &Node) -> Result<Bsdf, SceneError> {
+    let class = p.string("class")?.unwrap_or("R3");
+    let q0 = match p.get("q0") {
+        Some(_) => {
+            let q0 = p.float("q0", f32::NAN)?;
+            if !(q0 > 0.0 && q0.is_finite()) {
+                return Err(node.error(format!("q0 {q0} is not a positive number")));
+            }
+            Some(q0)
+        }
+        None => None,
+    };
+    let tint = p.spectrum("reflectance", Usage::Reflectance)?;
+    let has_tint = tint.is_some();
+    let road = RoadSurface::new(class, q0, tint).ok_or_else(|| {
+        if has_tint && RoadSurface::new(class, q0, None).is_some() {
+            node.error("the road's reflectance reflects no light the eye sees")
+        } else {
+            node.error(format!(
+                "unknown road surface class '{class}' (R1, R2, R3, R4, C1, C2)"
+            ))
+        }
+    })?;
+    Ok(Bsdf::Road(Box::new(road)))
 }
 
 /// `<bsdf type="fluorescent">`: elastic `reflectance` (spectrum or

@@ -82,6 +82,7 @@ pub const PLUGINS: &[Plugin] = &[
     p("bsdf", "roughplastic", Full, ROUGH, "as plastic; α a number, as in Mitsuba"),
     p("bsdf", "twosided", Full, "one or two nested BSDFs", ""),
     p("bsdf", "fluorescent", Full, "reflectance, excitation, emission, quantum_yield, matrix", "scotopia's own: re-emission at other wavelengths"),
+    p("bsdf", "roadsurface", Full, "class (R1, R2, R3, R4, C1, C2; R3), q0, reflectance (a spectrum: its colour)", "scotopia's own: the CIE r-tables (CIE 144), for road luminance; docs/lighting.md"),
     p("bsdf", "null", Full, "", "blocks shadow rays and counts as a bounce, as in Mitsuba's path"),
     p("bsdf", "mask", Full, "opacity (number or texture), nested BSDF", ""),
     p("bsdf", "blendbsdf", Full, "weight (number or texture), two nested BSDFs", ""),
