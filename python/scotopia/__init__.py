@@ -44,6 +44,7 @@ from ._scotopia import (  # noqa: F401
     planck,
     render,
     render_shard,
+    road,
     rgb_to_xyz,
     rgb_to_xyz_matrix,
     round_trip,

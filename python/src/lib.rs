@@ -10,6 +10,7 @@ mod interrupt;
 mod measure;
 mod render;
 mod report;
+mod road;
 mod scene;
 mod spectrum;
 mod view;
@@ -42,6 +43,7 @@ fn _scotopia(m: &Bound<'_, PyModule>) -> PyResult<()> {
     scene::register(m)?;
     render::register(m)?;
     measure::register(m)?;
+    road::register(m)?;
     vision::register(m)?;
     false_colour::register(m)?;
     glare::register(m)?;

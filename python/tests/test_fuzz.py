@@ -129,6 +129,14 @@ ENTRIES = {
         set(),
         set(),
     ),
+    "road": (
+        scotopia.road,
+        [CORNELL, (-0.5, 0.0, 0.5), (0.0, 0.0, -1.0), (1.0, 0.0, 0.0), 1.0],
+        dict(lanes=1, lane_width=1.0, up=(0.0, 1.0, 0.0), age=23.0, direct=False, spp=2, seed=0,
+             params=None),
+        {"path"},
+        set(),
+    ),
     "glare": (
         scotopia.glare,
         [lambda: _fisheye()],
@@ -269,7 +277,8 @@ ENTRIES = {
 POSITIONAL_NAMES = {"render": ["path"], "view": ["path"], "scene_info": ["path"],
                     "display": ["image"],
                     "false_colour": ["image"],
-                    "measure": ["path", "points"], "write_exr": ["path", "image"],
+                    "measure": ["path", "points"], "road": ["path"],
+                    "write_exr": ["path", "image"],
                     "Spectrum.from_file": ["path"], "vision.read_image": ["path"]}
 
 
@@ -302,6 +311,17 @@ def _guard(name, kwargs, args=()):
         # Never a real browser, and a bounded render (as for render).
         kwargs["open_browser"] = False
         kwargs["time"] = 0.3
+    if name == "road":
+        # Wide roads and many samples are legitimate, only slow.
+        spp = kwargs.get("spp")
+        if isinstance(spp, (int, float)) and not isinstance(spp, bool) and 16 < spp:
+            kwargs["spp"] = 2
+        lanes = kwargs.get("lanes")
+        if isinstance(lanes, int) and not isinstance(lanes, bool) and 2 < lanes:
+            kwargs["lanes"] = 1
+        if (len(args) > 4 and isinstance(args[4], (int, float)) and not isinstance(args[4], bool)
+                and 30 < args[4]):
+            args[4] = 1.0
     if name == "measure":
         spp = kwargs.get("spp")
         if isinstance(spp, (int, float)) and not isinstance(spp, bool) and 256 < spp:

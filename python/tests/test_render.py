@@ -224,6 +224,25 @@ def test_measure_sees_an_r_table_road_from_an_observer(tmp_path):
         scotopia.measure(str(scene), points, spp=4, observer=(np.inf, 0.0, 0.0))
 
 
+def test_road_gives_the_luminance_methods_figures():
+    # The bundled street with the CIE R3 road, EN 13201-3's grid between
+    # its first two poles: per lane L_av, U_o, U_l and TI, and each
+    # observer's luminance at every point.
+    r = scotopia.road(str(SCENES / "ies-street.xml"), (-3.5, 0.0, 0.0), (0.0, 0.0, -1.0),
+                      (1.0, 0.0, 0.0), 30.0, lanes=2, spp=16, params={"road": "r3"},
+                      direct=True)
+    assert r["grid"].shape == (60, 3) and r["L_cdm2"].shape == (2, 60)
+    assert sorted(set(r["lane"])) == [0, 1] and r["row"].max() == 9
+    for o in r["observers"]:
+        lum = r["L_cdm2"][o["lane"]]
+        assert abs(o["L_av_cdm2"] - lum.mean()) < 1e-9 * lum.mean()
+        assert abs(o["U_o"] - lum.min() / lum.mean()) < 1e-9
+        assert 0 < o["U_l"] <= 1 and o["Lv_cdm2"] > 0 and o["TI_percent"] > 0
+    with pytest.raises(ValueError, match="lanes"):
+        scotopia.road(str(SCENES / "ies-street.xml"), (0, 0, 0), (0, 0, -1), (1, 0, 0), 30.0,
+                      lanes=0)
+
+
 def test_false_colour_maps_luminance_mesopic_and_illuminance(tmp_path):
     # A melanopic image: illuminance with the melanopic EDI fourth.
     mel, meta = scotopia.render(str(SCENES / "cornell-box.xml"), spp=2, res=8,

@@ -10,6 +10,7 @@ pub mod measure;
 mod numbers;
 mod ray;
 pub mod render;
+pub mod road;
 pub mod spectrum;
 mod tev;
 pub mod view;

@@ -1,7 +1,7 @@
 //! The `scotopia` command line. Each verb parses its arguments, calls the
 //! library, and prints or writes the result.
 
-use scotopia_cli::{display, glare, info, measure, render, spectrum, view};
+use scotopia_cli::{display, glare, info, measure, render, road, spectrum, view};
 
 use std::process::ExitCode;
 
@@ -15,7 +15,7 @@ use clap::{Parser, Subcommand};
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 /// scotopia: a spectral renderer that shows what a human eye would see.
-/// Verbs: spectrum, info, render, display, measure, glare and view.
+/// Verbs: spectrum, info, render, display, measure, glare, road and view.
 #[derive(Parser)]
 #[command(name = "scotopia", version, long_about = None)]
 struct Cli {
@@ -45,6 +45,11 @@ enum Command {
     /// (CIE 117), DGP (Wienold & Christoffersen 2006) and CIE 146's
     /// veiling luminance.
     Glare(glare::Args),
+    /// EN 13201-3's luminance method on a straight road of a scene: its
+    /// grid, the luminance each lane's observer sees there (the full
+    /// spectral transport, or --direct), L_av, U_o, U_l and the threshold
+    /// increment TI.
+    Road(road::Args),
     /// Render a scene progressively (or open an X, Y, Z, V′ EXR) and show it
     /// as the eye sees it on a local web page, with the light level,
     /// adaptation, glare, night shift, tone operator, display and false
@@ -61,6 +66,7 @@ fn main() -> ExitCode {
         Command::Display(args) => display::run(args),
         Command::Measure(args) => measure::run(args),
         Command::Glare(args) => glare::run(args),
+        Command::Road(args) => road::run(args),
         Command::View(args) => view::run(*args),
     };
     match result {

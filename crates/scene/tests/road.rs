@@ -169,3 +169,43 @@ fn the_full_transport_adds_what_a_facade_reflects() {
     .unwrap();
     assert!(m[0].lobs.is_nan());
 }
+
+#[test]
+fn each_lamps_illuminance_at_the_eye_is_its_intensity_over_d_squared_unless_shielded() {
+    use scotopia_render::integrator::lights_at_eye;
+    // The lamp 10 m up over the origin; an eye 40 m away, 1.5 m up,
+    // looking at the lamp's foot: E = I·cos φ/d² on the plane facing the
+    // line of sight, φ between it and the lamp.
+    let s = inline("eye-lamp", &road("R3", false));
+    let y_bar =
+        scotopia_color::photometry::integrate_observers(&scotopia_color::Spectrum::Constant(1.0))
+            [1];
+    let intensity = 683.0 * 1000.0 * y_bar;
+    let eye = Vec3::new(-40.0, 1.5, 0.0);
+    let look = (Vec3::new(0.0, 0.0, 0.0) - eye).normalize();
+    let options = RenderOptions {
+        spp: Some(256),
+        ..RenderOptions::default()
+    };
+    let seen = lights_at_eye(&s, eye, look, &options).unwrap();
+    assert_eq!(seen.len(), 1);
+    eprintln!("E = {} ± {} lx", seen[0].e, seen[0].e_se);
+    let to = Vec3::new(0.0, HEIGHT, 0.0) - eye;
+    let want = intensity * f64::from(to.normalize().dot(look)) / f64::from(to.length_squared());
+    assert!(
+        (seen[0].e / want - 1.0).abs() < 1e-3,
+        "{} against {want}",
+        seen[0].e
+    );
+    assert!((seen[0].direction - to.normalize()).length() < 1e-5);
+    // A wall between them hides it; looking away, it is behind the plane.
+    let wall = road("R3", false).replace(
+        "</scene>",
+        r#"<shape type="rectangle"><transform name="to_world"><scale value="20"/><rotate y="1" angle="90"/><translate x="-20"/></transform></shape></scene>"#,
+    );
+    let hidden = inline("eye-lamp-hidden", &wall);
+    assert!(lights_at_eye(&hidden, eye, look, &options)
+        .unwrap()
+        .is_empty());
+    assert!(lights_at_eye(&s, eye, -look, &options).unwrap().is_empty());
+}

@@ -18,6 +18,7 @@
 //!   manifold next-event estimation), `equiangular.rs` (distances aimed at lights in media) and
 //!   `guided.rs` (bounces drawn from the learned light field, `guiding`).
 
+mod at_eye;
 mod bdpt;
 mod direct;
 mod driver;
@@ -33,10 +34,12 @@ mod pass;
 mod path;
 mod reflectors;
 mod renderer;
+mod road_grid;
 mod select;
 mod volume;
 mod wavefront;
 
+pub use at_eye::{lights_at_eye, AtEye};
 pub use bdpt::Splat;
 pub use driver::{
     render, render_with, Checkpointing, GuideFacts, Hooks, Observer, Rendered, RunFacts,
@@ -50,4 +53,5 @@ pub use options::{
 pub use path::CameraSample;
 pub use reflectors::Reflectors;
 pub use renderer::Renderer;
+pub use road_grid::{GridPoint, Road, RoadError, EYE_HEIGHT, OBSERVER_DISTANCE};
 pub use select::{Bidirectional, Integrator};
