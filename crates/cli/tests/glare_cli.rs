@@ -79,7 +79,9 @@ fn glare_reads_a_fisheyes_sources_and_ratings() {
     assert!((got / ev - 1.0).abs() < 3e-3, "{got} against {ev}");
     // UGR from its formula with the source found.
     let p = s["position_index"].as_f64().unwrap();
-    let ugr = 8.0 * (0.25 / 100.0 * (2e4 / p).powi(2) * omega).log10();
+    let lb = v["background_cdm2"].as_f64().unwrap();
+    assert!((lb / 100.0 - 1.0).abs() < 3e-3, "{out}");
+    let ugr = 8.0 * (0.25 / lb * (2e4 / p).powi(2) * omega).log10();
     assert!((v["UGR"].as_f64().unwrap() - ugr).abs() < 1e-6, "{out}");
     for key in ["DGP", "Lveil_cdm2"] {
         assert!(v[key].as_f64().unwrap() > 0.0, "{key}: {out}");

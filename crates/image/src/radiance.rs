@@ -52,6 +52,20 @@ fn rgb_of(xyz: [f64; 3], rgb_from_xyz: &Mat3, y_row: [f64; 3]) -> [f64; 3] {
     }
 }
 
+/// A decoded RGBE pixel moved to the middle of its mantissa's step, as
+/// Radiance reads them ((m + ½)·2^(e − 136), color.c's `colr_color`):
+/// the decoder used reads m·2^(e − 136), every value up to a step low
+/// (0.2–0.4 % of the luminance; found beside evalglare). The step is that
+/// of the largest channel, whose mantissa m lies in 128…255.
+fn mantissa_centre(rgb: [f32; 3]) -> [f64; 3] {
+    let v = rgb.iter().fold(0.0f32, |a, &c| a.max(c));
+    if !(v > 0.0 && v.is_finite()) {
+        return rgb.map(f64::from);
+    }
+    let step = 2f64.powi(f64::from(v).log2().floor() as i32 - 7);
+    rgb.map(|c| f64::from(c) + 0.5 * step)
+}
+
 /// Ward's shared-exponent encoding of one RGB (non-negative).
 fn rgbe([r, g, b]: [f64; 3]) -> [u8; 4] {
     let v = r.max(g).max(b);
@@ -152,7 +166,10 @@ pub fn read_radiance(path: &Path) -> Result<RadiancePicture, ImageError> {
     let luminance = img
         .pixels
         .iter()
-        .map(|p| (WHITE_EFFICACY * (0..3).map(|i| y[i] * f64::from(p[i])).sum::<f64>()) as f32)
+        .map(|p| {
+            let p = mantissa_centre([p[0], p[1], p[2]]);
+            (WHITE_EFFICACY * (0..3).map(|i| y[i] * p[i]).sum::<f64>()) as f32
+        })
         .collect();
     Ok(RadiancePicture {
         width: img.width,
@@ -177,6 +194,20 @@ pub fn angular_view(view: &str) -> Option<(&'static str, f64)> {
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn a_decoded_value_is_read_at_the_middle_of_its_step() {
+        // 100.3 encodes to a mantissa step of 0.5 (2^(6 − 7)): read as m·step
+        // it is up to a step low; centred, within half a step.
+        let [m, _, _, e] = super::rgbe([100.3, 50.0, 0.0]);
+        let step = 2f64.powi(i32::from(e) - 136);
+        let floor = [f64::from(m) * step, 0.0, 0.0];
+        let read = super::mantissa_centre(floor.map(|v| v as f32));
+        assert!((read[0] - 100.3).abs() <= 0.5 * step, "{read:?}");
+        assert_eq!(step, 0.5);
+        assert_eq!(super::mantissa_centre([0.0; 3]), [0.0; 3]);
+    }
+
     use super::*;
 
     #[test]

@@ -34,14 +34,16 @@ pub struct Figures {
     pub average_cdm2: f64,
     /// The threshold sources are found above (cd/m²).
     pub threshold_cdm2: f64,
-    /// The mean luminance of what is not a source (UGR's L_b, cd/m²).
+    /// UGR's background L_b (cd/m²): CIE 117's indirect illuminance at
+    /// the eye over π, (E_v − Σ L·ω·cos θ of the sources' pixels)/π.
     pub background_cdm2: f64,
     pub sources: Vec<Found>,
     /// CIE 117's UGR (`None` without a source or a background).
     pub ugr: Option<f64>,
     /// Wienold & Christoffersen's DGP.
     pub dgp: f64,
-    /// CIE 146's veiling luminance of the sources for the observer (cd/m²).
+    /// CIE 146's veiling luminance of the sources for the observer
+    /// (cd/m²), summed over their pixels.
     pub veil_cdm2: f64,
 }
 
@@ -121,17 +123,26 @@ pub fn evaluate(lum: &[f32], eye: &Fisheye, factor: f64, observer: &Observer) ->
             pixels,
         });
     }
-    let (so, slo) = sources.iter().fold((0.0, 0.0), |(o, lo), s| {
-        (
-            o + s.source.solid_angle,
-            lo + s.source.luminance * s.source.solid_angle,
-        )
-    });
-    let background = if total - so > 0.0 {
-        (flux - slo) / (total - so)
-    } else {
-        0.0
-    };
+    // The sources' pixels one by one: each a small source at its own
+    // angle, for the veil (CIE 146's formula is a point source's: a
+    // source across the line of sight taken at its centre's angle alone
+    // would count it all at 0.1°) and the direct illuminance.
+    let lit: Vec<Source> = sources
+        .iter()
+        .flat_map(|s| s.pixels.iter())
+        .map(|&i| Source {
+            luminance: f64::from(lum[i]).max(0.0),
+            solid_angle: omega[i],
+            dir: dirs[i],
+        })
+        .collect();
+    // CIE 117's background: the indirect illuminance over π, E_v less
+    // what the sources give straight (evalglare's default too).
+    let direct: f64 = lit
+        .iter()
+        .map(|s| s.luminance * s.solid_angle * s.dir[2].max(0.0))
+        .sum();
+    let background = ((ev - direct) / std::f64::consts::PI).max(0.0);
     let plain: Vec<Source> = sources.iter().map(|s| s.source).collect();
     Figures {
         ev_lx: ev,
@@ -140,7 +151,7 @@ pub fn evaluate(lum: &[f32], eye: &Fisheye, factor: f64, observer: &Observer) ->
         background_cdm2: background,
         ugr: FISHEYE_VIEW.ugr(&plain, background),
         dgp: FISHEYE_VIEW.dgp(&plain, ev),
-        veil_cdm2: FISHEYE_VIEW.veiling(&plain, observer),
+        veil_cdm2: FISHEYE_VIEW.veiling(&lit, observer),
         sources,
     }
 }

@@ -199,10 +199,18 @@ fn a_lamp_in_a_fisheye_is_found_and_rated_by_the_formulas() {
         "{} against {omega}",
         s.solid_angle
     );
-    assert!((s.luminance - 2e4).abs() < 1e-6 && (f.background_cdm2 - 100.0).abs() < 1e-6);
+    assert!((s.luminance - 2e4).abs() < 1e-6);
     assert!((FISHEYE_VIEW.sigma(s.dir) - 30.0).abs() < 0.2);
-    // E_v: the sky's π·100 less what the disc hides, plus the disc's.
+    // CIE 117's background: the sky's indirect illuminance over π, the
+    // sky less what the disc hides.
     let cos30 = 30f64.to_radians().cos();
+    let lb = 100.0 * (1.0 - s.solid_angle * cos30 / std::f64::consts::PI);
+    assert!(
+        (f.background_cdm2 / lb - 1.0).abs() < 1e-3,
+        "{} against {lb}",
+        f.background_cdm2
+    );
+    // E_v: the sky's π·100 less what the disc hides, plus the disc's.
     let ev = std::f64::consts::PI * 100.0 + (2e4 - 100.0) * s.solid_angle * cos30;
     assert!(
         (f.ev_lx / ev - 1.0).abs() < 2e-3,
@@ -211,10 +219,38 @@ fn a_lamp_in_a_fisheye_is_found_and_rated_by_the_formulas() {
     );
     // UGR and DGP of that one source, as their formulas give them.
     let p = FISHEYE_VIEW.position_index(s.dir);
-    let ugr = 8.0 * (0.25 / 100.0 * (2e4 / p).powi(2) * s.solid_angle).log10();
+    let ugr = 8.0 * (0.25 / f.background_cdm2 * (2e4 / p).powi(2) * s.solid_angle).log10();
     assert!((f.ugr.unwrap() - ugr).abs() < 1e-9);
     assert_eq!(f.dgp, FISHEYE_VIEW.dgp(&[s], f.ev_lx));
     assert!(f.veil_cdm2 > 0.0);
+    // A disc across the line of sight veils by its pixels, each at its own
+    // angle (a point source's formula at the centre's 0.1° alone would
+    // count all of it there): as CIE 146 integrated over the disc in
+    // rings, within what 0.45° pixels resolve of f's 1/θ² near the centre.
+    let (on_axis, eye0) = sky_with_lamp(400, 100.0, 2e4, 0.0, 3.0);
+    let v0 = evaluate(&on_axis, &eye0, 5.0, &Observer::default()).veil_cdm2;
+    let spread = crate::glare::psf::GlareSpread::new(&Observer::default());
+    let rings = |from: f64| -> f64 {
+        let n = 3000;
+        let step = (3.0 - from) / n as f64;
+        (0..n)
+            .map(|i| {
+                let t = from + (i as f64 + 0.5) * step;
+                let dw = 2.0 * std::f64::consts::PI * t.to_radians().sin() * step.to_radians();
+                2e4 * dw * t.to_radians().cos() * spread.general(t.max(0.1))
+            })
+            .sum()
+    };
+    // The pixels nearest the centre are 0.32° from it: the core inside
+    // them, where f is steepest, is counted at their angle.
+    let (outer, all) = (rings(0.45), rings(0.0));
+    eprintln!(
+        "veil on the line of sight: {v0} by pixels; by rings {outer} from 0.45°, {all} from 0°"
+    );
+    assert!(
+        v0 > outer && v0 < all,
+        "{v0} by pixels; by rings {outer} from 0.45°, {all} from 0°"
+    );
     // A threshold above 100 is a luminance: 50 000 cd/m² finds nothing,
     // 150 finds the disc (the sky is 100).
     assert!(evaluate(&lum, &eye, 5e4, &Observer::default())
