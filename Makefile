@@ -198,6 +198,20 @@ lighting:
 	    (r == "ez" ? "cylindrical" : "semi-cyl."), (r == "ez" ? "Ez" : "Esc"), sum / n, \
 	    (r == "ez" ? "" : ", facing +z"), min }' \
 	  $(LIGHT_OUT)/ies-street-$$r.csv; done
+	@# EN 13201-3's luminance method with the CIE R3 road: the standard's
+	@# direct light, then the full transport; TI from each lamp at the eye.
+	@echo; echo "ies-street.xml with an R3 road, EN 13201-3 luminance method (direct light, then full transport):"
+	@$(BIN) road $(STREET) -D road=r3 --start=-3.5,0,0 --along 0,0,-1 --across 1,0,0 --spacing 30 --lanes 2 \
+	  --spp 1024 --direct -o $(LIGHT_OUT)/ies-street-road.csv --grid $(LIGHT_OUT)/ies-street-road-grid.csv
+	@$(BIN) road $(STREET) -D road=r3 --start=-3.5,0,0 --along 0,0,-1 --across 1,0,0 --spacing 30 --lanes 2 \
+	  --spp 1024 | tail -n +3
+	@# Glare at a driver's eye on the night street: a 180° fisheye, rated
+	@# as evalglare rates it (sources above 2000 cd/m², its default).
+	$(BIN) render scenes/night-street.xml -D sensor=fisheye -D fov=180 -D origin=0.8,1.5,6 \
+	  -D target=0.8,1.5,-30 -D width=400 -D height=400 --spp 64 -o $(LIGHT_OUT)/night-street-eye.exr \
+	  --radiance $(LIGHT_OUT)/night-street-eye.hdr
+	@echo; echo "night-street.xml, 180° fisheye at a driver's eye (1.5 m), glare:"
+	@$(BIN) glare $(LIGHT_OUT)/night-street-eye.exr --threshold 2000 -o $(LIGHT_OUT)/night-street-eye-sources.png
 	@echo "renders, maps and the grid in $(LIGHT_OUT)/"
 
 ## criterion benchmarks, the bundled scenes' render rates and memory, and
