@@ -1,12 +1,26 @@
 //! Glare ratings read from a fisheye luminance picture, as evalglare
 //! reads them: the vertical illuminance at the lens, glare sources found
 //! as pixels brighter than a multiple of the picture's average luminance
-//! (evalglare's default: 5×), merged where they touch, and the ratings of
-//! those sources against the rest.
+//! (evalglare's default: 5×), merged where they touch and where their
+//! centres lie within 0.2 rad (evalglare's search radius), and the
+//! ratings of those sources against the rest.
 
 use super::fisheye::Fisheye;
 use super::{Source, View};
 use crate::Observer;
+
+/// Bright regions whose centres lie within this angle (radians) of each
+/// other are one source: evalglare's default search radius (0.2 rad,
+/// 11.5°), so that a luminaire's bright parts, or a noisy render's
+/// scattered bright pixels, count as the source they are.
+pub const MERGE_ANGLE: f64 = 0.2;
+
+/// The angle (radians) between two directions of any length but zero.
+fn angle(a: [f64; 3], b: [f64; 3]) -> f64 {
+    let dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let len = |v: [f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    (dot / (len(a) * len(b))).clamp(-1.0, 1.0).acos()
+}
 
 /// The line of sight of a fisheye picture: its centre, its top up.
 pub const FISHEYE_VIEW: View = View {
@@ -61,8 +75,9 @@ pub fn neighbours(i: usize, w: usize, h: usize) -> [Option<usize>; 4] {
 
 /// The glare figures of the luminance picture `lum` (cd/m², row-major) of
 /// `eye`'s geometry: sources are the pixels above `factor` times the mean
-/// luminance, merged with their four neighbours; a `factor` above 100 is a
-/// luminance itself (cd/m²), as evalglare's `-b` takes it.
+/// luminance, merged with their four neighbours and then with the regions
+/// within [`MERGE_ANGLE`]; a `factor` above 100 is a luminance itself
+/// (cd/m²), as evalglare's `-b` takes it.
 pub fn evaluate(lum: &[f32], eye: &Fisheye, factor: f64, observer: &Observer) -> Figures {
     let (w, h) = (eye.width, eye.height);
     let mut omega = vec![0.0f64; w * h];
@@ -91,7 +106,12 @@ pub fn evaluate(lum: &[f32], eye: &Fisheye, factor: f64, observer: &Observer) ->
     };
     let bright = |i: usize| omega[i] > 0.0 && f64::from(lum[i]) > threshold && average > 0.0;
     let mut seen = vec![false; w * h];
-    let mut sources = Vec::new();
+    // The bright pixels that touch, as groups, merged where their centres
+    // are within MERGE_ANGLE of each other.
+    let mut groups: Vec<(Vec<usize>, [f64; 3])> = Vec::new();
+    let centre_of = |pixels: &[usize]| {
+        [0, 1, 2].map(|c| pixels.iter().map(|&i| dirs[i][c] * omega[i]).sum::<f64>())
+    };
     for start in 0..w * h {
         if seen[start] || !bright(start) {
             continue;
@@ -109,20 +129,34 @@ pub fn evaluate(lum: &[f32], eye: &Fisheye, factor: f64, observer: &Observer) ->
             }
             k += 1;
         }
-        let o: f64 = pixels.iter().map(|&i| omega[i]).sum();
-        let lo: f64 = pixels.iter().map(|&i| f64::from(lum[i]) * omega[i]).sum();
-        let centre = [0, 1, 2].map(|c| pixels.iter().map(|&i| dirs[i][c] * omega[i]).sum::<f64>());
-        let source = Source {
-            luminance: lo / o,
-            solid_angle: o,
-            dir: centre,
-        };
-        sources.push(Found {
-            position_index: FISHEYE_VIEW.position_index(centre),
-            source,
-            pixels,
-        });
+        let centre = centre_of(&pixels);
+        let near = groups
+            .iter()
+            .position(|(_, c)| angle(*c, centre) < MERGE_ANGLE);
+        match near {
+            Some(g) => {
+                groups[g].0.extend(pixels);
+                groups[g].1 = centre_of(&groups[g].0);
+            }
+            None => groups.push((pixels, centre)),
+        }
     }
+    let sources: Vec<Found> = groups
+        .into_iter()
+        .map(|(pixels, centre)| {
+            let o: f64 = pixels.iter().map(|&i| omega[i]).sum();
+            let lo: f64 = pixels.iter().map(|&i| f64::from(lum[i]) * omega[i]).sum();
+            Found {
+                position_index: FISHEYE_VIEW.position_index(centre),
+                source: Source {
+                    luminance: lo / o,
+                    solid_angle: o,
+                    dir: centre,
+                },
+                pixels,
+            }
+        })
+        .collect();
     // The sources' pixels one by one: each a small source at its own
     // angle, for the veil (CIE 146's formula is a point source's: a
     // source across the line of sight taken at its centre's angle alone

@@ -260,3 +260,27 @@ fn a_lamp_in_a_fisheye_is_found_and_rated_by_the_formulas() {
     assert_eq!(fixed.sources.len(), 1);
     assert_eq!(fixed.threshold_cdm2, 150.0);
 }
+
+#[test]
+fn bright_regions_nearer_than_evalglares_search_radius_are_one_source() {
+    // Two 1.5° discs 8° apart (a gap of 5°) are one source, as evalglare
+    // finds them; 30° apart they are two.
+    let pair = |a: f64, b: f64| {
+        let (one, eye) = sky_with_lamp(400, 20.0, 2e4, a, 1.5);
+        let (two, _) = sky_with_lamp(400, 20.0, 2e4, b, 1.5);
+        let lum: Vec<f32> = one.iter().zip(&two).map(|(x, y)| x.max(*y)).collect();
+        evaluate(&lum, &eye, 5.0, &Observer::default())
+    };
+    let close = pair(10.0, 18.0);
+    assert_eq!(close.sources.len(), 1);
+    let disc = 2.0 * std::f64::consts::PI * (1.0 - 1.5f64.to_radians().cos());
+    let s = close.sources[0].source;
+    assert!(
+        (s.solid_angle / (2.0 * disc) - 1.0).abs() < 0.1,
+        "{}",
+        s.solid_angle
+    );
+    // Its centre between the two.
+    assert!((FISHEYE_VIEW.sigma(s.dir) - 14.0).abs() < 0.3);
+    assert_eq!(pair(10.0, 40.0).sources.len(), 2);
+}
