@@ -18,7 +18,6 @@
 //!   manifold next-event estimation), `equiangular.rs` (distances aimed at lights in media) and
 //!   `guided.rs` (bounces drawn from the learned light field, `guiding`).
 
-mod at_eye;
 mod bdpt;
 mod direct;
 mod driver;
@@ -34,18 +33,19 @@ mod pass;
 mod path;
 mod reflectors;
 mod renderer;
-mod road_grid;
 mod select;
 mod volume;
 mod wavefront;
 
-pub use at_eye::{lights_at_eye, AtEye};
 pub use bdpt::Splat;
 pub use driver::{
     render, render_with, Checkpointing, GuideFacts, Hooks, Observer, Rendered, RunFacts,
 };
 pub use light_choice::LightChoice;
-pub use measure::{measure, measure_setup, measure_with, Measured, Receiver, ReceiverShape, Setup};
+pub use measure::{
+    lights_at_eye, measure, measure_setup, measure_with, AtEye, GridPoint, Measured, Receiver,
+    ReceiverShape, Road, RoadError, Setup, EYE_HEIGHT, OBSERVER_DISTANCE,
+};
 pub use options::{
     checkpoint_interval, time_limit, BdptStrategy, ClusterSize, Guiding, OptionError, Quantity,
     RenderError, RenderOptions, Shard, Tracer, CLUSTER_SIZES, MAX_TIME_LIMIT_SECONDS,
@@ -53,5 +53,4 @@ pub use options::{
 pub use path::CameraSample;
 pub use reflectors::Reflectors;
 pub use renderer::Renderer;
-pub use road_grid::{GridPoint, Road, RoadError, EYE_HEIGHT, OBSERVER_DISTANCE};
 pub use select::{Bidirectional, Integrator};

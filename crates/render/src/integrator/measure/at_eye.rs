@@ -8,7 +8,7 @@
 
 use scotopia_color::photometry::estimate_xyzv;
 
-use super::{ClusterSize, RenderError, RenderOptions, Renderer};
+use crate::integrator::{ClusterSize, RenderError, RenderOptions, Renderer};
 use crate::light::Light;
 use crate::math::{Ray, Vec3};
 use crate::sampling::sobol::Sampler;

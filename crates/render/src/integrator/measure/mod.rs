@@ -25,6 +25,12 @@
 //! emitters alone, as the standards' methods count it: receivers' paths of
 //! one segment, the eye's of two (to the point, and to a light).
 
+mod at_eye;
+mod road_grid;
+
+pub use at_eye::{lights_at_eye, AtEye};
+pub use road_grid::{GridPoint, Road, RoadError, EYE_HEIGHT, OBSERVER_DISTANCE};
+
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 use rayon::prelude::*;
