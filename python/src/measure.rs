@@ -86,12 +86,7 @@ fn measure<'py>(
             }
         })
         .collect();
-    let load = LoadOptions {
-        sensor_optional: true,
-        ..LoadOptions::default()
-    };
-    let scene = load_scene_with(&path, &params.unwrap_or_default(), &load)
-        .map_err(|e| err(e.to_string()))?;
+    let scene = sensorless_scene(&path, params)?;
     let options = RenderOptions {
         spp,
         seed,
@@ -107,6 +102,7 @@ fn measure<'py>(
             shape,
             observer: observer.map(|(x, y, z)| Vec3::new(x, y, z)),
             direct,
+            ..Setup::default()
         };
         measure_setup(&scene, &receivers, setup, &options, &cancel, &|_, _| {})
     });
@@ -169,6 +165,19 @@ fn measure<'py>(
         }
     }
     Ok(d)
+}
+
+/// A scene for measuring, which needs no sensor, with `params` set.
+pub(crate) fn sensorless_scene(
+    path: &std::path::Path,
+    params: Option<HashMap<String, String>>,
+) -> PyResult<scotopia_render::scene::Scene> {
+    let load = LoadOptions {
+        sensor_optional: true,
+        ..LoadOptions::default()
+    };
+    load_scene_with(path, &params.unwrap_or_default(), &load)
+        .map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

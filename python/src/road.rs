@@ -11,7 +11,6 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use scotopia_render::integrator::{RenderOptions, Road};
 use scotopia_render::math::Vec3;
-use scotopia_scene::{load_scene_with, LoadOptions};
 
 /// EN 13201-3's luminance method on a straight road of a Mitsuba 3 XML
 /// scene (the `scotopia road` verb): the grid of the field that starts
@@ -65,12 +64,7 @@ fn road<'py>(
     }
     .checked()
     .map_err(|e| err(e.to_string()))?;
-    let load = LoadOptions {
-        sensor_optional: true,
-        ..LoadOptions::default()
-    };
-    let scene = load_scene_with(&path, &params.unwrap_or_default(), &load)
-        .map_err(|e| err(e.to_string()))?;
+    let scene = crate::measure::sensorless_scene(&path, params)?;
     let options = RenderOptions {
         spp,
         seed,

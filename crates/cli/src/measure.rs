@@ -281,6 +281,7 @@ pub fn run(args: Args) -> Result<()> {
         shape,
         observer: args.observer.map(|[x, y, z]| Vec3::new(x, y, z)),
         direct: args.direct,
+        ..Setup::default()
     };
     let measured = pool
         .install(|| measure_setup(&scene, &receivers, setup, &options, &cancel, &progress))

@@ -132,6 +132,7 @@ pub fn evaluate(
         let setup = Setup {
             observer: Some(eye),
             direct,
+            seen_only: true,
             ..Setup::default()
         };
         let m = measure_setup(scene, &receivers, setup, options, cancel, &|_, _| {})?;

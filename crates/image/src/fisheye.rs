@@ -53,6 +53,22 @@ impl Projection {
         }
     }
 
+    /// The unit direction at picture point (a, b) (a right, b up, 1 at
+    /// the half width) for half field `tm`, in a frame of x right, y up, z
+    /// along the axis; `None` outside the field.
+    pub fn direction(self, a: f64, b: f64, tm: f64) -> Option<[f64; 3]> {
+        let rho = (a * a + b * b).sqrt();
+        if rho > 1.0 {
+            return None;
+        }
+        if rho == 0.0 {
+            return Some([0.0, 0.0, 1.0]);
+        }
+        let t = self.theta(rho, tm);
+        let s = t.sin() / rho;
+        Some([a * s, b * s, t.cos()])
+    }
+
     /// J = dω/dA at angle `theta` from the axis.
     pub fn density(self, theta: f64, tm: f64) -> f64 {
         match self {

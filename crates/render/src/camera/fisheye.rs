@@ -14,16 +14,9 @@ use crate::math::Vec3;
 /// Mitsuba's) at film point (a, b) (a right, b up, 1 at the half width),
 /// or `None` outside the field.
 pub fn direction(map: FisheyeMap, a: f32, b: f32, tm: f32) -> Option<Vec3> {
-    let rho = (a * a + b * b).sqrt();
-    if rho > 1.0 {
-        return None;
-    }
-    let theta = map.theta(f64::from(rho), f64::from(tm)) as f32;
-    if rho <= 0.0 {
-        return Some(Vec3::new(0.0, 0.0, 1.0));
-    }
-    let s = theta.sin() / rho;
-    Some(Vec3::new(-a * s, b * s, theta.cos()))
+    let [x, y, z] = map.direction(f64::from(a), f64::from(b), f64::from(tm))?;
+    // The picture's right is camera space's −x.
+    Some(Vec3::new(-x as f32, y as f32, z as f32))
 }
 
 /// The film point (a, b) of camera-space unit direction `d`, with its

@@ -213,18 +213,7 @@ mod tests {
         use crate::camera::FisheyeMap;
         for (map, fov) in [(FisheyeMap::Angular, 180.0), (FisheyeMap::Equisolid, 240.0)] {
             let c = Camera::fisheye(Transform::IDENTITY, [40, 40], map, fov, 1e-3, 1e3).unwrap();
-            let n = 400_000;
-            let mut sum = 0.0f64;
-            for i in 0..n {
-                let u = [
-                    (i as f32 + 0.5) / n as f32,
-                    ((i as f64 * 0.618_034) % 1.0) as f32,
-                ];
-                let d = crate::sampling::warp::square_to_uniform_sphere(u);
-                sum += (c.pdf_direction(Vec3::ZERO, d) / crate::sampling::warp::UNIFORM_SPHERE_PDF)
-                    as f64;
-            }
-            let mean = sum / n as f64;
+            let mean = integrated_density(&c);
             assert!(
                 (mean - std::f64::consts::FRAC_PI_4).abs() < 0.01,
                 "{map:?}: {mean}"
@@ -254,6 +243,13 @@ mod tests {
             1.0,
         )
         .unwrap();
+        let mean = integrated_density(&c);
+        assert!((mean - 1.0).abs() < 0.02, "{mean}");
+    }
+
+    /// ∫ pdf dω over the sphere of the camera's rays from its centre, by
+    /// uniform sphere sampling on a lattice.
+    fn integrated_density(c: &Camera) -> f64 {
         let n = 400_000;
         let mut sum = 0.0f64;
         for i in 0..n {
@@ -265,7 +261,6 @@ mod tests {
             sum +=
                 (c.pdf_direction(Vec3::ZERO, d) / crate::sampling::warp::UNIFORM_SPHERE_PDF) as f64;
         }
-        let mean = sum / n as f64;
-        assert!((mean - 1.0).abs() < 0.02, "{mean}");
+        sum / n as f64
     }
 }

@@ -112,18 +112,9 @@ impl Renderer<'_> {
             return Ok(());
         };
         let fresh = g.guide.clone();
-        let (width, height) = (self.scene.camera.width, self.scene.camera.height);
-        let mut scratch =
-            Film::try_new(width, height, None).map_err(|e| RenderError::TooLarge(Box::new(e)))?;
-        let rows = std::mem::replace(&mut self.rows, 0..u32::MAX);
-        self.row_step = probe_step(width, height);
-        for k in 0..u32::from(DOUBTS) {
-            let mut stats = self.recording();
-            self.pass::<K>(probe_seed(seed), &mut scratch, (k, 1, 1.0), stats.as_mut());
-            self.advance(stats);
-        }
-        self.rows = rows;
-        self.row_step = 1;
+        let step = probe_step(self.scene.camera.width, self.scene.camera.height);
+        let iterations: Vec<(u32, u32)> = (0..u32::from(DOUBTS)).map(|k| (k, k + 1)).collect();
+        self.learn_in_scratch::<K>(probe_seed(seed), step, &iterations)?;
         if let Some(g) = self.guiding.as_mut() {
             g.probed = true;
             g.guide = if g.guide.stopped() {
@@ -153,14 +144,30 @@ impl Renderer<'_> {
         s0: u32,
         s1: u32,
     ) -> Result<(), RenderError> {
+        self.learn_in_scratch::<K>(seed, 1, &[(s0, s1)])
+    }
+
+    /// Learns each iteration of `iterations` (samples `s0..s1`, in turn)
+    /// from a pass over every `step`-th row of the film into a film that
+    /// is thrown away.
+    fn learn_in_scratch<const K: usize>(
+        &mut self,
+        seed: u32,
+        step: u32,
+        iterations: &[(u32, u32)],
+    ) -> Result<(), RenderError> {
         let (width, height) = (self.scene.camera.width, self.scene.camera.height);
         let mut scratch =
             Film::try_new(width, height, None).map_err(|e| RenderError::TooLarge(Box::new(e)))?;
         let rows = std::mem::replace(&mut self.rows, 0..u32::MAX);
-        let mut stats = self.recording();
-        self.pass::<K>(seed, &mut scratch, (s0, s1 - s0, 1.0), stats.as_mut());
+        self.row_step = step;
+        for &(s0, s1) in iterations {
+            let mut stats = self.recording();
+            self.pass::<K>(seed, &mut scratch, (s0, s1 - s0, 1.0), stats.as_mut());
+            self.advance(stats);
+        }
         self.rows = rows;
-        self.advance(stats);
+        self.row_step = 1;
         Ok(())
     }
 

@@ -135,8 +135,10 @@ pub fn evaluate(lum: &[f32], eye: &Fisheye, factor: f64, observer: &Observer) ->
             .position(|(_, c)| angle(*c, centre) < MERGE_ANGLE);
         match near {
             Some(g) => {
-                groups[g].0.extend(pixels);
-                groups[g].1 = centre_of(&groups[g].0);
+                // The centre is a sum over the pixels: it adds up.
+                let (members, sum) = &mut groups[g];
+                members.extend(pixels);
+                *sum = [0, 1, 2].map(|c| sum[c] + centre[c]);
             }
             None => groups.push((pixels, centre)),
         }

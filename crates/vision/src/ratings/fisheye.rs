@@ -44,13 +44,7 @@ impl Fisheye {
     /// picture's circle.
     pub fn direction(&self, x: f64, y: f64) -> Option<Dir> {
         let (a, b) = self.normalised(x, y);
-        let rho = (a * a + b * b).sqrt();
-        let t = self.theta(rho)?;
-        if rho == 0.0 {
-            return Some([0.0, 0.0, 1.0]);
-        }
-        let s = t.sin() / rho;
-        Some([a * s, b * s, t.cos()])
+        self.projection.direction(a, b, self.theta_max())
     }
 
     /// Solid angle per unit normalised area at radius ρ: θm²·sinθ/θ for the

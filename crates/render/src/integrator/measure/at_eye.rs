@@ -102,17 +102,15 @@ fn at_eye<const K: usize>(
                 sum2 += e * e;
             }
         }
-        let m = f64::from(n);
-        let mean = sum / m;
+        let (mean, se) = super::mean_se(sum, sum2, n);
         if mean <= 0.0 || towards.length_squared() == 0.0 {
             continue;
         }
-        let var = (sum2 / m - mean * mean).max(0.0) * m / (m - 1.0).max(1.0);
         out.push(AtEye {
             light: i,
             direction: towards.normalize(),
             e: mean,
-            e_se: (var / m).sqrt(),
+            e_se: se,
         });
     }
     out

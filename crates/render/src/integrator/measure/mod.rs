@@ -162,6 +162,10 @@ pub struct Setup {
     pub shape: ReceiverShape,
     pub observer: Option<Vec3>,
     pub direct: bool,
+    /// With an observer, measure only what it sees: the receivers'
+    /// illuminance is left out (its fields zero), for callers that want
+    /// the luminance alone (`scotopia road`, one observer after another).
+    pub seen_only: bool,
 }
 
 impl Measured {
@@ -277,11 +281,16 @@ fn measure_k<const K: usize>(
     // Direct light: a receiver's path of one segment (to an emitter), the
     // eye's of two (to the point, then to an emitter).
     let mut renderer = Renderer::receivers(scene, options.strategy);
-    let mut eye = Renderer::receivers(scene, options.strategy);
     if setup.direct {
         renderer.max_depth = 1;
-        eye.max_depth = 2;
     }
+    let eye = setup.observer.map(|o| {
+        let mut eye = Renderer::receivers(scene, options.strategy);
+        if setup.direct {
+            eye.max_depth = 2;
+        }
+        (eye, o)
+    });
     let Integrator::Illuminance(state) = &renderer.integrator else {
         unreachable!("Renderer::receivers runs the illuminance integrator")
     };
@@ -293,18 +302,22 @@ fn measure_k<const K: usize>(
             if cancel.load(Ordering::Relaxed) {
                 return Measured::default();
             }
-            let mut m = renderer.receive::<K>(
-                state,
-                (r, shape),
-                Sampler::new(options.seed),
-                k as u32,
-                spp,
-                cancel,
-            );
-            [m.lobs, m.lobs_se, m.lobs_scotopic] = match setup.observer {
-                Some(o) => eye.observe::<K>(
+            let mut m = if setup.seen_only && eye.is_some() {
+                Measured::default()
+            } else {
+                renderer.receive::<K>(
                     state,
-                    (o, r.p),
+                    (r, shape),
+                    Sampler::new(options.seed),
+                    k as u32,
+                    spp,
+                    cancel,
+                )
+            };
+            [m.lobs, m.lobs_se, m.lobs_scotopic] = match &eye {
+                Some((eye, o)) => eye.observe::<K>(
+                    state,
+                    (*o, r.p),
                     Sampler::new(options.seed),
                     k as u32,
                     spp,
@@ -322,6 +335,15 @@ fn measure_k<const K: usize>(
 /// first, so that a normal of any finite size works (3e38 in each
 /// component has a length beyond f32, and would normalise to 0: 0 lx; a
 /// subnormal one, 1e-40, would give NaN).
+/// The mean of `n` samples whose sum is `sum` and sum of squares `sum2`,
+/// and its standard error (from the unbiased sample variance).
+pub(super) fn mean_se(sum: f64, sum2: f64, n: u32) -> (f64, f64) {
+    let n = f64::from(n.max(1));
+    let mean = sum / n;
+    let var = (sum2 / n - mean * mean).max(0.0) * n / (n - 1.0).max(1.0);
+    (mean, (var / n).sqrt())
+}
+
 pub fn unit_normal(n: Vec3) -> Vec3 {
     let m = n.abs().max_component();
     // Divided component by component: `Vec3 / f32` multiplies by 1/m,
@@ -481,10 +503,8 @@ impl Renderer<'_> {
                 n += 1;
             }
         }
-        let m = f64::from(n.max(1));
-        let mean = sum / m;
-        let var = (sum2 / m - mean * mean).max(0.0) * m / (m - 1.0).max(1.0);
-        [mean, (var / m).sqrt(), scotopic / m]
+        let (mean, se) = mean_se(sum, sum2, n);
+        [mean, se, scotopic / f64::from(n.max(1))]
     }
 
     /// `spp` samples of receiver number `index` (its place in the sampler's
@@ -533,12 +553,7 @@ impl Renderer<'_> {
                 sum2[i] += x[i] * x[i];
             }
         }
-        let n = samples.max(1) as f64;
-        let stat = |s: f64, s2: f64| {
-            let mean = s / n;
-            let var = (s2 / n - mean * mean).max(0.0) * n / (n - 1.0).max(1.0);
-            (mean, (var / n).sqrt())
-        };
+        let stat = |s: f64, s2: f64| mean_se(s, s2, samples);
         let (e, e_se) = stat(sum[0], sum2[0]);
         let (es, es_se) = stat(sum[1], sum2[1]);
         let edi = std::array::from_fn(|i| stat(sum[i + 2], sum2[i + 2]));
